@@ -1,0 +1,946 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: shared base of the hard-sphere integrator family.
+   See fix_hardsphere.h and doc/fix_hardsphere.rst.
+------------------------------------------------------------------------- */
+
+#include "fix_hardsphere.h"
+
+#include "hs_compat.h"
+#include "hs_contact.h"
+
+#include "angle.h"
+#include "atom.h"
+#include "atom_vec.h"
+#include "bond.h"
+#include "comm.h"
+#include "dihedral.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "group.h"
+#include "improper.h"
+#include "kspace.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using HardSphere::Contact;
+
+static constexpr double BIG = 1.0e300;
+// |g(0)| below this (relative to sigma^2, resp. the diameter) counts as
+// touching; below minus this it is an overlap (a missed collision). Far above
+// round-off in positions, far below any physical overlap.
+static constexpr double TOUCH_TOL = 1.0e-9;
+// consecutive zero-length sub-steps without an impulse before we call it a
+// resting contact, which the impulsive hard-sphere model cannot resolve
+static constexpr int MAX_STUCK = 100;
+
+/* ---------------------------------------------------------------------- */
+
+FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), style_name(arg[2]), diameter(0.0), diameter_flag(0), list(nullptr),
+    nmax_hs(0), xref(nullptr), gap(nullptr), active(nullptr), acc(nullptr), ncoll_pair(0.0),
+    ncoll_wall(0.0), ncoll_steps(0.0), nforce_evals(0.0)
+{
+  time_integrate = 1;
+  vector_flag = 1;
+  size_vector = 5;
+  global_freq = 1;
+  extvector = 0;
+  virial_global_flag = 1;
+  thermo_virial = 1;
+  comm_forward = 6;
+  restart_global = 1;
+  force_reneighbor = 1;    // we ask for a list build when a sphere moved skin/2
+  next_reneighbor = -1;
+  dtf_last = 0.0;
+
+  int iarg = 3;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "diameter") == 0) {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "Illegal fix {} command: diameter needs a value", style_name);
+      diameter = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(diameter > 0.0))
+        error->all(FLERR, "Fix {} diameter must be > 0, got {}", style_name, arg[iarg + 1]);
+      diameter_flag = 1;
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "wall") == 0) {
+      if (iarg + 3 > narg)
+        error->all(FLERR, "Illegal fix {} command: wall needs a face and a coordinate",
+                   style_name);
+      Wall w;
+      const std::string face = arg[iarg + 1];
+      if (face == "xlo" || face == "xhi") w.dim = 0;
+      else if (face == "ylo" || face == "yhi") w.dim = 1;
+      else if (face == "zlo" || face == "zhi") w.dim = 2;
+      else
+        error->all(FLERR, "Fix {} wall face must be xlo, xhi, ylo, yhi, zlo or zhi, got {}",
+                   style_name, face);
+      w.side = (face.substr(1) == "lo") ? -1 : 1;
+      for (const Wall &o : walls)
+        if (o.dim == w.dim && o.side == w.side)
+          error->all(FLERR, "Fix {} wall {} given twice", style_name, face);
+      if (strcmp(arg[iarg + 2], "EDGE") == 0) {
+        w.edge = 1;
+        w.coord = 0.0;
+      } else {
+        w.edge = 0;
+        w.coord = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      }
+      walls.push_back(w);
+      iarg += 3;
+    } else
+      error->all(FLERR, "Unknown fix {} keyword: {}", style_name, arg[iarg]);
+  }
+
+  if (!diameter_flag && !atom->radius_flag)
+    error->all(FLERR,
+               "Fix {} needs the diameter keyword, or an atom style with a per-atom "
+               "radius (atom_style sphere)",
+               style_name);
+  if (domain->triclinic)
+    error->all(FLERR, "Fix {} does not support triclinic boxes", style_name);
+  for (const Wall &w : walls) {
+    std::string name;
+    wall_name(w, name);
+    if (domain->periodicity[w.dim])
+      error->all(FLERR, "Fix {} wall {} is on a periodic dimension", style_name, name);
+    if (w.dim == 2 && domain->dimension == 2)
+      error->all(FLERR, "Fix {} wall {} is not allowed in a 2d simulation", style_name, name);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixHardSphere::~FixHardSphere()
+{
+  memory->destroy(xref);
+  memory->destroy(gap);
+  memory->destroy(active);
+  memory->destroy(acc);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixHardSphere::setmask()
+{
+  return INITIAL_INTEGRATE | FINAL_INTEGRATE | POST_NEIGHBOR;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::init()
+{
+  if (domain->triclinic)
+    error->all(FLERR, "Fix {} does not support triclinic boxes", style_name);
+  if (neighbor->exclude)
+    error->all(FLERR,
+               "Fix {} cannot be used with neigh_modify exclude: excluded pairs would "
+               "pass through each other",
+               style_name);
+  check_other_integrators();
+
+  // the largest radius in the group sets the contact list cutoff
+
+  double rloc = 0.0;
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      const double r = radius_of(i);
+      if (!(r > 0.0))
+        error->one(FLERR, "Fix {}: atom {} has radius {}, hard spheres need radius > 0",
+                   style_name, atom->tag[i], r);
+      rloc = MAX(rloc, r);
+    }
+  MPI_Allreduce(&rloc, &rmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (rmax == 0.0) rmax = diameter_flag ? 0.5 * diameter : 0.0;
+
+  // the list holds every pair within 2 rmax + 2 skin of each other when it
+  // was built; with LAMMPS rebuilding once an atom moved skin/2, no sphere
+  // moves more than skin before the next build, so pairs outside the list
+  // cannot touch (checked in screen())
+
+  skin = neighbor->skin;
+  list_cutoff = 2.0 * rmax + 2.0 * skin;
+  HSCompat::request_full_list(neighbor, this, instance_me, list_cutoff);
+
+  // with no smooth forces at all, sub-steps need no force re-evaluation
+
+  forces_present = 0;
+  if (force->pair && force->pair->compute_flag && strcmp(force->pair_style, "zero") != 0)
+    forces_present = 1;
+  if (atom->molecular != Atom::ATOMIC &&
+      (force->bond || force->angle || force->dihedral || force->improper))
+    forces_present = 1;
+  if (force->kspace && force->kspace->compute_flag) forces_present = 1;
+  if (modify->n_pre_force || modify->n_pre_reverse || modify->n_post_force) forces_present = 1;
+
+  reset_dt();
+}
+
+/* ----------------------------------------------------------------------
+   another time integrator on atoms of our group would move spheres into
+   each other behind our back: an error, not only LAMMPS' warning
+------------------------------------------------------------------------- */
+
+void FixHardSphere::check_other_integrators()
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *other = modify->fix[k];
+    if (other == this || !other->time_integrate) continue;
+    int shared = 0;
+    for (int i = 0; i < nlocal; i++)
+      if ((mask[i] & groupbit) && (mask[i] & other->groupbit)) shared = 1;
+    int any;
+    MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
+    if (any)
+      error->all(FLERR,
+                 "Fix {} {} and fix {} {} both time-integrate atoms of group {}: use one "
+                 "integrator per atom",
+                 id, style_name, other->id, other->style, group->names[igroup]);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::init_list(int, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::reset_dt()
+{
+  dtv = update->dt;
+  dtf = 0.5 * update->dt * force->ftm2v;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::setup(int)
+{
+  // the contact list needs ghost atoms out to its cutoff
+
+  const double cutghost = MAX(neighbor->cutneighmax, comm->cutghostuser);
+  if (cutghost < list_cutoff)
+    error->all(FLERR,
+               "Fix {} needs ghost atoms out to {} (contact distance {} + 2 x skin {}), "
+               "but the ghost cutoff is {}: use comm_modify cutoff {} or a pair style "
+               "with a larger cutoff",
+               style_name, list_cutoff, 2.0 * rmax, skin, cutghost, list_cutoff);
+
+  for (int k = 0; k < 6; k++) virial[k] = 0.0;
+  dtf_last = dtf;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::setup_post_neighbor()
+{
+  reset_reference(1);
+}
+
+void FixHardSphere::post_neighbor()
+{
+  reset_reference(0);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::grow_peratom()
+{
+  if (atom->nmax <= nmax_hs) return;
+  nmax_hs = atom->nmax;
+  memory->destroy(xref);
+  memory->destroy(gap);
+  memory->destroy(active);
+  memory->destroy(acc);
+  memory->create(xref, nmax_hs, 3, "hardsphere:xref");
+  memory->create(gap, nmax_hs, "hardsphere:gap");
+  memory->create(active, nmax_hs, "hardsphere:active");
+  memory->create(acc, nmax_hs, 3, "hardsphere:acc");
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixHardSphere::radius_of(int i) const
+{
+  return diameter_flag ? 0.5 * diameter : atom->radius[i];
+}
+
+double FixHardSphere::mass_of(int i) const
+{
+  return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::update_walls()
+{
+  for (Wall &w : walls)
+    if (w.edge) w.coord = (w.side < 0) ? domain->boxlo[w.dim] : domain->boxhi[w.dim];
+}
+
+// distance of a sphere's surface from the wall plane, >= 0 where allowed
+double FixHardSphere::wall_gap(const Wall &w, const double *x, double r) const
+{
+  return (w.side < 0) ? (x[w.dim] - w.coord) - r : (w.coord - x[w.dim]) - r;
+}
+
+void FixHardSphere::wall_name(const Wall &w, std::string &name) const
+{
+  name = std::string(1, "xyz"[w.dim]) + (w.side < 0 ? "lo" : "hi");
+}
+
+/* ----------------------------------------------------------------------
+   at each neighbor list build: remember positions, and for each sphere the
+   distance it may travel before it could touch anything (half the smallest
+   surface gap to a candidate partner, or its gap to a wall, at most the
+   skin). Any overlap found here is an error naming the atoms.
+------------------------------------------------------------------------- */
+
+void FixHardSphere::reset_reference(int at_setup)
+{
+  grow_peratom();
+  update_walls();
+
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const char *when = at_setup ? "at set-up" : "after a step (a collision was missed)";
+
+  for (int i = 0; i < nlocal; i++) {
+    xref[i][0] = x[i][0];
+    xref[i][1] = x[i][1];
+    xref[i][2] = x[i][2];
+    gap[i] = skin;
+    active[i] = 0;
+  }
+
+  auto pair_gap = [&](int i, int j) {
+    if (!(mask[j] & groupbit)) return;
+    const double sigma = radius_of(i) + radius_of(j);
+    const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+    const double r = sqrt(dx * dx + dy * dy + dz * dz);
+    if (r < sigma * (1.0 - TOUCH_TOL))
+      error->one(FLERR,
+                 "Fix {}: atoms {} and {} overlap by {} {} (distance {} < contact distance {}) "
+                 "on step {}",
+                 style_name, tag[i], tag[j], sigma - r, when, r, sigma, update->ntimestep);
+    gap[i] = MIN(gap[i], 0.5 * (r - sigma));
+  };
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int *jlist = firstneigh[i];
+    for (int jj = 0; jj < numneigh[i]; jj++) pair_gap(i, jlist[jj] & NEIGHMASK);
+  }
+
+  // bonded partners the neighbor lists leave out (special_bonds weight 0)
+
+  if (atom->molecular != Atom::ATOMIC && atom->special) {
+    int **nspecial = atom->nspecial;
+    tagint **special = atom->special;
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit)) continue;
+      for (int m = 0; m < nspecial[i][2]; m++) {
+        const int level = (m < nspecial[i][0]) ? 1 : (m < nspecial[i][1]) ? 2 : 3;
+        if (neighbor->special_flag[level] != 0) continue;
+        int j = atom->map(special[i][m]);
+        if (j < 0)
+          error->one(FLERR, "Fix {}: bonded partner {} of atom {} is missing on this rank",
+                     style_name, special[i][m], tag[i]);
+        j = domain->closest_image(i, j);
+        pair_gap(i, j);
+      }
+    }
+  }
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    for (const Wall &w : walls) {
+      const double g = wall_gap(w, x[i], radius_of(i));
+      if (g < -TOUCH_TOL * 2.0 * radius_of(i)) {
+        std::string name;
+        wall_name(w, name);
+        error->one(FLERR, "Fix {}: atom {} is {} through wall {} at {} {} on step {}",
+                   style_name, tag[i], -g, name, w.coord, when, update->ntimestep);
+      }
+      gap[i] = MIN(gap[i], g);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   mark the spheres that may touch something within tleft: displacement
+   since the list build plus a bound on the Verlet path |t v + t^2/2 a|
+   exceeds their gap. Returns how many on this rank.
+------------------------------------------------------------------------- */
+
+int FixHardSphere::screen(double tleft)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double ftm2v = force->ftm2v;
+  const double h2 = 0.5 * tleft * tleft;
+  int nactive = 0;
+
+  for (int i = 0; i < nlocal; i++) {
+    active[i] = 0;
+    if (!(mask[i] & groupbit)) continue;
+    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
+                 dz = x[i][2] - xref[i][2];
+    const double im = ftm2v / mass_of(i);
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const double v2 = tleft * tleft * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    const double a2 = h2 * h2 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
+    // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
+    const double g = gap[i];
+    if (3.0 * (d2 + v2 + a2) <= g * g && g > 0.0) continue;
+    const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
+    if (w <= g) continue;
+    if (w > skin)
+      error->one(FLERR,
+                 "Fix {}: atom {} may be {} away from where the neighbor list was built, "
+                 "more than the skin {}: use neigh_modify every 1 delay 0 check yes, or a "
+                 "larger skin",
+                 style_name, atom->tag[i], w, skin);
+    active[i] = 1;
+    nactive++;
+  }
+  return nactive;
+}
+
+/* ----------------------------------------------------------------------
+   accelerations of owned atoms, then v and a to the ghosts
+------------------------------------------------------------------------- */
+
+void FixHardSphere::comm_vel_acc()
+{
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  const double ftm2v = force->ftm2v;
+  for (int i = 0; i < nlocal; i++) {
+    const double im = ftm2v / mass_of(i);
+    acc[i][0] = f[i][0] * im;
+    acc[i][1] = f[i][1] * im;
+    acc[i][2] = f[i][2] * im;
+  }
+  HSCompat::forward_comm_fix(comm, this);
+}
+
+int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
+{
+  double **v = atom->v;
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list_[k];
+    buf[m++] = v[j][0];
+    buf[m++] = v[j][1];
+    buf[m++] = v[j][2];
+    buf[m++] = acc[j][0];
+    buf[m++] = acc[j][1];
+    buf[m++] = acc[j][2];
+  }
+  return m;
+}
+
+void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **v = atom->v;
+  int m = 0;
+  const int last = first + n;
+  for (int i = first; i < last; i++) {
+    v[i][0] = buf[m++];
+    v[i][1] = buf[m++];
+    v[i][2] = buf[m++];
+    acc[i][0] = buf[m++];
+    acc[i][1] = buf[m++];
+    acc[i][2] = buf[m++];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   earliest approaching contact within tleft among pairs and walls with an
+   active sphere; returns its time (BIG if none) and the event
+------------------------------------------------------------------------- */
+
+double FixHardSphere::predict(double tleft, Event &ev)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double tbest = BIG;
+  double c[5];
+
+  auto path = [&](int k) {
+    const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+    const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
+    return tleft * vv + 0.5 * tleft * tleft * aa;
+  };
+
+  auto pair = [&](int i, int j, double Di) {
+    if (!(mask[j] & groupbit)) return;
+    if (j < nlocal && active[j] && j < i) return;    // seen from j's side
+    const double sigma = radius_of(i) + radius_of(j);
+    const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+    const double reach = sigma + Di + path(j);
+    if (r2 > reach * reach) return;
+    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+    const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
+    HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
+    const Contact ct = HardSphere::first_contact(c, 4, tleft, TOUCH_TOL * sigma * sigma);
+    if (ct.status == HardSphere::OVERLAP) {
+      const double r = sqrt(r2);
+      error->one(FLERR,
+                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+                 "on step {}: a collision was missed",
+                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep);
+    }
+    if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+      tbest = ct.t;
+      ev.type = PAIR_EVENT;
+      ev.i = i;
+      ev.j = j;
+      ev.wall = -1;
+    }
+  };
+
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  const bool bonded = atom->molecular != Atom::ATOMIC && atom->special;
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!active[i]) continue;
+    const double Di = path(i);
+
+    for (int w = 0; w < (int) walls.size(); w++) {
+      const Wall &wl = walls[w];
+      const double r = radius_of(i);
+      const double g = wall_gap(wl, x[i], r);
+      if (g > Di) continue;
+      const double s = (wl.side < 0) ? 1.0 : -1.0;
+      HardSphere::wall_gap_poly(g, s * v[i][wl.dim], s * acc[i][wl.dim], c);
+      const Contact ct = HardSphere::first_contact(c, 2, tleft, TOUCH_TOL * 2.0 * r);
+      if (ct.status == HardSphere::OVERLAP) {
+        std::string name;
+        wall_name(wl, name);
+        error->one(FLERR, "Fix {}: atom {} is {} through wall {} on step {}: a collision was "
+                   "missed", style_name, tag[i], -g, name, update->ntimestep);
+      }
+      if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+        tbest = ct.t;
+        ev.type = WALL_EVENT;
+        ev.i = i;
+        ev.j = -1;
+        ev.wall = w;
+      }
+    }
+
+    const int *jlist = firstneigh[i];
+    for (int jj = 0; jj < numneigh[i]; jj++) pair(i, jlist[jj] & NEIGHMASK, Di);
+
+    if (bonded) {
+      const int *nsp = atom->nspecial[i];
+      const tagint *sp = atom->special[i];
+      for (int m = 0; m < nsp[2]; m++) {
+        const int level = (m < nsp[0]) ? 1 : (m < nsp[1]) ? 2 : 3;
+        if (neighbor->special_flag[level] != 0) continue;
+        int j = atom->map(sp[m]);
+        if (j < 0)
+          error->one(FLERR, "Fix {}: bonded partner {} of atom {} is missing on this rank",
+                     style_name, sp[m], tag[i]);
+        pair(i, domain->closest_image(i, j), Di);
+      }
+    }
+  }
+  return tbest;
+}
+
+/* ----------------------------------------------------------------------
+   velocity Verlet pieces: the exact operations of fix nve
+------------------------------------------------------------------------- */
+
+int FixHardSphere::nve_initial()
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  double *rmass = atom->rmass;
+  double *mass = atom->mass;
+  int *type = atom->type;
+  int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double trigger = 0.25 * skin * skin;
+  double dtfm;
+  int moved = 0;
+
+  // the updates of fix nve, to the bit; the displacement test beside them
+  // is LAMMPS' own neighbor check (skin/2), whatever neigh_modify says
+
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      dtfm = rmass ? dtf / rmass[i] : dtf / mass[type[i]];
+      v[i][0] += dtfm * f[i][0];
+      v[i][1] += dtfm * f[i][1];
+      v[i][2] += dtfm * f[i][2];
+      x[i][0] += dtv * v[i][0];
+      x[i][1] += dtv * v[i][1];
+      x[i][2] += dtv * v[i][2];
+      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
+                   dz = x[i][2] - xref[i][2];
+      if (dx * dx + dy * dy + dz * dz > trigger) moved = 1;
+    }
+  return moved;
+}
+
+int FixHardSphere::moved_half_skin()
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double trigger = 0.25 * skin * skin;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
+                   dz = x[i][2] - xref[i][2];
+      if (dx * dx + dy * dy + dz * dz > trigger) return 1;
+    }
+  return 0;
+}
+
+/* ----------------------------------------------------------------------
+   with every sphere within skin/2 of where the list was built at a step's
+   start, and moving less than skin/2 in the step, the contact list holds
+   every pair that can touch: rebuild this step if anyone went further
+------------------------------------------------------------------------- */
+
+void FixHardSphere::request_rebuild(int moved)
+{
+  int any;
+  MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, world);
+  if (any) next_reneighbor = update->ntimestep;
+}
+
+void FixHardSphere::kick(double tau)
+{
+  double **v = atom->v;
+  double **f = atom->f;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double dtfk = (tau == dtv) ? dtf : 0.5 * tau * force->ftm2v;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      const double dtfm = dtfk / mass_of(i);
+      v[i][0] += dtfm * f[i][0];
+      v[i][1] += dtfm * f[i][1];
+      v[i][2] += dtfm * f[i][2];
+    }
+}
+
+void FixHardSphere::kick_drift(double tau)
+{
+  kick(tau);
+  double **x = atom->x;
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      x[i][0] += tau * v[i][0];
+      x[i][1] += tau * v[i][1];
+      x[i][2] += tau * v[i][2];
+    }
+}
+
+/* ----------------------------------------------------------------------
+   forces at the current positions, as Verlet::run computes them
+------------------------------------------------------------------------- */
+
+void FixHardSphere::force_clear()
+{
+  size_t nbytes = sizeof(double) * atom->nlocal;
+  if (force->newton) nbytes += sizeof(double) * atom->nghost;
+  if (nbytes) {
+    memset(&atom->f[0][0], 0, 3 * nbytes);
+    if (atom->torque_flag) memset(&atom->torque[0][0], 0, 3 * nbytes);
+    if (atom->avec->forceclearflag) atom->avec->force_clear(0, nbytes);
+  }
+}
+
+void FixHardSphere::recompute_forces()
+{
+  comm->forward_comm();    // ghost positions, needed by the prediction too
+  if (!forces_present) return;
+
+  force_clear();
+  if (modify->n_pre_force) modify->pre_force(0);
+  if (force->pair && force->pair->compute_flag) force->pair->compute(0, 0);
+  if (atom->molecular != Atom::ATOMIC) {
+    if (force->bond) force->bond->compute(0, 0);
+    if (force->angle) force->angle->compute(0, 0);
+    if (force->dihedral) force->dihedral->compute(0, 0);
+    if (force->improper) force->improper->compute(0, 0);
+  }
+  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(0, 0);
+  if (modify->n_pre_reverse) modify->pre_reverse(0, 0);
+  if (force->newton) comm->reverse_comm();
+  if (modify->n_post_force) modify->post_force(0);
+  nforce_evals += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   the collision operator R of section 2 at contact, on the rank owning i:
+   fills the momentum J given to i (j receives -J) and imp.apply (0 for a
+   grazing contact with no approaching normal velocity, which gets no impulse)
+------------------------------------------------------------------------- */
+
+void FixHardSphere::collide_pair(int i, int j, Impulse &imp)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+  for (int k = 0; k < 3; k++) imp.dq[k] = x[i][k] - x[j][k];
+  const double un = imp.dq[0] * dv[0] + imp.dq[1] * dv[1] + imp.dq[2] * dv[2];
+  imp.apply = un < 0.0;
+  if (imp.apply) HardSphere::pair_impulse(imp.dq, dv, mass_of(i), mass_of(j), imp.J);
+}
+
+void FixHardSphere::collide_wall(int i, const Wall &w, Impulse &imp)
+{
+  double **v = atom->v;
+  const double vn = (w.side < 0) ? v[i][w.dim] : -v[i][w.dim];
+  imp.apply = vn < 0.0;
+  imp.dq[w.dim] = atom->x[i][w.dim] - w.coord;
+  if (imp.apply) imp.J[w.dim] = -2.0 * mass_of(i) * v[i][w.dim];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::apply_impulse(const Impulse &imp)
+{
+  if (!imp.apply) return;
+  double **v = atom->v;
+  // every copy of the atom on this rank, owned and ghost, gets the same update
+  if (imp.type == PAIR_EVENT) {
+    for (int k = atom->map(imp.itag); k >= 0; k = atom->sametag[k]) {
+      const double im = 1.0 / mass_of(k);
+      v[k][0] += imp.J[0] * im;
+      v[k][1] += imp.J[1] * im;
+      v[k][2] += imp.J[2] * im;
+    }
+    for (int k = atom->map(imp.jtag); k >= 0; k = atom->sametag[k]) {
+      const double im = 1.0 / mass_of(k);
+      v[k][0] -= imp.J[0] * im;
+      v[k][1] -= imp.J[1] * im;
+      v[k][2] -= imp.J[2] * im;
+    }
+  } else {
+    // a plane reflects the normal velocity exactly: v_n -> -v_n
+    const int dim = walls[imp.wall].dim;
+    for (int k = atom->map(imp.itag); k >= 0; k = atom->sametag[k]) v[k][dim] = -v[k][dim];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   one step of the collision Verlet algorithm (section 2.2):
+   while time is left, sub-step with Verlet to the earliest contact, apply
+   the impulse there, repeat; the last sub-step's closing half kick is done
+   in final_integrate with the forces LAMMPS computes at the step's end.
+   A step with no predicted contact is exactly fix nve's step.
+------------------------------------------------------------------------- */
+
+void FixHardSphere::initial_integrate(int)
+{
+  for (int k = 0; k < 6; k++) virial[k] = 0.0;
+  grow_peratom();
+  update_walls();
+
+  double tleft = dtv;
+  int nact = screen(tleft), anyact;
+  MPI_Allreduce(&nact, &anyact, 1, MPI_INT, MPI_MAX, world);
+  if (!anyact) {
+    request_rebuild(nve_initial());
+    dtf_last = dtf;
+    return;
+  }
+
+  const double ftm2v = force->ftm2v;
+  int stuck = 0;
+  bool collided = false;
+  comm_vel_acc();
+
+  while (true) {
+    Event ev{PAIR_EVENT, -1, -1, -1};
+    struct {
+      double t;
+      int rank;
+    } mine{predict(tleft, ev), comm->me}, first;
+    MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
+
+    if (first.t >= tleft) {    // no contact in the rest of the step
+      if (tleft == dtv) nve_initial();
+      else kick_drift(tleft);
+      dtf_last = (tleft == dtv) ? dtf : 0.5 * tleft * ftm2v;
+      break;
+    }
+
+    const double tau = first.t;
+    if (tau > 0.0) {
+      kick_drift(tau);
+      recompute_forces();
+      kick(tau);
+      comm_vel_acc();
+      stuck = 0;
+    }
+
+    // the rank that found the contact builds the impulse from the state at
+    // contact and sends it to all; each applies it to its copies of the atoms
+
+    Impulse imp;
+    memset(&imp, 0, sizeof(imp));
+    if (comm->me == first.rank) {
+      imp.type = ev.type;
+      imp.itag = atom->tag[ev.i];
+      imp.wall = ev.wall;
+      if (ev.type == PAIR_EVENT) {
+        imp.jtag = atom->tag[ev.j];
+        collide_pair(ev.i, ev.j, imp);
+      } else
+        collide_wall(ev.i, walls[ev.wall], imp);
+      if (imp.apply) {
+        // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
+        const double s = 1.0 / (dtv * ftm2v);
+        virial[0] += s * imp.dq[0] * imp.J[0];
+        virial[1] += s * imp.dq[1] * imp.J[1];
+        virial[2] += s * imp.dq[2] * imp.J[2];
+        virial[3] += s * imp.dq[0] * imp.J[1];
+        virial[4] += s * imp.dq[0] * imp.J[2];
+        virial[5] += s * imp.dq[1] * imp.J[2];
+      }
+    }
+    MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, first.rank, world);
+    apply_impulse(imp);
+
+    if (imp.apply) {
+      if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
+      else ncoll_wall += 1.0;
+      collided = true;
+    } else if (tau == 0.0 && ++stuck > MAX_STUCK) {
+      error->all(FLERR,
+                 "Fix {}: atoms {} and {} stay in contact with no normal velocity on step {} "
+                 "(a resting contact), which impulsive hard spheres cannot resolve",
+                 style_name, imp.itag, imp.jtag, update->ntimestep);
+    }
+
+    tleft -= tau;
+    screen(tleft);
+  }
+  if (collided) ncoll_steps += 1.0;
+  request_rebuild(moved_half_skin());
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::final_integrate()
+{
+  double **v = atom->v;
+  double **f = atom->f;
+  double *rmass = atom->rmass;
+  double *mass = atom->mass;
+  int *type = atom->type;
+  int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double dtfm;
+
+  if (rmass) {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtf_last / rmass[i];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+      }
+  } else {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtf_last / mass[type[i]];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+      }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixHardSphere::compute_vector(int n)
+{
+  switch (n) {
+    case 0:
+      return ncoll_pair + ncoll_wall;
+    case 1:
+      return ncoll_pair;
+    case 2:
+      return ncoll_wall;
+    case 3:
+      return ncoll_steps;
+    case 4:
+      return nforce_evals;
+  }
+  return 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphere::write_restart(FILE *fp)
+{
+  if (comm->me == 0) {
+    double list_[4] = {ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals};
+    int size = sizeof(list_);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list_, sizeof(double), 4, fp);
+  }
+}
+
+void FixHardSphere::restart(char *buf)
+{
+  const double *list_ = (const double *) buf;
+  ncoll_pair = list_[0];
+  ncoll_wall = list_[1];
+  ncoll_steps = list_[2];
+  nforce_evals = list_[3];
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixHardSphere::memory_usage()
+{
+  return (double) nmax_hs * (7 * sizeof(double) + sizeof(int));
+}

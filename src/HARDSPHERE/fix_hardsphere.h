@@ -1,0 +1,121 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: shared base of the hard-sphere integrator family
+   (Bond & Leimkuhler, SIAM J. Sci. Comput. 30(1), 2007).
+
+   The base does the plumbing every method shares: keywords, the contact
+   neighbor list and bonded contact candidates, walls, screening and
+   predicting the next collision, the sub-step loop of the collision Verlet
+   algorithm (section 2.2), force re-evaluation, collision bookkeeping,
+   virial, MPI ghost exchange and restart. A method class overrides only
+   what differs (style name, smooth map, collision operator, projection).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_FIX_HARDSPHERE_H
+#define LMP_FIX_HARDSPHERE_H
+
+#include "fix.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixHardSphere : public Fix {
+ public:
+  FixHardSphere(class LAMMPS *, int, char **);
+  ~FixHardSphere() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup(int) override;
+  void setup_post_neighbor() override;
+  void post_neighbor() override;
+  void initial_integrate(int) override;
+  void final_integrate() override;
+  void reset_dt() override;
+  double compute_vector(int) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  double memory_usage() override;
+
+ protected:
+  enum { PAIR_EVENT = 0, WALL_EVENT = 1 };
+
+  struct Wall {
+    int dim;         // 0,1,2
+    int side;        // -1 = lo face (allowed x >= coord + r), +1 = hi face
+    int edge;        // 1 if coord follows the box boundary (EDGE)
+    double coord;
+  };
+
+  // one collision as found by the rank that predicted it (local indices)
+  struct Event {
+    int type;
+    int i, j;    // i owned; j owned or ghost (pair events)
+    int wall;
+  };
+
+  // the collision as broadcast to every rank (tags, so any rank can apply it)
+  struct Impulse {
+    double J[3];      // momentum added to atom i (atom j receives -J)
+    double dq[3];     // contact normal q_i - q_j (pair) or wall offset (wall)
+    tagint itag, jtag;
+    int type;
+    int wall;
+    int apply;        // 0 for a grazing contact (no normal approach velocity)
+  };
+
+  std::string style_name;    // e.g. "hardsphere/cva", for messages
+
+  // keywords
+  double diameter;
+  int diameter_flag;
+  std::vector<Wall> walls;
+
+  // cached per run
+  double dtv, dtf, dtf_last;
+  double skin, rmax, list_cutoff;
+  int forces_present;
+  class NeighList *list;
+
+  // per-atom state, sized atom->nmax
+  int nmax_hs;
+  double **xref;      // positions at the last neighbor list build
+  double *gap;        // a sphere that moved less than gap since xref can touch nothing
+  int *active;        // 1 if it may touch something within the rest of the step
+  double **acc;       // accelerations, forwarded to ghosts with v
+
+  // global counters, identical on every rank
+  double ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals;
+
+  // --- the sub-step loop (CVA); methods override the pieces below ---
+  virtual void kick(double tau);
+  virtual void kick_drift(double tau);
+  virtual void collide_pair(int i, int j, Impulse &);    // operator R at contact
+  virtual void collide_wall(int i, const Wall &, Impulse &);
+  virtual void apply_impulse(const Impulse &);
+  int nve_initial();
+  int moved_half_skin();
+  void request_rebuild(int moved);
+  void recompute_forces();
+  void force_clear();
+
+  // screening, prediction, bookkeeping
+  int screen(double tleft);
+  double predict(double tleft, Event &);
+  void reset_reference(int at_setup);
+  void comm_vel_acc();
+  void grow_peratom();
+  void update_walls();
+  double radius_of(int i) const;
+  double mass_of(int i) const;
+  double wall_gap(const Wall &, const double *x, double r) const;
+  void wall_name(const Wall &, std::string &) const;
+  void check_other_integrators();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

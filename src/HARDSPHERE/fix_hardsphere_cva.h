@@ -1,0 +1,29 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: fix hardsphere/cva, the collision Verlet algorithm
+   (Bond & Leimkuhler 2007, section 2.2): Verlet sub-steps to and from each
+   collision, elastic impulse R of section 2 at the collision. It is the
+   base class's sub-step loop unchanged.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(hardsphere/cva,FixHardSphereCVA);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_HARDSPHERE_CVA_H
+#define LMP_FIX_HARDSPHERE_CVA_H
+
+#include "fix_hardsphere.h"
+
+namespace LAMMPS_NS {
+
+class FixHardSphereCVA : public FixHardSphere {
+ public:
+  FixHardSphereCVA(class LAMMPS *lmp, int narg, char **arg) : FixHardSphere(lmp, narg, arg) {}
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,59 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the two LAMMPS APIs this package compiles against.
+
+   LAMMPS 24Mar2022 replaced neighbor->request() + NeighRequest flags with
+   neighbor->add_request(), and comm->forward_comm_fix(this) with
+   comm->forward_comm(this). Our CMake reads the headers and defines
+   HS_LAMMPS_NEW_NEIGH_API / HS_LAMMPS_NEW_COMM_API. For a drop-in build
+   inside a LAMMPS src/ tree (no CMake of ours), the newer API is assumed
+   when platform.h exists (it appeared with the 2022 releases); define the
+   macros by hand for development snapshots in between.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_COMPAT_H
+#define LMP_HS_COMPAT_H
+
+#if !defined(HS_LAMMPS_NEW_NEIGH_API) && !defined(HS_LAMMPS_API_DETECTED) && defined(__has_include)
+#if __has_include("platform.h")
+#define HS_LAMMPS_NEW_NEIGH_API 1
+#define HS_LAMMPS_NEW_COMM_API 1
+#endif
+#endif
+
+#include "comm.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+
+namespace LAMMPS_NS {
+namespace HSCompat {
+
+  // a full neighbor list with its own cutoff (including skin), built for a fix
+  inline void request_full_list(Neighbor *neighbor, class Fix *fix, int instance, double cutoff)
+  {
+#if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
+    (void) instance;
+    neighbor->add_request(fix, NeighConst::REQ_FULL)->set_cutoff(cutoff);
+#else
+    int irequest = neighbor->request(fix, instance);
+    neighbor->requests[irequest]->pair = 0;
+    neighbor->requests[irequest]->fix = 1;
+    neighbor->requests[irequest]->half = 0;
+    neighbor->requests[irequest]->full = 1;
+    neighbor->requests[irequest]->cut = 1;
+    neighbor->requests[irequest]->cutoff = cutoff;
+#endif
+  }
+
+  inline void forward_comm_fix(Comm *comm, class Fix *fix)
+  {
+#if defined(HS_LAMMPS_NEW_COMM_API) && HS_LAMMPS_NEW_COMM_API
+    comm->forward_comm(fix);
+#else
+    comm->forward_comm_fix(fix);
+#endif
+  }
+
+}    // namespace HSCompat
+}    // namespace LAMMPS_NS
+
+#endif
