@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# HARDSPHERE set-up: install Debian packages, fetch the matching LAMMPS
+# headers from Debian's lammps source package, configure and build.
+# Idempotent and quick when everything is already in place.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+export DEBIAN_FRONTEND=noninteractive
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+PACKAGES=(lammps liblammps0 liblammps-dev libopenmpi-dev openmpi-bin
+          libeigen3-dev googletest libgtest-dev python3-numpy python3-matplotlib
+          cmake g++ make dpkg-dev xz-utils)
+
+# ---------------------------------------------------------------- packages
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg -s "$p" 2>/dev/null | grep -q '^Status: install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+APT_UPDATED=0
+apt_update() {
+  if [ "$APT_UPDATED" -eq 0 ]; then
+    $SUDO apt-get update
+    APT_UPDATED=1
+  fi
+}
+
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup: installing missing packages: ${missing[*]}"
+  apt_update
+  $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all Debian packages present"
+fi
+
+# ---------------------------------------------------------------- headers
+# liblammps-dev ships only a subset of the headers; take the complete set
+# (incl. fmt/, neigh_request.h, lammpsplugin.h, version.h) from the matching
+# Debian source package. Only headers are kept, in the ignored .cache/ dir.
+CACHE="$ROOT/.cache"
+HDR="$CACHE/lammps-headers"
+STAMP="$HDR/.stamp"
+if [ -f "$STAMP" ] && [ -f "$HDR/src/lammps.h" ] && [ -f "$HDR/src/fmt/format.h" ] \
+   && [ -f "$HDR/src/lammpsplugin.h" ]; then
+  echo "setup: LAMMPS headers present ($(cat "$STAMP"))"
+else
+  SRCLIST=/etc/apt/sources.list.d/hs-deb-src.sources
+  if [ ! -f "$SRCLIST" ]; then
+    echo "setup: adding deb-src entry $SRCLIST"
+    $SUDO tee "$SRCLIST" >/dev/null <<'SRC'
+Types: deb-src
+URIs: http://deb.debian.org/debian
+Suites: bookworm bookworm-updates
+Components: main
+Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
+SRC
+    APT_UPDATED=0    # an earlier update in this run did not know deb-src yet
+  fi
+  # deb-src indices may never have been fetched on this machine
+  apt_update
+  DL="$CACHE/lammps-src"
+  mkdir -p "$DL"
+  (cd "$DL" && apt-get source --download-only lammps)
+  tarball="$(ls "$DL"/lammps_*.orig.tar.xz | head -n1)"
+  echo "setup: extracting headers from $(basename "$tarball")"
+  rm -rf "$HDR"
+  mkdir -p "$HDR"
+  # strip the top-level lammps-<version>/ directory -> $HDR/src/...
+  tar -xJf "$tarball" -C "$HDR" --strip-components=1 \
+      --wildcards --no-wildcards-match-slash \
+      '*/src/*.h' '*/src/fmt/*' '*/src/PLUGIN/*.h'
+  test -f "$HDR/src/lammps.h" && test -f "$HDR/src/fmt/format.h" \
+    && test -f "$HDR/src/lammpsplugin.h"
+  basename "$tarball" > "$STAMP"
+  rm -rf "$DL"
+fi
+
+# ---------------------------------------------------------------- build
+BUILD="$ROOT/build"
+# always (re)configure: quick, and picks up new style headers / tests
+cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$BUILD" -j2

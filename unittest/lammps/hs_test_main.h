@@ -1,0 +1,217 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   Helpers for in-process LAMMPS GoogleTest files (unittest/lammps/test_*.cpp).
+
+   Every test_*.cpp in unittest/lammps/ is built as its own executable that
+   links hardsphere + liblammps + MPI + GTest::gtest (NOT gtest_main).
+   Including this header provides main() (MPI_Init, RUN_ALL_TESTS,
+   MPI_Finalize). Exactly one translation unit per executable may define
+   main(): a TU that includes this header but must not define main()
+   defines HS_TEST_NO_MAIN before the #include.
+
+   Compile definitions set by CMake:
+     HS_LMP_BINARY   absolute path of build/lmp
+     HS_SOURCE_DIR   repository root
+     HS_PLUGIN_PATH  absolute path of build/hardsphereplugin.so
+   Tests run with their working directory in a per-executable scratch dir
+   (build/unittest/work/<target>), so output files may be written to ".".
+
+   IMPORTANT (Debian's liblammps is built WITHOUT LAMMPS_EXCEPTIONS): any
+   LAMMPS error (Error::all/one) inside HSLammps::cmd()/file() prints the
+   message and terminates the whole test process (exit(1) or MPI_Abort).
+   Test expected errors through run_lmp() (a separate lmp process) instead.
+   Since HSLammps uses "-screen none", such an error is silent: run the test
+   with HS_TEST_VERBOSE=1 to see LAMMPS' screen output and the message.
+------------------------------------------------------------------------- */
+
+#ifndef HS_TEST_MAIN_H
+#define HS_TEST_MAIN_H
+
+#include "hardsphere_registry.h"
+
+#include "input.h"
+#include "lammps.h"
+#include "library.h"
+#include "modify.h"
+
+#include "gtest/gtest.h"
+
+#include <mpi.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#ifndef HS_LMP_BINARY
+#error "HS_LMP_BINARY must be defined (path of the lmp driver)"
+#endif
+#ifndef HS_SOURCE_DIR
+#define HS_SOURCE_DIR "."
+#endif
+
+extern char **environ;
+
+// An in-process LAMMPS instance with the HARDSPHERE styles registered.
+class HSLammps {
+ public:
+  LAMMPS_NS::LAMMPS *lmp = nullptr;
+
+  explicit HSLammps(const std::vector<std::string> &extra_args = {})
+  {
+    std::vector<std::string> args = {"hstest", "-log",  "none", "-screen",
+                                     "none",   "-echo", "none", "-nocite"};
+    // HS_TEST_VERBOSE=1 in the environment: keep LAMMPS screen output (with
+    // "-screen none" an ERROR message is printed nowhere before exit(1))
+    const char *verbose = getenv("HS_TEST_VERBOSE");
+    if (verbose && *verbose && std::string(verbose) != "0") args = {"hstest", "-log", "none", "-nocite"};
+    args.insert(args.end(), extra_args.begin(), extra_args.end());
+    std::vector<char *> argv;
+    for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
+    argv.push_back(nullptr);
+    lmp = new LAMMPS_NS::LAMMPS((int) args.size(), argv.data(), MPI_COMM_WORLD);
+    hardsphere_register_styles(lmp);
+  }
+  ~HSLammps() { delete lmp; }
+  HSLammps(const HSLammps &) = delete;
+  HSLammps &operator=(const HSLammps &) = delete;
+
+  // execute one input line (Input::one)
+  // NOTE: "clear" drops the HARDSPHERE styles; call register_styles() after it.
+  void cmd(const std::string &line) { lmp->input->one(line); }
+  void cmds(const std::vector<std::string> &lines)
+  {
+    for (const auto &l : lines) cmd(l);
+  }
+  void file(const std::string &path) { lmp->input->file(path.c_str()); }
+  void register_styles() { hardsphere_register_styles(lmp); }
+  // current value of a thermo keyword (valid after a run/setup)
+  double thermo(const char *keyword) { return lammps_get_thermo(lmp, keyword); }
+};
+
+struct RunResult {
+  int exit_code;         // exit status of lmp / mpirun (-1: not exited normally)
+  std::string output;    // stdout + stderr
+};
+
+namespace hs_test_detail {
+inline std::string shell_quote(const std::string &s)
+{
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'')
+      q += "'\\''";
+    else
+      q += c;
+  }
+  return q + "'";
+}
+
+// environment for the child: drop the variables the (singleton) MPI runtime
+// of this test process exported, otherwise the child lmp/mpirun would try
+// to join our MPI job.
+inline std::vector<std::string> child_environment(bool mpirun)
+{
+  std::vector<std::string> env;
+  static const char *drop[] = {"OMPI_", "PMIX_", "ORTE_", "OPAL_", "PMI_", "HYDRA_"};
+  for (char **e = environ; e && *e; ++e) {
+    std::string kv(*e);
+    bool keep = true;
+    for (const char *p : drop)
+      if (kv.compare(0, strlen(p), p) == 0) keep = false;
+    if (keep) env.push_back(kv);
+  }
+  if (mpirun) {
+    env.emplace_back("OMPI_ALLOW_RUN_AS_ROOT=1");
+    env.emplace_back("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1");
+    env.emplace_back("OMPI_MCA_rmaps_base_oversubscribe=1");
+  }
+  return env;
+}
+}    // namespace hs_test_detail
+
+// Run the lmp driver on input_text (written to a temporary file in the
+// current directory) with "-in file -log none -echo screen" plus extra_args;
+// nprocs > 1 runs under "mpirun -np N --oversubscribe".
+inline RunResult run_lmp(const std::string &input_text,
+                         const std::vector<std::string> &extra_args = {}, int nprocs = 1)
+{
+  using namespace hs_test_detail;
+  char tmpl[] = "hs_input_XXXXXX";
+  int fd = mkstemp(tmpl);
+  if (fd < 0) return {-1, std::string("mkstemp failed: ") + strerror(errno)};
+  FILE *fp = fdopen(fd, "w");
+  fputs(input_text.c_str(), fp);
+  fclose(fp);
+  const std::string infile(tmpl);
+
+  std::string cmd;
+  if (nprocs > 1) cmd = "mpirun -np " + std::to_string(nprocs) + " --oversubscribe ";
+  cmd += shell_quote(HS_LMP_BINARY) + " -in " + shell_quote(infile) + " -log none -echo screen";
+  for (const auto &a : extra_args) cmd += " " + shell_quote(a);
+  cmd += " 2>&1";
+
+  std::vector<std::string> envs = child_environment(nprocs > 1);
+  std::vector<char *> envp;
+  for (auto &e : envs) envp.push_back(const_cast<char *>(e.c_str()));
+  envp.push_back(nullptr);
+
+  int pipefd[2];
+  if (pipe(pipefd) != 0) {
+    unlink(infile.c_str());
+    return {-1, "pipe failed"};
+  }
+  fflush(nullptr);
+  pid_t pid = fork();
+  if (pid == 0) {
+    close(pipefd[0]);
+    dup2(pipefd[1], STDOUT_FILENO);
+    dup2(pipefd[1], STDERR_FILENO);
+    close(pipefd[1]);
+    int devnull = open("/dev/null", O_RDONLY);
+    if (devnull >= 0) dup2(devnull, STDIN_FILENO);
+    execle("/bin/sh", "sh", "-c", cmd.c_str(), (char *) nullptr, envp.data());
+    _exit(127);
+  }
+  close(pipefd[1]);
+  RunResult res{-1, ""};
+  if (pid < 0) {
+    close(pipefd[0]);
+    unlink(infile.c_str());
+    res.output = "fork failed";
+    return res;
+  }
+  char buf[4096];
+  ssize_t n;
+  while ((n = read(pipefd[0], buf, sizeof(buf))) != 0) {
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    res.output.append(buf, (size_t) n);
+  }
+  close(pipefd[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  if (WIFEXITED(status)) res.exit_code = WEXITSTATUS(status);
+  unlink(infile.c_str());
+  return res;
+}
+
+#ifndef HS_TEST_NO_MAIN
+int main(int argc, char **argv)
+{
+  MPI_Init(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  int rc = RUN_ALL_TESTS();
+  MPI_Finalize();
+  return rc;
+}
+#endif
+
+#endif
