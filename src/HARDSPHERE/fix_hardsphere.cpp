@@ -366,12 +366,10 @@ void FixHardSphere::reset_reference(int at_setup)
       for (int m = 0; m < nspecial[i][2]; m++) {
         const int level = (m < nspecial[i][0]) ? 1 : (m < nspecial[i][1]) ? 2 : 3;
         if (neighbor->special_flag[level] != 0) continue;
-        int j = atom->map(special[i][m]);
-        if (j < 0)
-          error->one(FLERR, "Fix {}: bonded partner {} of atom {} is missing on this rank",
-                     style_name, special[i][m], tag[i]);
-        j = domain->closest_image(i, j);
-        pair_gap(i, j);
+        // a partner that is not even a ghost is farther than the ghost
+        // cutoff >= list cutoff: it cannot touch i before the next build
+        const int j = atom->map(special[i][m]);
+        if (j >= 0) pair_gap(i, domain->closest_image(i, j));
       }
     }
   }
@@ -572,11 +570,8 @@ double FixHardSphere::predict(double tleft, Event &ev)
       for (int m = 0; m < nsp[2]; m++) {
         const int level = (m < nsp[0]) ? 1 : (m < nsp[1]) ? 2 : 3;
         if (neighbor->special_flag[level] != 0) continue;
-        int j = atom->map(sp[m]);
-        if (j < 0)
-          error->one(FLERR, "Fix {}: bonded partner {} of atom {} is missing on this rank",
-                     style_name, sp[m], tag[i]);
-        pair(i, domain->closest_image(i, j), Di);
+        const int j = atom->map(sp[m]);    // absent: beyond reach, see reset_reference()
+        if (j >= 0) pair(i, domain->closest_image(i, j), Di);
       }
     }
   }
@@ -747,24 +742,34 @@ void FixHardSphere::apply_impulse(const Impulse &imp)
 {
   if (!imp.apply) return;
   double **v = atom->v;
-  // every copy of the atom on this rank, owned and ghost, gets the same update
-  if (imp.type == PAIR_EVENT) {
-    for (int k = atom->map(imp.itag); k >= 0; k = atom->sametag[k]) {
-      const double im = 1.0 / mass_of(k);
-      v[k][0] += imp.J[0] * im;
-      v[k][1] += imp.J[1] * im;
-      v[k][2] += imp.J[2] * im;
+  const int dim = (imp.type == WALL_EVENT) ? walls[imp.wall].dim : 0;
+
+  // every copy of the atoms on this rank, owned and ghost, gets the same
+  // update, so ghosts stay current without communication; a plane reflects
+  // the normal velocity exactly, v_n -> -v_n
+  auto update = [&](int k) {
+    const tagint t = atom->tag[k];
+    if (imp.type == WALL_EVENT) {
+      if (t == imp.itag) v[k][dim] = -v[k][dim];
+      return;
     }
-    for (int k = atom->map(imp.jtag); k >= 0; k = atom->sametag[k]) {
-      const double im = 1.0 / mass_of(k);
-      v[k][0] -= imp.J[0] * im;
-      v[k][1] -= imp.J[1] * im;
-      v[k][2] -= imp.J[2] * im;
-    }
+    double s;
+    if (t == imp.itag) s = 1.0 / mass_of(k);
+    else if (t == imp.jtag) s = -1.0 / mass_of(k);
+    else return;
+    v[k][0] += s * imp.J[0];
+    v[k][1] += s * imp.J[1];
+    v[k][2] += s * imp.J[2];
+  };
+
+  if (atom->map_style != Atom::MAP_NONE) {
+    for (int k = atom->map(imp.itag); k >= 0; k = atom->sametag[k]) update(k);
+    if (imp.type == PAIR_EVENT)
+      for (int k = atom->map(imp.jtag); k >= 0; k = atom->sametag[k]) update(k);
   } else {
-    // a plane reflects the normal velocity exactly: v_n -> -v_n
-    const int dim = walls[imp.wall].dim;
-    for (int k = atom->map(imp.itag); k >= 0; k = atom->sametag[k]) v[k][dim] = -v[k][dim];
+    // no atom map (atomic styles without atom_modify map): scan the copies
+    const int nall = atom->nlocal + atom->nghost;
+    for (int k = 0; k < nall; k++) update(k);
   }
 }
 
@@ -847,7 +852,6 @@ void FixHardSphere::initial_integrate(int)
     }
     MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, first.rank, world);
     apply_impulse(imp);
-
     if (imp.apply) {
       if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
       else ncoll_wall += 1.0;
