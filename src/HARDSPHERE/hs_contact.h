@@ -52,7 +52,8 @@ inline double poly_root_bracketed(const double *c, int n, double lo, double hi)
   poly_derivative(c, n, d);
   double x = 0.5 * (lo + hi);
   double width = hi - lo;
-  for (int it = 0; it < 200; ++it) {
+  // 1100 halvings reach any double, even when Newton never helps
+  for (int it = 0; it < 1100; ++it) {
     const double px = poly_eval(c, n, x);
     if (px == 0.0) return x;
     if ((px > 0.0) == lo_pos) lo = x;
