@@ -43,6 +43,8 @@ static constexpr double TOUCH_TOL = 1.0e-9;
 // consecutive zero-length sub-steps without an impulse before we call it a
 // resting contact, which the impulsive hard-sphere model cannot resolve
 static constexpr int MAX_STUCK = 100;
+// collisions in one step beyond which something is wrong (a runaway loop)
+static constexpr bigint MAX_SUBSTEPS = 100000000;
 
 /* ---------------------------------------------------------------------- */
 
@@ -798,6 +800,7 @@ void FixHardSphere::initial_integrate(int)
 
   const double ftm2v = force->ftm2v;
   int stuck = 0;
+  bigint nsub = 0;
   bool collided = false;
   comm_vel_acc();
 
@@ -865,6 +868,11 @@ void FixHardSphere::initial_integrate(int)
 
     tleft -= tau;
     screen(tleft);
+    if (++nsub > MAX_SUBSTEPS)
+      error->all(FLERR,
+                 "Fix {}: more than {} collisions in step {}: the timestep is far too large "
+                 "for this system",
+                 style_name, MAX_SUBSTEPS, update->ntimestep);
   }
   if (collided) ncoll_steps += 1.0;
   request_rebuild(moved_half_skin());
