@@ -425,8 +425,8 @@ int FixHardSphere::screen(double tleft)
     if (w > skin)
       error->one(FLERR,
                  "Fix {}: atom {} may be {} away from where the neighbor list was built, "
-                 "more than the skin {}: use neigh_modify every 1 delay 0 check yes, or a "
-                 "larger skin",
+                 "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
+                 "timestep or a larger neighbor skin",
                  style_name, atom->tag[i], w, skin);
     active[i] = 1;
     nactive++;
@@ -860,10 +860,15 @@ void FixHardSphere::initial_integrate(int)
       else ncoll_wall += 1.0;
       collided = true;
     } else if (tau == 0.0 && ++stuck > MAX_STUCK) {
+      std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
+      if (imp.type == WALL_EVENT) {
+        wall_name(walls[imp.wall], who);
+        who = fmt::format("atom {} and wall {}", imp.itag, who);
+      }
       error->all(FLERR,
-                 "Fix {}: atoms {} and {} stay in contact with no normal velocity on step {} "
+                 "Fix {}: {} stay in contact with no normal velocity on step {} "
                  "(a resting contact), which impulsive hard spheres cannot resolve",
-                 style_name, imp.itag, imp.jtag, update->ntimestep);
+                 style_name, who, update->ntimestep);
     }
 
     tleft -= tau;
