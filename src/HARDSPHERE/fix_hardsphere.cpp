@@ -145,11 +145,6 @@ void FixHardSphere::init()
 {
   if (domain->triclinic)
     error->all(FLERR, "Fix {} does not support triclinic boxes", style_name);
-  if (neighbor->exclude)
-    error->all(FLERR,
-               "Fix {} cannot be used with neigh_modify exclude: excluded pairs would "
-               "pass through each other",
-               style_name);
   check_other_integrators();
 
   // the largest radius in the group sets the contact list cutoff
@@ -235,6 +230,14 @@ void FixHardSphere::reset_dt()
 
 void FixHardSphere::setup(int)
 {
+  // Neighbor::init() (after ours) sets neighbor->exclude: checked here
+
+  if (neighbor->exclude)
+    error->all(FLERR,
+               "Fix {} cannot be used with neigh_modify exclude: excluded pairs would "
+               "pass through each other",
+               style_name);
+
   // the contact list needs ghost atoms out to its cutoff
 
   const double cutghost = MAX(neighbor->cutneighmax, comm->cutghostuser);

@@ -1,0 +1,258 @@
+// fix hardsphere/cva: two-sphere collisions with no smooth forces.
+//
+// Expected outcomes are computed here independently of the fix: free flight
+// to the analytic contact time (root of |dq + t dv| = sigma), the elastic
+// impulse along the line of centres at contact, free flight to the end of
+// the run.  Velocity Verlet with f = 0 is exact free flight, so the final
+// state must agree to round-off.
+
+#include "hs_test_main.h"
+
+#include "atom.h"
+#include "library.h"
+
+#include <array>
+#include <cmath>
+#include <sstream>
+
+namespace {
+
+using Vec = std::array<double, 3>;
+
+struct Body {
+  Vec x, v;
+  double m, r;
+};
+
+double dot(const Vec &a, const Vec &b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// exact outcome of a run of length T for two free spheres that collide once;
+// period[k] > 0: periodic in k with that length (minimum image)
+void exact_two_body(Body &a, Body &b, double T, const Vec &period, double &tc)
+{
+  Vec dq, dv;
+  for (int k = 0; k < 3; k++) {
+    dq[k] = a.x[k] - b.x[k];
+    if (period[k] > 0.0) dq[k] -= period[k] * std::round(dq[k] / period[k]);
+    dv[k] = a.v[k] - b.v[k];
+  }
+  const double sigma = a.r + b.r;
+  const double A = dot(dv, dv), B = dot(dq, dv), C = dot(dq, dq) - sigma * sigma;
+  const double disc = B * B - A * C;
+  ASSERT_GT(C, 0.0);
+  ASSERT_LT(B, 0.0);
+  ASSERT_GT(disc, 0.0);
+  // smaller root, in the cancellation-free form
+  tc = C / (-B + std::sqrt(disc));
+  ASSERT_GT(tc, 0.0);
+  ASSERT_LT(tc, T);
+  Vec n;
+  for (int k = 0; k < 3; k++) n[k] = (dq[k] + tc * dv[k]) / sigma;
+  const double un = dot(dv, n);
+  const double mu = a.m * b.m / (a.m + b.m);
+  for (int k = 0; k < 3; k++) {
+    const double J = -2.0 * mu * un * n[k];
+    a.x[k] += tc * a.v[k];
+    b.x[k] += tc * b.v[k];
+    a.v[k] += J / a.m;
+    b.v[k] -= J / b.m;
+    a.x[k] += (T - tc) * a.v[k];
+    b.x[k] += (T - tc) * b.v[k];
+    if (period[k] > 0.0) {
+      // wrap into [0, L) like LAMMPS (box starts at 0 in these tests)
+      a.x[k] -= period[k] * std::floor(a.x[k] / period[k]);
+      b.x[k] -= period[k] * std::floor(b.x[k] / period[k]);
+    }
+  }
+}
+
+void run_lines(HSLammps &h, const std::string &text)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty()) h.cmd(line);
+}
+
+double fix_vec(HSLammps &h, const char *id, int k)
+{
+  auto *p = (double *) lammps_extract_fix(h.lmp, id, 0, 1, k, 0);
+  if (!p) return -1.0;
+  double val = *p;
+  lammps_free(p);
+  return val;
+}
+
+std::string fmt(double v)
+{
+  char buf[64];
+  snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+std::string vec(const Vec &a)
+{
+  return fmt(a[0]) + " " + fmt(a[1]) + " " + fmt(a[2]);
+}
+
+// Build two spheres, run nsteps of dt and compare with the exact outcome.
+// sphere_style: atom_style sphere with per-atom radius/rmass (no diameter
+// keyword); otherwise atom_style atomic with per-type mass and diameter
+// 2*a.r (a.r == b.r required).
+void check_two_body(Body a, Body b, double dt, int nsteps, bool sphere_style, bool periodic,
+                    double L = 20.0)
+{
+  HSLammps h;
+  std::string lo = periodic ? "0" : fmt(-0.5 * L), hi = periodic ? fmt(L) : fmt(0.5 * L);
+  std::string s = "units lj\n";
+  s += sphere_style ? "atom_style sphere\n" : "atom_style atomic\n";
+  s += periodic ? "boundary p p p\n" : "boundary f f f\n";
+  s += "atom_modify map array\n";
+  s += "region box block " + lo + " " + hi + " " + lo + " " + hi + " " + lo + " " + hi +
+      " units box\n";
+  s += "create_box 2 box\n";
+  s += "create_atoms 1 single " + vec(a.x) + " units box\n";
+  s += "create_atoms 2 single " + vec(b.x) + " units box\n";
+  if (sphere_style) {
+    s += "set atom 1 diameter " + fmt(2 * a.r) + "\n";
+    s += "set atom 2 diameter " + fmt(2 * b.r) + "\n";
+    s += "set atom 1 mass " + fmt(a.m) + "\n";
+    s += "set atom 2 mass " + fmt(b.m) + "\n";
+  } else {
+    s += "mass 1 " + fmt(a.m) + "\nmass 2 " + fmt(b.m) + "\n";
+  }
+  s += "group g1 id 1\ngroup g2 id 2\n";
+  s += "velocity g1 set " + vec(a.v) + " units box\n";
+  s += "velocity g2 set " + vec(b.v) + " units box\n";
+  s += "comm_modify cutoff 3.0\n";
+  s += "timestep " + fmt(dt) + "\n";
+  if (sphere_style)
+    s += "fix hs all hardsphere/cva\n";
+  else
+    s += "fix hs all hardsphere/cva diameter " + fmt(2 * a.r) + "\n";
+  s += "thermo_style custom step ke\nthermo_modify norm no\n";
+  s += "run " + std::to_string(nsteps) + "\n";
+  if (getenv("HS_TEST_VERBOSE")) fprintf(stderr, "%s", s.c_str());
+  run_lines(h, s);
+
+  const double T = dt * nsteps;
+  double tc = 0.0;
+  const Vec period = periodic ? Vec{L, L, L} : Vec{0, 0, 0};
+  const double ke0 = 0.5 * a.m * dot(a.v, a.v) + 0.5 * b.m * dot(b.v, b.v);
+  exact_two_body(a, b, T, period, tc);
+  if (::testing::Test::HasFatalFailure()) return;
+
+  std::vector<double> x(6), v(6);
+  lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());
+  lammps_gather_atoms(h.lmp, (char *) "v", 1, 3, v.data());
+  // positions are wrapped only at reneighboring: compare modulo the period
+  auto pdiff = [&](double u, double w, int k) {
+    double d = u - w;
+    if (period[k] > 0.0) d -= period[k] * std::round(d / period[k]);
+    return d;
+  };
+  for (int k = 0; k < 3; k++) {
+    EXPECT_NEAR(pdiff(x[k], a.x[k], k), 0.0, 1e-12) << "x1[" << k << "] tc=" << tc;
+    EXPECT_NEAR(pdiff(x[3 + k], b.x[k], k), 0.0, 1e-12) << "x2[" << k << "]";
+    EXPECT_NEAR(v[k], a.v[k], 1e-12) << "v1[" << k << "]";
+    EXPECT_NEAR(v[3 + k], b.v[k], 1e-12) << "v2[" << k << "]";
+  }
+  EXPECT_EQ(fix_vec(h, "hs", 0), 1.0);    // all collisions
+  EXPECT_EQ(fix_vec(h, "hs", 1), 1.0);    // sphere-sphere
+  EXPECT_EQ(fix_vec(h, "hs", 2), 0.0);    // wall
+  EXPECT_EQ(fix_vec(h, "hs", 3), 1.0);    // steps with a collision
+  EXPECT_NEAR(h.thermo("ke"), ke0, 1e-13 * ke0);
+}
+
+}    // namespace
+
+TEST(CVACollision, HeadOnUnequalMasses)
+{
+  // 1-D: v1' = ((m1-m2) v1 + 2 m2 v2)/(m1+m2), v2' = ((m2-m1) v2 + 2 m1 v1)/(m1+m2)
+  const double m1 = 1.0, m2 = 3.0, v1 = 1.0, v2 = -0.5;
+  const double v1p = ((m1 - m2) * v1 + 2 * m2 * v2) / (m1 + m2);    // -1.25
+  const double v2p = ((m2 - m1) * v2 + 2 * m1 * v1) / (m1 + m2);    //  0.25
+  // contact at |x2-x1| = 1 after (2-1)/1.5 = 2/3 time units; run to t = 1.0
+  const double tc = 1.0 / 1.5, T = 1.0;
+  Body a{{-1.0, 0.0, 0.0}, {v1, 0.0, 0.0}, m1, 0.5};
+  Body b{{1.0, 0.0, 0.0}, {v2, 0.0, 0.0}, m2, 0.5};
+  // the closed form for this case, independently of the generic helper
+  const double x1 = -1.0 + v1 * tc + v1p * (T - tc), x2 = 1.0 + v2 * tc + v2p * (T - tc);
+  HSLammps h;
+  run_lines(h, R"(
+units lj
+atom_style atomic
+boundary f f f
+atom_modify map array
+region box block -10 10 -10 10 -10 10 units box
+create_box 2 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 2 single 1 0 0 units box
+mass 1 1.0
+mass 2 3.0
+group g1 id 1
+group g2 id 2
+velocity g1 set 1.0 0 0 units box
+velocity g2 set -0.5 0 0 units box
+comm_modify cutoff 3.0
+run 0
+timestep 0.01
+fix hs all hardsphere/cva diameter 1.0
+run 100
+)");
+  std::vector<double> x(6), v(6);
+  lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());
+  lammps_gather_atoms(h.lmp, (char *) "v", 1, 3, v.data());
+  EXPECT_NEAR(v[0], v1p, 1e-12);
+  EXPECT_NEAR(v[3], v2p, 1e-12);
+  EXPECT_NEAR(x[0], x1, 1e-12);
+  EXPECT_NEAR(x[3], x2, 1e-12);
+  for (int k : {1, 2, 4, 5}) {
+    EXPECT_EQ(x[k], 0.0);
+    EXPECT_EQ(v[k], 0.0);
+  }
+  EXPECT_EQ(fix_vec(h, "hs", 1), 1.0);
+  // and the generic helper agrees with the closed form
+  check_two_body(a, b, 0.01, 100, false, false);
+}
+
+TEST(CVACollision, Oblique3D)
+{
+  Body a{{-1.0, 0.2, -0.1}, {0.9, 0.05, 0.1}, 1.0, 0.5};
+  Body b{{0.8, -0.2, 0.25}, {-0.6, 0.15, -0.05}, 2.5, 0.5};
+  check_two_body(a, b, 0.01, 200, false, false);
+}
+
+TEST(CVACollision, ObliqueGrazingTimestepNotMultiple)
+{
+  // a contact time that is no multiple of dt and a large impact parameter
+  Body a{{-1.5, 0.0, 0.0}, {1.0, 0.0, 0.0}, 1.0, 0.5};
+  Body b{{0.5, 0.93, 0.0}, {0.0, 0.0, 0.0}, 1.0, 0.5};
+  check_two_body(a, b, 0.0137, 200, false, false);
+}
+
+TEST(CVACollision, PerAtomRadiusAndMass)
+{
+  // atom_style sphere: radii 0.4 and 0.7 (contact distance 1.1), rmass 2 and 0.5
+  Body a{{-1.2, 0.1, 0.0}, {1.0, 0.0, 0.05}, 2.0, 0.4};
+  Body b{{0.6, -0.3, 0.1}, {-0.4, 0.1, 0.0}, 0.5, 0.7};
+  check_two_body(a, b, 0.01, 150, true, false);
+}
+
+TEST(CVACollision, AcrossPeriodicBoundary)
+{
+  // box [0,10)^3 periodic; the spheres approach each other through the x faces
+  Body a{{0.6, 5.0, 5.0}, {-1.0, 0.0, 0.0}, 1.0, 0.5};
+  Body b{{9.4, 5.3, 5.0}, {0.5, 0.0, 0.0}, 2.0, 0.5};
+  check_two_body(a, b, 0.01, 100, false, true, 10.0);
+}
+
+TEST(CVACollision, AcrossPeriodicBoundaryPerAtomRadius)
+{
+  Body a{{5.0, 0.3, 5.0}, {0.0, -1.0, 0.2}, 1.5, 0.6};
+  Body b{{5.2, 9.3, 5.1}, {0.1, 0.7, 0.0}, 0.7, 0.3};
+  check_two_body(a, b, 0.01, 100, true, true, 10.0);
+}

@@ -1,0 +1,256 @@
+// fix hardsphere/cva: invalid set-ups end in an ERROR naming the problem.
+// LAMMPS here is built without exceptions (an error exits the process), so
+// every case runs in a separate lmp process through run_lmp().
+
+#include "hs_test_main.h"
+
+#include <string>
+
+namespace {
+
+// two atoms of type 1 at (x1,0,0) and (x2,0,0); 'box' and 'fix' are spliced in
+std::string two_atoms(const std::string &x1, const std::string &x2, const std::string &fix,
+                      const std::string &extra = "", const std::string &boundary = "f f f",
+                      const std::string &style = "atomic")
+{
+  return "units lj\natom_style " + style + "\natom_modify map array\nboundary " + boundary +
+      "\nregion box block -5 5 -5 5 -5 5 units box\ncreate_box 1 box\n"
+      "create_atoms 1 single " + x1 + " 0 0 units box\n"
+      "create_atoms 1 single " + x2 + " 0 0 units box\n"
+      "mass 1 1.0\ncomm_modify cutoff 3.0\n" + extra + fix + "\nrun 10\n";
+}
+
+void expect_error(const std::string &input, const std::vector<std::string> &needles)
+{
+  RunResult r = run_lmp(input);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
+  for (const auto &n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
+}
+
+}    // namespace
+
+TEST(CVAErrors, ValidBaselineRuns)
+{
+  // the template itself is fine: the errors below come from the one change
+  RunResult r = run_lmp(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 wall xlo -4"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+}
+
+TEST(CVAErrors, OverlapAtSetup)
+{
+  expect_error(two_atoms("0", "0.5", "fix hs all hardsphere/cva diameter 1.0"),
+               {"atoms 1 and 2 overlap", "set-up"});
+}
+
+TEST(CVAErrors, SphereThroughWallAtSetup)
+{
+  // centre 0.2 from the wall plane, radius 0.5
+  expect_error(two_atoms("-1.8", "1", "fix hs all hardsphere/cva diameter 1.0 wall xlo -2.0"),
+               {"atom 1 is", "through wall xlo"});
+}
+
+TEST(CVAErrors, SphereThroughEdgeWallAtSetup)
+{
+  expect_error(two_atoms("1", "4.9", "fix hs all hardsphere/cva diameter 1.0 wall xhi EDGE"),
+               {"atom 2 is", "through wall xhi"});
+}
+
+TEST(CVAErrors, MissingDiameterAtomic)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva"), {"diameter"});
+}
+
+TEST(CVAErrors, UnknownKeyword)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 bogus 3"),
+               {"Unknown fix hardsphere/cva keyword", "bogus"});
+}
+
+TEST(CVAErrors, NegativeDiameter)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter -1"),
+               {"diameter must be > 0", "-1"});
+}
+
+TEST(CVAErrors, ZeroDiameter)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 0"),
+               {"diameter must be > 0"});
+}
+
+TEST(CVAErrors, NonNumericDiameter)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter abc"), {"abc"});
+}
+
+TEST(CVAErrors, DiameterWithoutValue)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter"), {"diameter"});
+}
+
+TEST(CVAErrors, WallOnPeriodicDimension)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 wall xlo -4", "",
+                         "p f f"),
+               {"wall xlo", "periodic"});
+}
+
+TEST(CVAErrors, BadWallFace)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 wall xmid 0"),
+               {"wall face", "xmid"});
+}
+
+TEST(CVAErrors, WallGivenTwice)
+{
+  expect_error(two_atoms("-1", "1",
+                         "fix hs all hardsphere/cva diameter 1.0 wall ylo -4 wall ylo -3"),
+               {"wall ylo", "twice"});
+}
+
+TEST(CVAErrors, SecondIntegratorOnSameAtoms)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0",
+                         "fix mynve all nve\n"),
+               {"mynve", "hs", "nve", "hardsphere/cva"});
+}
+
+TEST(CVAErrors, SecondIntegratorOnSubset)
+{
+  // fix nve on atom 2 only still shares atoms with the hard-sphere group
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0",
+                         "group two id 2\nfix other two nve\n"),
+               {"other", "hs", "both time-integrate"});
+}
+
+TEST(CVAErrors, TriclinicBox)
+{
+  const std::string input = R"(
+units lj
+atom_style atomic
+region box prism -5 5 -5 5 -5 5 0.5 0 0 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+comm_modify cutoff 3.0
+fix hs all hardsphere/cva diameter 1.0
+run 10
+)";
+  expect_error(input, {"triclinic"});
+}
+
+TEST(CVAErrors, GhostCutoffTooSmall)
+{
+  // contact list cutoff 1 + 2 x 0.3 = 1.6 > ghost cutoff 1.0 + 0.3
+  const std::string input = R"(
+units lj
+atom_style atomic
+boundary p p p
+region box block -5 5 -5 5 -5 5 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+pair_style lj/cut 1.0
+pair_coeff 1 1 1.0 1.0 1.0
+fix hs all hardsphere/cva diameter 1.0
+run 10
+)";
+  expect_error(input, {"ghost", "comm_modify cutoff"});
+}
+
+TEST(CVAErrors, GhostCutoffLargeEnoughRuns)
+{
+  // the same with a sufficient comm_modify cutoff is fine
+  const std::string input = R"(
+units lj
+atom_style atomic
+boundary p p p
+region box block -5 5 -5 5 -5 5 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+pair_style lj/cut 1.0
+pair_coeff 1 1 1.0 1.0 1.0
+comm_modify cutoff 1.6
+fix hs all hardsphere/cva diameter 1.0
+run 10
+)";
+  RunResult r = run_lmp(input);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST(CVAErrors, NeighExcludeAtFirstRun)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0",
+                         "neigh_modify exclude type 1 1\n"),
+               {"neigh_modify exclude"});
+}
+
+// BUG: FixHardSphere::init() tests neighbor->exclude, but LAMMPS::init() runs
+// modify->init() BEFORE neighbor->init(), which is where Neighbor sets
+// 'exclude' (and the Neighbor constructor never initializes it). So the fix
+// sees the value of the PREVIOUS run (or uninitialized memory on the first):
+//  (a) exclusions added after a first run are not detected: the excluded
+//      spheres pass straight through each other with zero collisions;
+//  (b) exclusions removed after a run still trigger the error.
+TEST(CVAErrors, NeighExcludeAddedAfterARun)
+{
+  const std::string input = R"IN(
+units lj
+atom_style atomic
+atom_modify map array
+region box block -5 5 -5 5 -5 5 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+comm_modify cutoff 3.0
+fix hs all hardsphere/cva diameter 1.0
+run 0
+neigh_modify exclude type 1 1
+group one id 1
+group two id 2
+velocity one set 1 0 0 units box
+velocity two set -1 0 0 units box
+variable d equal x[2]-x[1]
+run 200
+print "RESULT distance $(v_d:%.6f) collisions $(f_hs[1])"
+)IN";
+  RunResult r = run_lmp(input);
+  // expected: the exclusion is rejected as at the first run
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("neigh_modify exclude"), std::string::npos)
+      << "the excluded pair was integrated without an error:\n"
+      << r.output.substr(r.output.rfind("RESULT") == std::string::npos ? 0 : r.output.rfind("RESULT"));
+}
+
+TEST(CVAErrors, NeighExcludeRemovedAfterARun)
+{
+  const std::string input = R"(
+units lj
+atom_style atomic
+atom_modify map array
+region box block -5 5 -5 5 -5 5 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+comm_modify cutoff 3.0
+neigh_modify exclude type 1 1
+fix int all nve
+run 0
+unfix int
+neigh_modify exclude none
+fix hs all hardsphere/cva diameter 1.0
+run 10
+)";
+  RunResult r = run_lmp(input);
+  // expected: no exclusions are left, so this is a valid run
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
