@@ -192,13 +192,11 @@ TEST(CVAErrors, NeighExcludeAtFirstRun)
                {"neigh_modify exclude"});
 }
 
-// BUG: FixHardSphere::init() tests neighbor->exclude, but LAMMPS::init() runs
-// modify->init() BEFORE neighbor->init(), which is where Neighbor sets
-// 'exclude' (and the Neighbor constructor never initializes it). So the fix
-// sees the value of the PREVIOUS run (or uninitialized memory on the first):
-//  (a) exclusions added after a first run are not detected: the excluded
-//      spheres pass straight through each other with zero collisions;
-//  (b) exclusions removed after a run still trigger the error.
+// LAMMPS::init() runs modify->init() before neighbor->init(), where Neighbor
+// sets 'exclude': the check must see the current run's setting, not the
+// previous run's: (a) exclusions added after a run are caught (else the
+// spheres pass through each other); (b) exclusions removed after a run are
+// no error.
 TEST(CVAErrors, NeighExcludeAddedAfterARun)
 {
   const std::string input = R"IN(
