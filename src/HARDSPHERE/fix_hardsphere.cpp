@@ -60,7 +60,8 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
   virial_global_flag = 1;
   thermo_virial = 1;
-  comm_forward = 6;
+  comm_forward = 7;
+  comm_reverse = 1;
   restart_global = 1;
   force_reneighbor = 1;    // we ask for a list build when a sphere moved skin/2
   next_reneighbor = -1;
@@ -170,7 +171,21 @@ void FixHardSphere::init()
 
   skin = neighbor->skin;
   list_cutoff = 2.0 * rmax + 2.0 * skin;
-  HSCompat::request_full_list(neighbor, this, instance_me, list_cutoff);
+
+  // contact candidates come from a half list. When the pair cutoffs of all
+  // type pairs in the group reach the list cutoff, LAMMPS copies the pair
+  // style's list for free; otherwise the list gets its own cutoff and build.
+
+  const int ntypes = atom->ntypes;
+  std::vector<int> tloc(ntypes + 1, 0), tall(ntypes + 1, 0);
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) tloc[atom->type[i]] = 1;
+  MPI_Allreduce(tloc.data(), tall.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
+  own_list = (force->pair == nullptr) ? 1 : 0;
+  for (int a = 1; a <= ntypes && !own_list; a++)
+    for (int b = 1; b <= ntypes && !own_list; b++)
+      if (tall[a] && tall[b] && sqrt(force->pair->cutsq[a][b]) + skin < list_cutoff) own_list = 1;
+  HSCompat::request_half_list(neighbor, this, instance_me, own_list ? list_cutoff : 0.0);
 
   // with no smooth forces at all, sub-steps need no force re-evaluation
 
@@ -230,6 +245,13 @@ void FixHardSphere::reset_dt()
 
 void FixHardSphere::setup(int)
 {
+  // per-type ftm2v / m for the screening pass (mass may change between runs)
+
+  if (!atom->rmass) {
+    ftm2v_mass.assign(atom->ntypes + 1, 0.0);
+    for (int t = 1; t <= atom->ntypes; t++) ftm2v_mass[t] = force->ftm2v / atom->mass[t];
+  }
+
   // Neighbor::init() (after ours) sets neighbor->exclude: checked here
 
   if (neighbor->exclude)
@@ -277,6 +299,7 @@ void FixHardSphere::grow_peratom()
   memory->create(xref, nmax_hs, 3, "hardsphere:xref");
   memory->create(gap, nmax_hs, "hardsphere:gap");
   memory->create(active, nmax_hs, "hardsphere:active");
+  for (int i = 0; i < nmax_hs; i++) active[i] = 0.0;
   memory->create(acc, nmax_hs, 3, "hardsphere:acc");
 }
 
@@ -312,10 +335,12 @@ void FixHardSphere::wall_name(const Wall &w, std::string &name) const
 }
 
 /* ----------------------------------------------------------------------
-   at each neighbor list build: remember positions, and for each sphere the
-   distance it may travel before it could touch anything (half the smallest
-   surface gap to a candidate partner, or its gap to a wall, at most the
-   skin). Any overlap found here is an error naming the atoms.
+   at each neighbor list build: remember positions, collect the candidate
+   pairs (within the list cutoff, both in the group, bonded pairs the lists
+   leave out included), and for each sphere the distance it may travel
+   before it could touch anything (half the smallest surface gap to a
+   candidate partner, its gap to a wall, at most the skin). Any overlap
+   found here is an error naming the atoms.
 ------------------------------------------------------------------------- */
 
 void FixHardSphere::reset_reference(int at_setup)
@@ -326,28 +351,36 @@ void FixHardSphere::reset_reference(int at_setup)
   double **x = atom->x;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
   const tagint *tag = atom->tag;
   const char *when = at_setup ? "at set-up" : "after a step (a collision was missed)";
+  const double cut2 = list_cutoff * list_cutoff;
 
   for (int i = 0; i < nlocal; i++) {
     xref[i][0] = x[i][0];
     xref[i][1] = x[i][1];
     xref[i][2] = x[i][2];
-    gap[i] = skin;
-    active[i] = 0;
   }
+  for (int i = 0; i < nall; i++) gap[i] = skin;
+  cand.clear();
 
-  auto pair_gap = [&](int i, int j) {
+  auto candidate = [&](int i, int j) {
     if (!(mask[j] & groupbit)) return;
-    const double sigma = radius_of(i) + radius_of(j);
     const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-    const double r = sqrt(dx * dx + dy * dy + dz * dz);
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    if (r2 > cut2) return;    // cannot touch before the next build
+    const double sigma = radius_of(i) + radius_of(j);
+    const double r = sqrt(r2);
     if (r < sigma * (1.0 - TOUCH_TOL))
       error->one(FLERR,
                  "Fix {}: atoms {} and {} overlap by {} {} (distance {} < contact distance {}) "
                  "on step {}",
                  style_name, tag[i], tag[j], sigma - r, when, r, sigma, update->ntimestep);
-    gap[i] = MIN(gap[i], 0.5 * (r - sigma));
+    const double g = 0.5 * (r - sigma);
+    gap[i] = MIN(gap[i], g);
+    gap[j] = MIN(gap[j], g);
+    cand.push_back(i);
+    cand.push_back(j);
   };
 
   const int inum = list->inum;
@@ -358,10 +391,12 @@ void FixHardSphere::reset_reference(int at_setup)
     const int i = ilist[ii];
     if (!(mask[i] & groupbit)) continue;
     const int *jlist = firstneigh[i];
-    for (int jj = 0; jj < numneigh[i]; jj++) pair_gap(i, jlist[jj] & NEIGHMASK);
+    for (int jj = 0; jj < numneigh[i]; jj++) candidate(i, jlist[jj] & NEIGHMASK);
   }
 
-  // bonded partners the neighbor lists leave out (special_bonds weight 0)
+  // bonded partners the neighbor lists leave out (special_bonds weight 0),
+  // each pair once: from its lower atom ID. A partner that is not even a
+  // ghost is farther than the ghost cutoff >= list cutoff: it cannot touch.
 
   if (atom->molecular != Atom::ATOMIC && atom->special) {
     int **nspecial = atom->nspecial;
@@ -370,14 +405,15 @@ void FixHardSphere::reset_reference(int at_setup)
       if (!(mask[i] & groupbit)) continue;
       for (int m = 0; m < nspecial[i][2]; m++) {
         const int level = (m < nspecial[i][0]) ? 1 : (m < nspecial[i][1]) ? 2 : 3;
-        if (neighbor->special_flag[level] != 0) continue;
-        // a partner that is not even a ghost is farther than the ghost
-        // cutoff >= list cutoff: it cannot touch i before the next build
+        if (neighbor->special_flag[level] != 0 || special[i][m] < tag[i]) continue;
         const int j = atom->map(special[i][m]);
-        if (j >= 0) pair_gap(i, domain->closest_image(i, j));
+        if (j >= 0) candidate(i, domain->closest_image(i, j));
       }
     }
   }
+
+  // a ghost's gaps belong to its owner
+  HSCompat::reverse_comm_fix(comm, this);
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
@@ -394,6 +430,17 @@ void FixHardSphere::reset_reference(int at_setup)
   }
 }
 
+int FixHardSphere::pack_reverse_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) buf[k] = gap[first + k];
+  return n;
+}
+
+void FixHardSphere::unpack_reverse_comm(int n, int *list_, double *buf)
+{
+  for (int k = 0; k < n; k++) gap[list_[k]] = MIN(gap[list_[k]], buf[k]);
+}
+
 /* ----------------------------------------------------------------------
    mark the spheres that may touch something within tleft: displacement
    since the list build plus a bound on the Verlet path |t v + t^2/2 a|
@@ -405,21 +452,24 @@ int FixHardSphere::screen(double tleft)
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
+  const double *rmass = atom->rmass;
+  const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   const double ftm2v = force->ftm2v;
-  const double h2 = 0.5 * tleft * tleft;
+  const double t2 = tleft * tleft;
+  const double h4 = 0.25 * t2 * t2;
   int nactive = 0;
 
   for (int i = 0; i < nlocal; i++) {
-    active[i] = 0;
+    active[i] = 0.0;
     if (!(mask[i] & groupbit)) continue;
     const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
                  dz = x[i][2] - xref[i][2];
-    const double im = ftm2v / mass_of(i);
+    const double im = rmass ? ftm2v / rmass[i] : ftm2v_mass[type[i]];
     const double d2 = dx * dx + dy * dy + dz * dz;
-    const double v2 = tleft * tleft * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-    const double a2 = h2 * h2 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
+    const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
     // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
     const double g = gap[i];
     if (3.0 * (d2 + v2 + a2) <= g * g && g > 0.0) continue;
@@ -431,14 +481,14 @@ int FixHardSphere::screen(double tleft)
                  "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
                  "timestep or a larger neighbor skin",
                  style_name, atom->tag[i], w, skin);
-    active[i] = 1;
+    active[i] = 1.0;
     nactive++;
   }
   return nactive;
 }
 
 /* ----------------------------------------------------------------------
-   accelerations of owned atoms, then v and a to the ghosts
+   accelerations of owned atoms, then v, a and the active flag to the ghosts
 ------------------------------------------------------------------------- */
 
 void FixHardSphere::comm_vel_acc()
@@ -467,6 +517,7 @@ int FixHardSphere::pack_forward_comm(int n, int *list_, double *buf, int, int *)
     buf[m++] = acc[j][0];
     buf[m++] = acc[j][1];
     buf[m++] = acc[j][2];
+    buf[m++] = active[j];
   }
   return m;
 }
@@ -483,19 +534,20 @@ void FixHardSphere::unpack_forward_comm(int n, int first, double *buf)
     acc[i][0] = buf[m++];
     acc[i][1] = buf[m++];
     acc[i][2] = buf[m++];
+    active[i] = buf[m++];
   }
 }
 
 /* ----------------------------------------------------------------------
-   earliest approaching contact within tleft among pairs and walls with an
-   active sphere; returns its time (BIG if none) and the event
+   earliest approaching contact within tleft among walls of active spheres
+   and candidate pairs with an active sphere; returns its time (BIG if
+   none) and the event
 ------------------------------------------------------------------------- */
 
 double FixHardSphere::predict(double tleft, Event &ev)
 {
   double **x = atom->x;
   double **v = atom->v;
-  const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   double tbest = BIG;
@@ -507,14 +559,43 @@ double FixHardSphere::predict(double tleft, Event &ev)
     return tleft * vv + 0.5 * tleft * tleft * aa;
   };
 
-  auto pair = [&](int i, int j, double Di) {
-    if (!(mask[j] & groupbit)) return;
-    if (j < nlocal && active[j] && j < i) return;    // seen from j's side
+  for (int i = 0; i < nlocal; i++) {
+    if (active[i] == 0.0) continue;
+    const double Di = path(i);
+    for (int w = 0; w < (int) walls.size(); w++) {
+      const Wall &wl = walls[w];
+      const double r = radius_of(i);
+      const double g = wall_gap(wl, x[i], r);
+      if (g > Di) continue;
+      const double s = (wl.side < 0) ? 1.0 : -1.0;
+      HardSphere::wall_gap_poly(g, s * v[i][wl.dim], s * acc[i][wl.dim], c);
+      const Contact ct = HardSphere::first_contact(c, 2, tleft, TOUCH_TOL * 2.0 * r);
+      if (ct.status == HardSphere::OVERLAP) {
+        std::string name;
+        wall_name(wl, name);
+        error->one(FLERR,
+                   "Fix {}: atom {} is {} through wall {} on step {}: a collision was missed",
+                   style_name, tag[i], -g, name, update->ntimestep);
+      }
+      if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+        tbest = ct.t;
+        ev.type = WALL_EVENT;
+        ev.i = i;
+        ev.j = -1;
+        ev.wall = w;
+      }
+    }
+  }
+
+  const int ncand = (int) cand.size();
+  for (int k = 0; k < ncand; k += 2) {
+    const int i = cand[k], j = cand[k + 1];
+    if (active[i] == 0.0 && active[j] == 0.0) continue;
     const double sigma = radius_of(i) + radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
-    const double reach = sigma + Di + path(j);
-    if (r2 > reach * reach) return;
+    const double reach = sigma + path(i) + path(j);
+    if (r2 > reach * reach) continue;
     const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
     const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
     HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
@@ -532,52 +613,6 @@ double FixHardSphere::predict(double tleft, Event &ev)
       ev.i = i;
       ev.j = j;
       ev.wall = -1;
-    }
-  };
-
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-  const bool bonded = atom->molecular != Atom::ATOMIC && atom->special;
-
-  for (int i = 0; i < nlocal; i++) {
-    if (!active[i]) continue;
-    const double Di = path(i);
-
-    for (int w = 0; w < (int) walls.size(); w++) {
-      const Wall &wl = walls[w];
-      const double r = radius_of(i);
-      const double g = wall_gap(wl, x[i], r);
-      if (g > Di) continue;
-      const double s = (wl.side < 0) ? 1.0 : -1.0;
-      HardSphere::wall_gap_poly(g, s * v[i][wl.dim], s * acc[i][wl.dim], c);
-      const Contact ct = HardSphere::first_contact(c, 2, tleft, TOUCH_TOL * 2.0 * r);
-      if (ct.status == HardSphere::OVERLAP) {
-        std::string name;
-        wall_name(wl, name);
-        error->one(FLERR, "Fix {}: atom {} is {} through wall {} on step {}: a collision was "
-                   "missed", style_name, tag[i], -g, name, update->ntimestep);
-      }
-      if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
-        tbest = ct.t;
-        ev.type = WALL_EVENT;
-        ev.i = i;
-        ev.j = -1;
-        ev.wall = w;
-      }
-    }
-
-    const int *jlist = firstneigh[i];
-    for (int jj = 0; jj < numneigh[i]; jj++) pair(i, jlist[jj] & NEIGHMASK, Di);
-
-    if (bonded) {
-      const int *nsp = atom->nspecial[i];
-      const tagint *sp = atom->special[i];
-      for (int m = 0; m < nsp[2]; m++) {
-        const int level = (m < nsp[0]) ? 1 : (m < nsp[1]) ? 2 : 3;
-        if (neighbor->special_flag[level] != 0) continue;
-        const int j = atom->map(sp[m]);    // absent: beyond reach, see reset_reference()
-        if (j >= 0) pair(i, domain->closest_image(i, j), Di);
-      }
     }
   }
   return tbest;
@@ -805,9 +840,9 @@ void FixHardSphere::initial_integrate(int)
   int stuck = 0;
   bigint nsub = 0;
   bool collided = false;
-  comm_vel_acc();
 
   while (true) {
+    comm_vel_acc();    // ghosts' v, a and active flags for the prediction
     Event ev{PAIR_EVENT, -1, -1, -1};
     struct {
       double t;
@@ -827,7 +862,7 @@ void FixHardSphere::initial_integrate(int)
       kick_drift(tau);
       recompute_forces();
       kick(tau);
-      comm_vel_acc();
+      comm_vel_acc();    // ghosts' velocities at contact, for the impulse
       stuck = 0;
     }
 
@@ -962,5 +997,5 @@ void FixHardSphere::restart(char *buf)
 
 double FixHardSphere::memory_usage()
 {
-  return (double) nmax_hs * (7 * sizeof(double) + sizeof(int));
+  return (double) nmax_hs * 8 * sizeof(double) + (double) cand.capacity() * sizeof(int);
 }

@@ -36,6 +36,8 @@ class FixHardSphere : public Fix {
   double compute_vector(int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
   void write_restart(FILE *) override;
   void restart(char *) override;
   double memory_usage() override;
@@ -78,14 +80,17 @@ class FixHardSphere : public Fix {
   double dtv, dtf, dtf_last;
   double skin, rmax, list_cutoff;
   int forces_present;
+  int own_list;                 // 1 if our list has its own cutoff, 0 if the pair cutoffs
   class NeighList *list;
+  std::vector<int> cand;        // candidate pairs (i owned, j owned or ghost), flat
+  std::vector<double> ftm2v_mass;    // ftm2v / mass[type], when there is no rmass
 
   // per-atom state, sized atom->nmax
   int nmax_hs;
   double **xref;      // positions at the last neighbor list build
   double *gap;        // a sphere that moved less than gap since xref can touch nothing
-  int *active;        // 1 if it may touch something within the rest of the step
-  double **acc;       // accelerations, forwarded to ghosts with v
+  double *active;     // 1 if it may touch something within the rest of the step
+  double **acc;       // accelerations, forwarded to ghosts with v and active
 
   // global counters, identical on every rank
   double ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals;

@@ -27,20 +27,23 @@
 namespace LAMMPS_NS {
 namespace HSCompat {
 
-  // a full neighbor list with its own cutoff (including skin), built for a fix
-  inline void request_full_list(Neighbor *neighbor, class Fix *fix, int instance, double cutoff)
+  // a half neighbor list for a fix; cutoff > 0 gives it its own cutoff
+  // (including skin), else it has the pair cutoffs and LAMMPS copies or
+  // derives it from the pair style's list at no extra build cost
+  inline void request_half_list(Neighbor *neighbor, class Fix *fix, int instance, double cutoff)
   {
 #if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
     (void) instance;
-    neighbor->add_request(fix, NeighConst::REQ_FULL)->set_cutoff(cutoff);
+    auto *req = neighbor->add_request(fix, NeighConst::REQ_DEFAULT);
+    if (cutoff > 0.0) req->set_cutoff(cutoff);
 #else
     int irequest = neighbor->request(fix, instance);
     neighbor->requests[irequest]->pair = 0;
     neighbor->requests[irequest]->fix = 1;
-    neighbor->requests[irequest]->half = 0;
-    neighbor->requests[irequest]->full = 1;
-    neighbor->requests[irequest]->cut = 1;
-    neighbor->requests[irequest]->cutoff = cutoff;
+    if (cutoff > 0.0) {
+      neighbor->requests[irequest]->cut = 1;
+      neighbor->requests[irequest]->cutoff = cutoff;
+    }
 #endif
   }
 
@@ -50,6 +53,15 @@ namespace HSCompat {
     comm->forward_comm(fix);
 #else
     comm->forward_comm_fix(fix);
+#endif
+  }
+
+  inline void reverse_comm_fix(Comm *comm, class Fix *fix)
+  {
+#if defined(HS_LAMMPS_NEW_COMM_API) && HS_LAMMPS_NEW_COMM_API
+    comm->reverse_comm(fix);
+#else
+    comm->reverse_comm_fix(fix);
 #endif
   }
 
