@@ -45,6 +45,8 @@ static constexpr double TOUCH_TOL = 1.0e-9;
 static constexpr int MAX_STUCK = 100;
 // collisions in one step beyond which something is wrong (a runaway loop)
 static constexpr bigint MAX_SUBSTEPS = 100000000;
+// screen() results
+static constexpr int ACTIVE = 1, FAR = 2;
 
 /* ---------------------------------------------------------------------- */
 
@@ -383,6 +385,9 @@ void FixHardSphere::reset_reference(int at_setup)
     cand.push_back(j);
   };
 
+  // the list may be the pair style's, with a longer cutoff: the distance
+  // test comes first, as most of its pairs are out of reach
+
   const int inum = list->inum;
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
@@ -390,8 +395,14 @@ void FixHardSphere::reset_reference(int at_setup)
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     if (!(mask[i] & groupbit)) continue;
+    const double xi = x[i][0], yi = x[i][1], zi = x[i][2];
     const int *jlist = firstneigh[i];
-    for (int jj = 0; jj < numneigh[i]; jj++) candidate(i, jlist[jj] & NEIGHMASK);
+    const int jnum = numneigh[i];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = xi - x[j][0], dy = yi - x[j][1], dz = zi - x[j][2];
+      if (dx * dx + dy * dy + dz * dz <= cut2) candidate(i, j);
+    }
   }
 
   // bonded partners the neighbor lists leave out (special_bonds weight 0),
@@ -444,7 +455,9 @@ void FixHardSphere::unpack_reverse_comm(int n, int *list_, double *buf)
 /* ----------------------------------------------------------------------
    mark the spheres that may touch something within tleft: displacement
    since the list build plus a bound on the Verlet path |t v + t^2/2 a|
-   exceeds their gap. Returns how many on this rank.
+   exceeds their gap. Returns ACTIVE if any sphere on this rank is marked,
+   plus FAR if any may end the step more than skin/2 from where the list
+   was built (then the step must check whether to rebuild).
 ------------------------------------------------------------------------- */
 
 int FixHardSphere::screen(double tleft)
@@ -459,7 +472,8 @@ int FixHardSphere::screen(double tleft)
   const double ftm2v = force->ftm2v;
   const double t2 = tleft * tleft;
   const double h4 = 0.25 * t2 * t2;
-  int nactive = 0;
+  const double half = 0.5 * skin;
+  int flags = 0;
 
   for (int i = 0; i < nlocal; i++) {
     active[i] = 0.0;
@@ -471,10 +485,11 @@ int FixHardSphere::screen(double tleft)
     const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
     const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
     // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
-    const double g = gap[i];
-    if (3.0 * (d2 + v2 + a2) <= g * g && g > 0.0) continue;
+    const double g = MIN(gap[i], half);
+    if (3.0 * (d2 + v2 + a2) <= g * g) continue;
     const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
-    if (w <= g) continue;
+    if (w > half) flags |= FAR;
+    if (w <= gap[i]) continue;
     if (w > skin)
       error->one(FLERR,
                  "Fix {}: atom {} may be {} away from where the neighbor list was built, "
@@ -482,9 +497,9 @@ int FixHardSphere::screen(double tleft)
                  "timestep or a larger neighbor skin",
                  style_name, atom->tag[i], w, skin);
     active[i] = 1.0;
-    nactive++;
+    flags |= ACTIVE;
   }
-  return nactive;
+  return flags;
 }
 
 /* ----------------------------------------------------------------------
@@ -622,7 +637,7 @@ double FixHardSphere::predict(double tleft, Event &ev)
    velocity Verlet pieces: the exact operations of fix nve
 ------------------------------------------------------------------------- */
 
-int FixHardSphere::nve_initial()
+void FixHardSphere::nve_initial()
 {
   double **x = atom->x;
   double **v = atom->v;
@@ -632,27 +647,33 @@ int FixHardSphere::nve_initial()
   int *type = atom->type;
   int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const double trigger = 0.25 * skin * skin;
   double dtfm;
-  int moved = 0;
 
-  // the updates of fix nve, to the bit; the displacement test beside them
-  // is LAMMPS' own neighbor check (skin/2), whatever neigh_modify says
+  // the updates of fix nve, to the bit
 
-  for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) {
-      dtfm = rmass ? dtf / rmass[i] : dtf / mass[type[i]];
-      v[i][0] += dtfm * f[i][0];
-      v[i][1] += dtfm * f[i][1];
-      v[i][2] += dtfm * f[i][2];
-      x[i][0] += dtv * v[i][0];
-      x[i][1] += dtv * v[i][1];
-      x[i][2] += dtv * v[i][2];
-      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
-                   dz = x[i][2] - xref[i][2];
-      if (dx * dx + dy * dy + dz * dz > trigger) moved = 1;
-    }
-  return moved;
+  if (rmass) {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtf / rmass[i];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+        x[i][0] += dtv * v[i][0];
+        x[i][1] += dtv * v[i][1];
+        x[i][2] += dtv * v[i][2];
+      }
+  } else {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtf / mass[type[i]];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+        x[i][0] += dtv * v[i][0];
+        x[i][1] += dtv * v[i][1];
+        x[i][2] += dtv * v[i][2];
+      }
+  }
 }
 
 int FixHardSphere::moved_half_skin()
@@ -674,11 +695,13 @@ int FixHardSphere::moved_half_skin()
    with every sphere within skin/2 of where the list was built at a step's
    start, and moving less than skin/2 in the step, the contact list holds
    every pair that can touch: rebuild this step if anyone went further
+   (LAMMPS' own check yes criterion, whatever neigh_modify says). Only
+   called when screen() found a sphere that might have.
 ------------------------------------------------------------------------- */
 
-void FixHardSphere::request_rebuild(int moved)
+void FixHardSphere::request_rebuild()
 {
-  int any;
+  int moved = moved_half_skin(), any;
   MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, world);
   if (any) next_reneighbor = update->ntimestep;
 }
@@ -828,11 +851,12 @@ void FixHardSphere::initial_integrate(int)
   update_walls();
 
   double tleft = dtv;
-  int nact = screen(tleft), anyact;
-  MPI_Allreduce(&nact, &anyact, 1, MPI_INT, MPI_MAX, world);
-  if (!anyact) {
-    request_rebuild(nve_initial());
+  int flags = screen(tleft), allflags;
+  MPI_Allreduce(&flags, &allflags, 1, MPI_INT, MPI_BOR, world);
+  if (!(allflags & ACTIVE)) {
+    nve_initial();
     dtf_last = dtf;
+    if (allflags & FAR) request_rebuild();
     return;
   }
 
@@ -918,7 +942,7 @@ void FixHardSphere::initial_integrate(int)
                  style_name, MAX_SUBSTEPS, update->ntimestep);
   }
   if (collided) ncoll_steps += 1.0;
-  request_rebuild(moved_half_skin());
+  request_rebuild();
 }
 
 /* ---------------------------------------------------------------------- */

@@ -101,9 +101,9 @@ class FixHardSphere : public Fix {
   virtual void collide_pair(int i, int j, Impulse &);    // operator R at contact
   virtual void collide_wall(int i, const Wall &, Impulse &);
   virtual void apply_impulse(const Impulse &);
-  int nve_initial();
+  void nve_initial();
   int moved_half_skin();
-  void request_rebuild(int moved);
+  void request_rebuild();
   void recompute_forces();
   void force_clear();
 
