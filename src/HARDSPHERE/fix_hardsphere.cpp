@@ -400,7 +400,10 @@ void FixHardSphere::reset_reference(int at_setup)
     const int jnum = numneigh[i];
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      const double dx = xi - x[j][0], dy = yi - x[j][1], dz = zi - x[j][2];
+      const double *xj = x[j];
+      const double dx = xi - xj[0];
+      if (dx * dx > cut2) continue;
+      const double dy = yi - xj[1], dz = zi - xj[2];
       if (dx * dx + dy * dy + dz * dz <= cut2) candidate(i, j);
     }
   }
