@@ -711,18 +711,39 @@ void FixHardSphere::request_rebuild()
 
 void FixHardSphere::kick(double tau)
 {
+  kick_dtf((tau == dtv) ? dtf : 0.5 * tau * force->ftm2v);
+}
+
+// v += dtfk f / m, in the form of fix nve's kicks (dtf / m first), so a
+// kick with dtfk = dtf is bit for bit fix nve's
+void FixHardSphere::kick_dtf(double dtfk)
+{
   double **v = atom->v;
   double **f = atom->f;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const double dtfk = (tau == dtv) ? dtf : 0.5 * tau * force->ftm2v;
-  for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) {
-      const double dtfm = dtfk / mass_of(i);
-      v[i][0] += dtfm * f[i][0];
-      v[i][1] += dtfm * f[i][1];
-      v[i][2] += dtfm * f[i][2];
-    }
+  double dtfm;
+
+  if (rmass) {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtfk / rmass[i];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+      }
+  } else {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtfk / mass[type[i]];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+      }
+  }
 }
 
 void FixHardSphere::kick_drift(double tau)
@@ -952,32 +973,7 @@ void FixHardSphere::initial_integrate(int)
 
 void FixHardSphere::final_integrate()
 {
-  double **v = atom->v;
-  double **f = atom->f;
-  double *rmass = atom->rmass;
-  double *mass = atom->mass;
-  int *type = atom->type;
-  int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
-  double dtfm;
-
-  if (rmass) {
-    for (int i = 0; i < nlocal; i++)
-      if (mask[i] & groupbit) {
-        dtfm = dtf_last / rmass[i];
-        v[i][0] += dtfm * f[i][0];
-        v[i][1] += dtfm * f[i][1];
-        v[i][2] += dtfm * f[i][2];
-      }
-  } else {
-    for (int i = 0; i < nlocal; i++)
-      if (mask[i] & groupbit) {
-        dtfm = dtf_last / mass[type[i]];
-        v[i][0] += dtfm * f[i][0];
-        v[i][1] += dtfm * f[i][1];
-        v[i][2] += dtfm * f[i][2];
-      }
-  }
+  kick_dtf(dtf_last);    // closes the step's last sub-step (all of it without collisions)
 }
 
 /* ---------------------------------------------------------------------- */

@@ -97,6 +97,7 @@ class FixHardSphere : public Fix {
 
   // --- the sub-step loop (CVA); methods override the pieces below ---
   virtual void kick(double tau);
+  void kick_dtf(double dtfk);
   virtual void kick_drift(double tau);
   virtual void collide_pair(int i, int j, Impulse &);    // operator R at contact
   virtual void collide_wall(int i, const Wall &, Impulse &);

@@ -92,6 +92,26 @@ class HSLammps {
   void register_styles() { hardsphere_register_styles(lmp); }
   // current value of a thermo keyword (valid after a run/setup)
   double thermo(const char *keyword) { return lammps_get_thermo(lmp, keyword); }
+  // a multi-line input text, one command per non-empty line
+  void lines(const std::string &text)
+  {
+    size_t start = 0;
+    while (start <= text.size()) {
+      size_t end = text.find('\n', start);
+      if (end == std::string::npos) end = text.size();
+      if (end > start) cmd(text.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  // element k (0-based) of fix ID's global vector
+  double fix_vector(const char *id, int k)
+  {
+    auto *p = (double *) lammps_extract_fix(lmp, id, 0, 1, k, 0);
+    if (!p) return -1.0;
+    const double val = *p;
+    lammps_free(p);
+    return val;
+  }
 };
 
 struct RunResult {

@@ -69,23 +69,6 @@ void exact_two_body(Body &a, Body &b, double T, const Vec &period, double &tc)
   }
 }
 
-void run_lines(HSLammps &h, const std::string &text)
-{
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line))
-    if (!line.empty()) h.cmd(line);
-}
-
-double fix_vec(HSLammps &h, const char *id, int k)
-{
-  auto *p = (double *) lammps_extract_fix(h.lmp, id, 0, 1, k, 0);
-  if (!p) return -1.0;
-  double val = *p;
-  lammps_free(p);
-  return val;
-}
-
 std::string fmt(double v)
 {
   char buf[64];
@@ -136,7 +119,7 @@ void check_two_body(Body a, Body b, double dt, int nsteps, bool sphere_style, bo
   s += "thermo_style custom step ke\nthermo_modify norm no\n";
   s += "run " + std::to_string(nsteps) + "\n";
   if (getenv("HS_TEST_VERBOSE")) fprintf(stderr, "%s", s.c_str());
-  run_lines(h, s);
+  h.lines(s);
 
   const double T = dt * nsteps;
   double tc = 0.0;
@@ -160,10 +143,10 @@ void check_two_body(Body a, Body b, double dt, int nsteps, bool sphere_style, bo
     EXPECT_NEAR(v[k], a.v[k], 1e-12) << "v1[" << k << "]";
     EXPECT_NEAR(v[3 + k], b.v[k], 1e-12) << "v2[" << k << "]";
   }
-  EXPECT_EQ(fix_vec(h, "hs", 0), 1.0);    // all collisions
-  EXPECT_EQ(fix_vec(h, "hs", 1), 1.0);    // sphere-sphere
-  EXPECT_EQ(fix_vec(h, "hs", 2), 0.0);    // wall
-  EXPECT_EQ(fix_vec(h, "hs", 3), 1.0);    // steps with a collision
+  EXPECT_EQ(h.fix_vector("hs", 0), 1.0);    // all collisions
+  EXPECT_EQ(h.fix_vector("hs", 1), 1.0);    // sphere-sphere
+  EXPECT_EQ(h.fix_vector("hs", 2), 0.0);    // wall
+  EXPECT_EQ(h.fix_vector("hs", 3), 1.0);    // steps with a collision
   EXPECT_NEAR(h.thermo("ke"), ke0, 1e-13 * ke0);
 }
 
@@ -182,7 +165,7 @@ TEST(CVACollision, HeadOnUnequalMasses)
   // the closed form for this case, independently of the generic helper
   const double x1 = -1.0 + v1 * tc + v1p * (T - tc), x2 = 1.0 + v2 * tc + v2p * (T - tc);
   HSLammps h;
-  run_lines(h, R"(
+  h.lines(R"(
 units lj
 atom_style atomic
 boundary f f f
@@ -214,7 +197,7 @@ run 100
     EXPECT_EQ(x[k], 0.0);
     EXPECT_EQ(v[k], 0.0);
   }
-  EXPECT_EQ(fix_vec(h, "hs", 1), 1.0);
+  EXPECT_EQ(h.fix_vector("hs", 1), 1.0);
   // and the generic helper agrees with the closed form
   check_two_body(a, b, 0.01, 100, false, false);
 }

@@ -12,14 +12,6 @@
 
 namespace {
 
-void run_lines(HSLammps &h, const std::string &text)
-{
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line))
-    if (!line.empty()) h.cmd(line);
-}
-
 double fix_value(HSLammps &h, const char *id, int style, int type, int i)
 {
   auto *p = (double *) lammps_extract_fix(h.lmp, id, style, type, i, 0);
@@ -50,7 +42,7 @@ TEST(CVAHardSphereFluid, CarnahanStarlingAndTemperatureConservation)
   snprintf(rhos, sizeof(rhos), "%.17g", rho);
 
   HSLammps h;
-  run_lines(h, std::string("units lj\natom_style atomic\nlattice fcc ") + rhos + "\n" + R"(
+  h.lines(std::string("units lj\natom_style atomic\nlattice fcc ") + rhos + "\n" + R"(
 region box block 0 5 0 5 0 5
 create_box 1 box
 create_atoms 1 box
@@ -67,7 +59,7 @@ run 0
   const double T0 = h.thermo("temp");
   ASSERT_NEAR(T0, 1.0, 1e-12);
   EXPECT_EQ(h.thermo("atoms"), 500.0);
-  run_lines(h, R"(
+  h.lines(R"(
 fix hs all hardsphere/cva diameter 1.0
 run 500
 reset_timestep 0

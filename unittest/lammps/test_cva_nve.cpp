@@ -11,23 +11,6 @@
 
 namespace {
 
-void run_lines(HSLammps &h, const std::string &text)
-{
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line))
-    if (!line.empty()) h.cmd(line);
-}
-
-double fix_vec(HSLammps &h, const char *id, int k)
-{
-  auto *p = (double *) lammps_extract_fix(h.lmp, id, 0, 1, k, 0);
-  if (!p) return -1.0;
-  double val = *p;
-  lammps_free(p);
-  return val;
-}
-
 struct State {
   std::vector<double> x, v;
   std::vector<int> img;
@@ -39,9 +22,9 @@ struct State {
 State run_case(const std::string &setup, const std::string &fixline, const std::string &tail)
 {
   HSLammps h;
-  run_lines(h, setup);
+  h.lines(setup);
   h.cmd(fixline);
-  run_lines(h, tail);
+  h.lines(tail);
   State s;
   const int n = (int) h.lmp->atom->natoms;
   s.x.resize(3 * n);
@@ -50,7 +33,7 @@ State run_case(const std::string &setup, const std::string &fixline, const std::
   lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, s.x.data());
   lammps_gather_atoms(h.lmp, (char *) "v", 1, 3, s.v.data());
   lammps_gather_atoms(h.lmp, (char *) "image", 0, 1, s.img.data());
-  if (fixline.find("hardsphere") != std::string::npos) s.ncoll = fix_vec(h, "int", 0);
+  if (fixline.find("hardsphere") != std::string::npos) s.ncoll = h.fix_vector("int", 0);
   s.pe = h.thermo("pe");
   s.ke = h.thermo("ke");
   return s;

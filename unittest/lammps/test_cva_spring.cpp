@@ -23,14 +23,6 @@ const double PI = 3.14159265358979323846;
 const double T1 = PI / 6.0;              // first contact
 const double TBOUNCE = 4.0 * PI / 3.0;   // time between contacts
 
-void run_lines(HSLammps &h, const std::string &text)
-{
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line))
-    if (!line.empty()) h.cmd(line);
-}
-
 double extract_fix(HSLammps &h, const char *id, int style, int type, int i)
 {
   auto *p = (double *) lammps_extract_fix(h.lmp, id, style, type, i, 0);
@@ -117,7 +109,7 @@ variable dEmax equal max(f_dEv)
   r.first_step = -1;
   if (stepwise) {
     // one step at a time until the wall counter f_hs[3] first increments
-    run_lines(h, s);
+    h.lines(s);
     for (int n = 1; n <= nsteps; n++) {
       h.cmd("run 1 pre no post no");
       if (extract_fix(h, "hs", 0, 1, 2) >= 1.0) {
@@ -128,7 +120,7 @@ variable dEmax equal max(f_dEv)
     return r;
   }
   s += "run " + std::to_string(nsteps) + "\n";
-  run_lines(h, s);
+  h.lines(s);
 
   r.E0 = extract_var(h, "E0");
   r.dEmax = extract_var(h, "dEmax");
