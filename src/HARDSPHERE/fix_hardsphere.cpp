@@ -307,15 +307,6 @@ void FixHardSphere::grow_peratom()
 
 /* ---------------------------------------------------------------------- */
 
-double FixHardSphere::radius_of(int i) const
-{
-  return diameter_flag ? 0.5 * diameter : atom->radius[i];
-}
-
-double FixHardSphere::mass_of(int i) const
-{
-  return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-}
 
 /* ---------------------------------------------------------------------- */
 
@@ -364,7 +355,9 @@ void FixHardSphere::reset_reference(int at_setup)
     xref[i][2] = x[i][2];
   }
   for (int i = 0; i < nall; i++) gap[i] = skin;
+  const size_t ncand_before = cand.size();
   cand.clear();
+  cand.reserve(ncand_before + ncand_before / 4);
 
   auto candidate = [&](int i, int j) {
     if (!(mask[j] & groupbit)) return;

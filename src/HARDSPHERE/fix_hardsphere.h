@@ -13,6 +13,7 @@
 #ifndef LMP_FIX_HARDSPHERE_H
 #define LMP_FIX_HARDSPHERE_H
 
+#include "atom.h"
 #include "fix.h"
 
 #include <string>
@@ -115,8 +116,12 @@ class FixHardSphere : public Fix {
   void comm_vel_acc();
   void grow_peratom();
   void update_walls();
-  double radius_of(int i) const;
-  double mass_of(int i) const;
+  // inline: called per candidate pair in the list-build and prediction loops
+  double radius_of(int i) const { return diameter_flag ? 0.5 * diameter : atom->radius[i]; }
+  double mass_of(int i) const
+  {
+    return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+  }
   double wall_gap(const Wall &, const double *x, double r) const;
   void wall_name(const Wall &, std::string &) const;
   void check_other_integrators();
