@@ -84,6 +84,7 @@ class FixHardSphere : public Fix {
   int own_list;                 // 1 if our list has its own cutoff, 0 if the pair cutoffs
   class NeighList *list;
   std::vector<int> cand;        // candidate pairs (i owned, j owned or ghost), flat
+  std::vector<int> near;        // scratch: one list row's pairs within reach
   std::vector<double> ftm2v_mass;    // ftm2v / mass[type], when there is no rmass
 
   // per-atom state, sized atom->nmax
