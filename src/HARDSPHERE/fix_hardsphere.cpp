@@ -68,6 +68,8 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
   force_reneighbor = 1;    // we ask for a list build when a sphere moved skin/2
   next_reneighbor = -1;
   dtf_last = 0.0;
+  screened_step = -1;
+  screened_flags = 0;
 
   int iarg = 3;
   while (iarg < narg) {
@@ -274,6 +276,7 @@ void FixHardSphere::setup(int)
 
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
   dtf_last = dtf;
+  screened_step = -1;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -459,11 +462,33 @@ void FixHardSphere::unpack_reverse_comm(int n, int *list_, double *buf)
    was built (then the step must check whether to rebuild).
 ------------------------------------------------------------------------- */
 
-int FixHardSphere::screen(double tleft)
+inline int FixHardSphere::screen_atom(int i, double t2, double h4, double im)
 {
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
+  const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
+  const double d2 = dx * dx + dy * dy + dz * dz;
+  const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+  const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
+  // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
+  const double g = MIN(gap[i], 0.5 * skin);
+  if (3.0 * (d2 + v2 + a2) <= g * g) return 0;
+  const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
+  int flags = (w > 0.5 * skin) ? FAR : 0;
+  if (w <= gap[i]) return flags;
+  if (w > skin)
+    error->one(FLERR,
+               "Fix {}: atom {} may be {} away from where the neighbor list was built, "
+               "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
+               "timestep or a larger neighbor skin",
+               style_name, atom->tag[i], w, skin);
+  active[i] = 1.0;
+  return flags | ACTIVE;
+}
+
+int FixHardSphere::screen(double tleft)
+{
   const double *rmass = atom->rmass;
   const int *type = atom->type;
   const int *mask = atom->mask;
@@ -471,32 +496,12 @@ int FixHardSphere::screen(double tleft)
   const double ftm2v = force->ftm2v;
   const double t2 = tleft * tleft;
   const double h4 = 0.25 * t2 * t2;
-  const double half = 0.5 * skin;
   int flags = 0;
 
   for (int i = 0; i < nlocal; i++) {
     active[i] = 0.0;
     if (!(mask[i] & groupbit)) continue;
-    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
-                 dz = x[i][2] - xref[i][2];
-    const double im = rmass ? ftm2v / rmass[i] : ftm2v_mass[type[i]];
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-    const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
-    // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
-    const double g = MIN(gap[i], half);
-    if (3.0 * (d2 + v2 + a2) <= g * g) continue;
-    const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
-    if (w > half) flags |= FAR;
-    if (w <= gap[i]) continue;
-    if (w > skin)
-      error->one(FLERR,
-                 "Fix {}: atom {} may be {} away from where the neighbor list was built, "
-                 "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
-                 "timestep or a larger neighbor skin",
-                 style_name, atom->tag[i], w, skin);
-    active[i] = 1.0;
-    flags |= ACTIVE;
+    flags |= screen_atom(i, t2, h4, rmass ? ftm2v / rmass[i] : ftm2v_mass[type[i]]);
   }
   return flags;
 }
@@ -871,7 +876,11 @@ void FixHardSphere::initial_integrate(int)
   update_walls();
 
   double tleft = dtv;
-  int flags = screen(tleft), allflags;
+  // screened ahead in the previous step's final_integrate unless velocities
+  // may have changed since (end_of_step fixes) or a run began (even with
+  // run ... pre no, which skips setup())
+  const bool ahead = screened_step == update->ntimestep && update->ntimestep > update->firststep + 1;
+  int flags = ahead ? screened_flags : screen(tleft), allflags;
   MPI_Allreduce(&flags, &allflags, 1, MPI_INT, MPI_BOR, world);
   if (!(allflags & ACTIVE)) {
     nve_initial();
@@ -969,7 +978,37 @@ void FixHardSphere::initial_integrate(int)
 
 void FixHardSphere::final_integrate()
 {
-  kick_dtf(dtf_last);    // closes the step's last sub-step (all of it without collisions)
+  // no end_of_step fix can change velocities before the next step: screen
+  // for it now, in the same pass as the kick, while v and f are in cache
+
+  if (modify->n_end_of_step) {
+    kick_dtf(dtf_last);
+    return;
+  }
+
+  double **v = atom->v;
+  double **f = atom->f;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double t2 = dtv * dtv, h4 = 0.25 * t2 * t2;
+  int flags = 0;
+  double dtfm;
+
+  // the kick is kick_dtf()'s (fix nve's) arithmetic
+  for (int i = 0; i < nlocal; i++) {
+    active[i] = 0.0;
+    if (!(mask[i] & groupbit)) continue;
+    dtfm = rmass ? dtf_last / rmass[i] : dtf_last / mass[type[i]];
+    v[i][0] += dtfm * f[i][0];
+    v[i][1] += dtfm * f[i][1];
+    v[i][2] += dtfm * f[i][2];
+    flags |= screen_atom(i, t2, h4, rmass ? force->ftm2v / rmass[i] : ftm2v_mass[type[i]]);
+  }
+  screened_flags = flags;
+  screened_step = update->ntimestep + 1;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -112,6 +112,9 @@ class FixHardSphere : public Fix {
 
   // screening, prediction, bookkeeping
   int screen(double tleft);
+  int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
+  bigint screened_step;    // the step final_integrate screened ahead for
+  int screened_flags;
   double predict(double tleft, Event &);
   void reset_reference(int at_setup);
   void comm_vel_acc();
