@@ -120,10 +120,10 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
   for (const Wall &w : walls) {
     std::string name;
     wall_name(w, name);
-    if (domain->periodicity[w.dim])
-      error->all(FLERR, "Fix {} wall {} is on a periodic dimension", style_name, name);
     if (w.dim == 2 && domain->dimension == 2)
       error->all(FLERR, "Fix {} wall {} is not allowed in a 2d simulation", style_name, name);
+    if (domain->periodicity[w.dim])
+      error->all(FLERR, "Fix {} wall {} is on a periodic dimension", style_name, name);
   }
 }
 

@@ -98,6 +98,16 @@ TEST(CVAErrors, WallOnPeriodicDimension)
                {"wall xlo", "periodic"});
 }
 
+TEST(CVAErrors, ZWallIn2d)
+{
+  expect_error("units lj\ndimension 2\natom_style atomic\natom_modify map array\n"
+               "boundary f f p\nregion box block -5 5 -5 5 -0.5 0.5 units box\n"
+               "create_box 1 box\ncreate_atoms 1 single -1 0 0 units box\n"
+               "create_atoms 1 single 1 0 0 units box\nmass 1 1.0\ncomm_modify cutoff 3.0\n"
+               "fix hs all hardsphere/cva diameter 1.0 wall zlo 0\nrun 10\n",
+               {"wall zlo", "2d"});
+}
+
 TEST(CVAErrors, BadWallFace)
 {
   expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 wall xmid 0"),
