@@ -1,0 +1,86 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: derivatives of the potential energy V through
+   LAMMPS' own styles (DESIGN.md layer 2), for the modified Hamiltonian
+   H_[2,VV] = H + dt^2/24 H2 and H_[4,VV] = H_[2,VV] + dt^4/720 H4 of
+   Bond & Leimkuhler (2007), section 3.
+
+   One object serves compute hamiltonian/modified, fix hardsphere/pcva and
+   fix hardsphere/mcva. All derivatives are with respect to the coordinates
+   of the owned atoms of one group; every per-atom field below is an
+   array [nmax][3] read for owned atoms in the group and treated as zero
+   elsewhere. Every call leaves atom->x, atom->f and LAMMPS' energy tallies
+   as it found them, and is collective (all ranks call it together).
+
+   Paths (doc/compute_hamiltonian_modified.rst says which style takes which):
+   - SINGLE: radial pair styles and bond styles through their single()
+     (phi'(r) exact; higher r-derivatives analytic or by differences in r),
+     contracted along the direction fields with Taylor jets (hs_jet.h);
+   - FDIFF: everything else (angles, dihedrals, impropers, many-body pair
+     styles, kspace, force fixes) by differences of full force evaluations
+     along the direction field.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_POTENTIAL_H
+#define LMP_HS_POTENTIAL_H
+
+#include "pointers.h"
+
+#include <string>
+
+namespace LAMMPS_NS {
+
+class HSPotential : protected Pointers {
+ public:
+  enum Mode { AUTO = 0, SINGLE = 1, FDIFF = 2 };
+
+  // owner: for error messages, e.g. "fix hardsphere/pcva" or "compute hamiltonian/modified"
+  HSPotential(class LAMMPS *, int groupbit, const std::string &owner);
+  ~HSPotential() override;
+
+  // call from the owner's init(); mode AUTO takes SINGLE for the styles
+  // that allow it and FDIFF for the rest; SINGLE is an error if some
+  // contribution cannot take it; FDIFF forces differences for everything
+  void init(Mode mode = AUTO);
+  // the owner forwards the half list it requested with request_list()
+  // (needed by the SINGLE path; instance identifies the request)
+  void request_list(class Fix *owner, int instance);
+  void request_list(class Compute *owner, int instance);
+  void init_list(class NeighList *);
+
+  // a one-line description of the path each contributing style takes
+  std::string describe() const;
+
+  // --- a full force (re-)evaluation as Verlet::run does it, at the current
+  // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse
+  // comm, post_force. With eflag the total potential energy V (the sum
+  // compute pe would report, fix energies included) is returned, else 0.
+  // This one DOES leave the new forces in atom->f (it is the force
+  // evaluation of the fixes' sub-steps); ghosts' x are forward-communicated
+  // first.
+  double evaluate(int eflag);
+
+  // --- derivatives at the current x; x, f and tallies are left unchanged
+  double energy();                                 // V (global)
+  void hess_vec(double **w, double **hw);          // hw = V'' w
+  // hw = V'' w and tw = V'''[w,w,.] (the gradient of w^T V'' w) in one pass
+  void hess_third(double **w, double **hw, double **tw);
+  double d2(double **w);                           // w^T V'' w (global)
+  double d2_mixed(double **a, double **b);         // a^T V'' b (global)
+  double d3_mixed(double **a, double **w);         // V'''[a,w,w] (global)
+  double d4(double **w);                           // V''''[w,w,w,w] (global)
+
+  // number of full force evaluations done so far (for the owners' counters)
+  double nevals() const { return nevals_; }
+
+ protected:
+  int groupbit;
+  std::string owner;
+  double nevals_ = 0.0;
+  class NeighList *list = nullptr;
+  struct Impl;
+  Impl *impl = nullptr;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
