@@ -820,6 +820,7 @@ void FixHardSphere::collide_wall(int i, const Wall &w, Impulse &imp)
   double **v = atom->v;
   const double vn = (w.side < 0) ? v[i][w.dim] : -v[i][w.dim];
   imp.apply = vn < 0.0;
+  imp.reflect = 1;
   imp.dq[w.dim] = atom->x[i][w.dim] - w.coord;
   if (imp.apply) imp.J[w.dim] = -2.0 * mass_of(i) * v[i][w.dim];
 }
@@ -837,7 +838,7 @@ void FixHardSphere::apply_impulse(const Impulse &imp)
   // the normal velocity exactly, v_n -> -v_n
   auto update = [&](int k) {
     const tagint t = atom->tag[k];
-    if (imp.type == WALL_EVENT) {
+    if (imp.type == WALL_EVENT && imp.reflect) {
       if (t == imp.itag) v[k][dim] = -v[k][dim];
       return;
     }
@@ -867,6 +868,7 @@ void FixHardSphere::apply_impulse(const Impulse &imp)
    the impulse there, repeat; the last sub-step's closing half kick is done
    in final_integrate with the forces LAMMPS computes at the step's end.
    A step with no predicted contact is exactly fix nve's step.
+   The method classes change the pieces marked "hook" (all collective).
 ------------------------------------------------------------------------- */
 
 void FixHardSphere::initial_integrate(int)
@@ -874,6 +876,7 @@ void FixHardSphere::initial_integrate(int)
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
   grow_peratom();
   update_walls();
+  step_collided = 0;
 
   double tleft = dtv;
   // screened ahead in the previous step's final_integrate unless velocities
@@ -892,7 +895,7 @@ void FixHardSphere::initial_integrate(int)
   const double ftm2v = force->ftm2v;
   int stuck = 0;
   bigint nsub = 0;
-  bool collided = false;
+  bool contact_seen = false;
 
   while (true) {
     comm_vel_acc();    // ghosts' v, a and active flags for the prediction
@@ -904,52 +907,52 @@ void FixHardSphere::initial_integrate(int)
     MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
 
     if (first.t >= tleft) {    // no contact in the rest of the step
-      if (tleft == dtv) nve_initial();
-      else kick_drift(tleft);
-      dtf_last = (tleft == dtv) ? dtf : 0.5 * tleft * ftm2v;
+      finish_step(tleft);      // hook
       break;
     }
 
-    const double tau = first.t;
-    if (tau > 0.0) {
-      kick_drift(tau);
-      recompute_forces();
-      kick(tau);
-      comm_vel_acc();    // ghosts' velocities at contact, for the impulse
-      stuck = 0;
-    }
-
-    // the rank that found the contact builds the impulse from the state at
-    // contact and sends it to all; each applies it to its copies of the atoms
-
+    // every rank learns which contact comes first (tags), for the hooks
     Impulse imp;
     memset(&imp, 0, sizeof(imp));
     if (comm->me == first.rank) {
       imp.type = ev.type;
       imp.itag = atom->tag[ev.i];
+      imp.jtag = (ev.type == PAIR_EVENT) ? atom->tag[ev.j] : 0;
       imp.wall = ev.wall;
-      if (ev.type == PAIR_EVENT) {
-        imp.jtag = atom->tag[ev.j];
-        collide_pair(ev.i, ev.j, imp);
-      } else
-        collide_wall(ev.i, walls[ev.wall], imp);
-      if (imp.apply) {
-        // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
-        const double s = 1.0 / (dtv * ftm2v);
-        virial[0] += s * imp.dq[0] * imp.J[0];
-        virial[1] += s * imp.dq[1] * imp.J[1];
-        virial[2] += s * imp.dq[2] * imp.J[2];
-        virial[3] += s * imp.dq[0] * imp.J[1];
-        virial[4] += s * imp.dq[0] * imp.J[2];
-        virial[5] += s * imp.dq[1] * imp.J[2];
-      }
     }
     MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, first.rank, world);
+    if (!contact_seen) {
+      begin_collisional_step();    // hook: state at the step's start
+      contact_seen = true;
+    }
+
+    double tau = first.t;
+    if (!advance_to_contact(tau, tleft, imp)) break;    // hook: the step ended without it
+
+    // the rank that found the contact builds the impulse from the state at
+    // contact and sends it to all; each applies it to its copies of the atoms
+
+    if (comm->me == first.rank) {
+      if (imp.type == PAIR_EVENT) collide_pair(ev.i, ev.j, imp);
+      else collide_wall(ev.i, walls[ev.wall], imp);
+    }
+    MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, first.rank, world);
+    if (imp.apply) modify_impulse(imp);    // hook: another collision operator
+    if (imp.apply && comm->me == first.rank) {
+      // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
+      const double s = 1.0 / (dtv * ftm2v);
+      virial[0] += s * imp.dq[0] * imp.J[0];
+      virial[1] += s * imp.dq[1] * imp.J[1];
+      virial[2] += s * imp.dq[2] * imp.J[2];
+      virial[3] += s * imp.dq[0] * imp.J[1];
+      virial[4] += s * imp.dq[0] * imp.J[2];
+      virial[5] += s * imp.dq[1] * imp.J[2];
+    }
     apply_impulse(imp);
     if (imp.apply) {
       if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
       else ncoll_wall += 1.0;
-      collided = true;
+      step_collided = 1;
     } else if (tau == 0.0 && ++stuck > MAX_STUCK) {
       std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
       if (imp.type == WALL_EVENT) {
@@ -961,6 +964,8 @@ void FixHardSphere::initial_integrate(int)
                  "(a resting contact), which impulsive hard spheres cannot resolve",
                  style_name, who, update->ntimestep);
     }
+    if (tau > 0.0) stuck = 0;
+    end_substep(tau);    // hook: after each collisional sub-step
 
     tleft -= tau;
     screen(tleft);
@@ -970,9 +975,41 @@ void FixHardSphere::initial_integrate(int)
                  "for this system",
                  style_name, MAX_SUBSTEPS, update->ntimestep);
   }
-  if (collided) ncoll_steps += 1.0;
+  if (step_collided) ncoll_steps += 1.0;
+  step_substeps = contact_seen;
   request_rebuild();
 }
+
+/* ----------------------------------------------------------------------
+   CVA's pieces of the sub-step loop (the hooks' defaults)
+------------------------------------------------------------------------- */
+
+// no contact in the remaining tleft: plain Verlet to the step's end (its
+// closing half kick in final_integrate)
+void FixHardSphere::finish_step(double tleft)
+{
+  if (tleft == dtv) nve_initial();
+  else kick_drift(tleft);
+  dtf_last = (tleft == dtv) ? dtf : 0.5 * tleft * force->ftm2v;
+}
+
+// Verlet sub-step of length tau to the predicted contact; returns false if
+// the method found no contact after all (it then finished the step)
+bool FixHardSphere::advance_to_contact(double &tau, double, const Impulse &)
+{
+  if (tau > 0.0) {
+    kick_drift(tau);
+    recompute_forces();
+    kick(tau);
+    comm_vel_acc();    // ghosts' velocities at contact, for the impulse
+  }
+  return true;
+}
+
+void FixHardSphere::begin_collisional_step() {}
+void FixHardSphere::modify_impulse(Impulse &) {}
+void FixHardSphere::end_substep(double) {}
+void FixHardSphere::end_collisional_step() {}
 
 /* ---------------------------------------------------------------------- */
 
@@ -983,6 +1020,13 @@ void FixHardSphere::final_integrate()
 
   if (modify->n_end_of_step) {
     kick_dtf(dtf_last);
+    if (step_substeps) end_collisional_step();
+    return;
+  }
+  if (step_substeps) {    // a method may change v after the kick: screen afresh
+    kick_dtf(dtf_last);
+    end_collisional_step();
+    screened_step = -1;
     return;
   }
 

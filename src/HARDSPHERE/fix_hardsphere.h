@@ -68,6 +68,7 @@ class FixHardSphere : public Fix {
     int type;
     int wall;
     int apply;        // 0 for a grazing contact (no normal approach velocity)
+    int reflect;      // wall: 1 = exact v_n -> -v_n (elastic R); 0 = add J / m
   };
 
   std::string style_name;    // e.g. "hardsphere/cva", for messages
@@ -97,7 +98,26 @@ class FixHardSphere : public Fix {
   // global counters, identical on every rank
   double ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals;
 
-  // --- the sub-step loop (CVA); methods override the pieces below ---
+  // flags of the current step: an impulse was applied / the loop sub-stepped
+  int step_collided = 0, step_substeps = 0;
+
+  // --- hooks of the sub-step loop; the defaults are CVA's. All are called
+  // on every rank together (collective), with the contact's tags known ---
+  // no contact in the remaining tleft: finish the step (set dtf_last)
+  virtual void finish_step(double tleft);
+  // move to the contact predicted at tau; may change tau; return false if
+  // the method then finds no contact (it must have finished the step)
+  virtual bool advance_to_contact(double &tau, double tleft, const Impulse &);
+  // once per step, before its first sub-step, if the step has a contact
+  virtual void begin_collisional_step();
+  // change the elastic impulse (imp.J, imp.reflect) built by collide_*()
+  virtual void modify_impulse(Impulse &);
+  // after each contact's impulse (tau: the sub-step just taken)
+  virtual void end_substep(double tau);
+  // in final_integrate after the closing kick of a step that sub-stepped
+  virtual void end_collisional_step();
+
+  // --- pieces of the sub-step loop (CVA) ---
   virtual void kick(double tau);
   void kick_dtf(double dtfk);
   virtual void kick_drift(double tau);
