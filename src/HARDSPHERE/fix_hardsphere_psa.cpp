@@ -93,6 +93,79 @@ template <class F> void FixHardSpherePSA::for_copies(tagint tag, F fn)
 }
 
 /* ----------------------------------------------------------------------
+   the step's first predictions, every atom at local time 0: one pass over
+   the candidate pairs with an active atom (each pair once, its contact
+   scheduled for each active atom of the two) and the walls of active atoms
+------------------------------------------------------------------------- */
+
+void FixHardSpherePSA::predict_all()
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  tfirst.assign(nall, BIG);
+
+  const int ncand = (int) cand.size();
+  for (int m = 0; m < ncand; m += 2) {
+    const int i = cand[m], j = cand[m + 1];
+    const bool ai = active[i] != 0.0, aj = active[j] != 0.0;
+    if (!ai && !aj) continue;
+    const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+    const double sigma = radius_of(i) + radius_of(j);
+    const Contact ct =
+        HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv, TOUCH_TOL * sigma * sigma);
+    if (ct.status == HardSphere::NO_CONTACT) continue;
+    if (ct.status == HardSphere::OVERLAP) {
+      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
+      error->one(FLERR,
+                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+                 "on step {}: a collision was missed",
+                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep);
+    }
+    if (ai && ct.t < tfirst[i]) {
+      tfirst[i] = ct.t;
+      partner[i] = j;
+    }
+    if (aj && ct.t < tfirst[j]) {
+      tfirst[j] = ct.t;
+      partner[j] = i;
+    }
+  }
+
+  for (int i = 0; i < nlocal; i++) {
+    if (active[i] == 0.0) continue;
+    const double r = radius_of(i);
+    for (int w = 0; w < (int) walls.size(); w++) {
+      const Wall &wl = walls[w];
+      const double g = wall_gap(wl, x[i], r);
+      const double vn = (wl.side < 0) ? v[i][wl.dim] : -v[i][wl.dim];
+      const Contact ct = HardSphere::free_flight_wall_contact(g, vn, dtv, TOUCH_TOL * 2.0 * r);
+      if (ct.status == HardSphere::NO_CONTACT) continue;
+      if (ct.status == HardSphere::OVERLAP) {
+        std::string name;
+        wall_name(wl, name);
+        error->one(FLERR,
+                   "Fix {}: atom {} is {} through wall {} on step {}: a collision was missed",
+                   style_name, tag[i], -g, name, update->ntimestep);
+      }
+      if (ct.t < tfirst[i]) {
+        tfirst[i] = ct.t;
+        partner[i] = -1 - w;
+      }
+    }
+  }
+
+  for (int k = 0; k < nall; k++)
+    if (tfirst[k] < dtv) {
+      pcount[k] = 0;
+      heap.set(k, tfirst[k]);
+    }
+}
+
+/* ----------------------------------------------------------------------
    schedule atom k's earliest event in the rest of the step: a contact with
    a candidate partner (both on their straight lines, from the later of
    their two local times) or, for an owned atom, with a wall
@@ -288,8 +361,7 @@ void FixHardSpherePSA::initial_integrate(int)
   partner.resize(nall);
   pcount.resize(nall);
   heap.reset(nall);
-  for (int k = 0; k < nall; k++)
-    if (active[k] != 0.0) predict_atom(k);
+  predict_all();
 
   bool collided = false;
   int stuck = 0;

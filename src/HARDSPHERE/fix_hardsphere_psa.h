@@ -62,9 +62,11 @@ class FixHardSpherePSA : public FixHardSphere {
   std::vector<int> ncol;       // collisions of this copy in the step
   std::vector<int> partner;    // the scheduled event's partner: index, or -1 - wall
   std::vector<int> pcount;     // the partner's ncol when the event was predicted
+  std::vector<double> tfirst;  // scratch of predict_all()
   HardSphere::EventHeap heap;  // one scheduled event (the earliest) per atom
 
   void build_adjacency();
+  void predict_all();
   void predict_atom(int k);
   void place_copies(tagint tag, const double *xc, double t);
   void after_collision(tagint tag);

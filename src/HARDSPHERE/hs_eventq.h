@@ -42,6 +42,9 @@ inline Contact free_flight_pair_contact(const double *dq, const double *dv, doub
   if (c0 <= tol) return (b < 0.0) ? Contact{CONTACT_NOW, 0.0} : Contact{NO_CONTACT, 0.0};
   if (!(b < 0.0)) return {NO_CONTACT, 0.0};
   const double a = dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2];
+  // still apart at tmax while closing all the way (vertex -b/a >= tmax):
+  // the common case of a far pair, decided without a square root
+  if (-b >= a * tmax && c0 + tmax * (2.0 * b + a * tmax) > 0.0) return {NO_CONTACT, 0.0};
   const double cx = dq[1] * dv[2] - dq[2] * dv[1], cy = dq[2] * dv[0] - dq[0] * dv[2],
                cz = dq[0] * dv[1] - dq[1] * dv[0];
   const double disc = a * sigma * sigma - (cx * cx + cy * cy + cz * cz);
