@@ -155,14 +155,14 @@ struct Result {
   double pair = -1, wall = -1, fevals = -1;
 };
 
-Result run_psa(const Sys &s, double dt, int nsteps, bool polydisperse)
+Result run_psa(const Sys &s, double dt, int nsteps, bool polydisperse, bool map = true)
 {
   HSLammps h;
   const int n = (int) s.x.size();
   std::string in = "units lj\n";
   in += polydisperse ? "atom_style sphere\n" : "atom_style atomic\n";
   in += s.periodic ? "boundary p p p\n" : "boundary f f f\n";
-  in += "atom_modify map array\n";
+  if (map) in += "atom_modify map array\n";
   in += "region box block 0 " + fmt(s.L) + " 0 " + fmt(s.L) + " 0 " + fmt(s.L) + " units box\n";
   in += "create_box 1 box\n";
   for (int i = 0; i < n; i++)
@@ -184,6 +184,7 @@ Result run_psa(const Sys &s, double dt, int nsteps, bool polydisperse)
       "\n";
   in += "run " + std::to_string(nsteps) + "\n";
   h.lines(in);
+  if (!map) EXPECT_EQ(h.lmp->atom->map_style, LAMMPS_NS::Atom::MAP_NONE);
   Result r;
   r.x.resize(3 * n);
   r.v.resize(3 * n);
@@ -196,11 +197,11 @@ Result run_psa(const Sys &s, double dt, int nsteps, bool polydisperse)
 }
 
 void compare_with_reference(const Sys &s0, double dt, int nsteps, bool poly, double tol,
-                            long min_collisions)
+                            long min_collisions, bool map = true)
 {
   Sys ref = s0;
   const RefCounts cnt = reference_run(ref, dt * nsteps);
-  Result got = run_psa(s0, dt, nsteps, poly);
+  Result got = run_psa(s0, dt, nsteps, poly, map);
   printf("[ psa ref  ] %zu spheres, %s, dt %g x %d: reference %ld pair + %ld wall collisions, "
          "psa %g + %g\n",
          s0.x.size(), s0.periodic ? "periodic" : "walls", dt, nsteps, cnt.pair, cnt.wall,
@@ -237,6 +238,14 @@ TEST(PSAEventDriven, PeriodicFluidLargeStepMatchesBruteForce)
   // the same with 4x the step: the flight is exact whatever dt
   Sys s = make_system(5, 1.6, true, false, 2024);
   compare_with_reference(s, 0.04, 150 / 4 + 1, false, 1e-7, 150);
+}
+
+TEST(PSAEventDriven, PeriodicFluidWithoutAtomMapMatchesBruteForce)
+{
+  // atom_style atomic without atom_modify map: the fix finds the copies of
+  // the colliding atoms through its own sorted tag index
+  Sys s = make_system(5, 1.6, true, false, 2024);
+  compare_with_reference(s, 0.01, 150, false, 1e-7, 150, false);
 }
 
 TEST(PSAEventDriven, WalledPolydisperseMatchesBruteForce)
