@@ -37,6 +37,65 @@ static constexpr bigint MAX_EVENTS = 100000000;
 FixHardSpherePSA::FixHardSpherePSA(LAMMPS *lmp, int narg, char **arg) :
     FixHardSphere(lmp, narg, arg), adj_valid(0)
 {
+  MPI_Type_contiguous((int) sizeof(FlightImpulse), MPI_BYTE, &event_type);
+  MPI_Type_commit(&event_type);
+  MPI_Op_create(&FixHardSpherePSA::earliest_event, 1, &event_op);
+}
+
+FixHardSpherePSA::~FixHardSpherePSA()
+{
+  MPI_Op_free(&event_op);
+  MPI_Type_free(&event_type);
+}
+
+// reduction of the ranks' earliest events: the earliest, ties to the lower
+// rank (commutative and associative, so every rank gets the same winner)
+void FixHardSpherePSA::earliest_event(void *in, void *inout, int *len, MPI_Datatype *)
+{
+  const auto *a = (const FlightImpulse *) in;
+  auto *b = (FlightImpulse *) inout;
+  for (int k = 0; k < *len; k++)
+    if (a[k].t < b[k].t || (a[k].t == b[k].t && a[k].rank < b[k].rank)) b[k] = a[k];
+}
+
+/* ----------------------------------------------------------------------
+   the event scheduled for atom k at time te as a broadcastable collision:
+   both spheres' positions at contact and the elastic impulse R of
+   section 2 there (a wall reverses the normal velocity)
+------------------------------------------------------------------------- */
+
+void FixHardSpherePSA::build_event(int k, double te, FlightImpulse &fi)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const tagint *tag = atom->tag;
+  Impulse &imp = fi.imp;
+  const int p = partner[k];
+  fi.t = te;
+  const double sk = te - tloc[k];
+  for (int d = 0; d < 3; d++) fi.xi[d] = x[k][d] + sk * v[k][d];
+  imp.itag = tag[k];
+  if (p >= 0) {
+    const double sp = te - tloc[p];
+    for (int d = 0; d < 3; d++) {
+      fi.xj[d] = x[p][d] + sp * v[p][d];
+      imp.dq[d] = fi.xi[d] - fi.xj[d];
+    }
+    const double dv[3] = {v[k][0] - v[p][0], v[k][1] - v[p][1], v[k][2] - v[p][2]};
+    imp.type = PAIR_EVENT;
+    imp.wall = -1;
+    imp.jtag = tag[p];
+    imp.apply = imp.dq[0] * dv[0] + imp.dq[1] * dv[1] + imp.dq[2] * dv[2] < 0.0;
+    if (imp.apply) HardSphere::pair_impulse(imp.dq, dv, mass_of(k), mass_of(p), imp.J);
+  } else {
+    const Wall &wl = walls[-1 - p];
+    imp.type = WALL_EVENT;
+    imp.wall = -1 - p;
+    imp.dq[wl.dim] = fi.xi[wl.dim] - wl.coord;
+    const double vn = (wl.side < 0) ? v[k][wl.dim] : -v[k][wl.dim];
+    imp.apply = vn < 0.0;
+    if (imp.apply) imp.J[wl.dim] = -2.0 * mass_of(k) * v[k][wl.dim];
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -352,7 +411,6 @@ void FixHardSpherePSA::initial_integrate(int)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int *mask = atom->mask;
-  const tagint *tag = atom->tag;
   const int nprocs = comm->nprocs, me = comm->me;
   const double ftm2v = force->ftm2v;
 
@@ -371,11 +429,10 @@ void FixHardSpherePSA::initial_integrate(int)
   while (true) {
     // this rank's earliest event whose partner has not collided since it
     // was predicted; stale ones are re-predicted (lazy invalidation)
-    struct {
-      double t;
-      int rank;
-    } mine{BIG, me}, first;
-    int kev = -1;
+    FlightImpulse mine, first;
+    memset(&mine, 0, sizeof(mine));
+    mine.t = BIG;
+    mine.rank = me;
     while (!heap.empty()) {
       const int k = heap.top();
       const int p = partner[k];
@@ -383,58 +440,27 @@ void FixHardSpherePSA::initial_integrate(int)
         predict_atom(k);
         continue;
       }
-      mine.t = heap.top_key();
-      kev = k;
+      build_event(k, heap.top_key(), mine);
       break;
     }
-    if (nprocs > 1) MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
+    // the globally earliest one, with its impulse, in one collective
+    if (nprocs > 1) MPI_Allreduce(&mine, &first, 1, event_type, event_op, world);
     else first = mine;
     if (first.t >= dtv) break;
     const double te = first.t;
+    const FlightImpulse &fi = first;
 
-    // the rank that predicted the event builds the impulse at contact
-    FlightImpulse fi;
-    memset(&fi, 0, sizeof(fi));
-    fi.t = te;
-    if (me == first.rank) {
-      Impulse &imp = fi.imp;
-      const int k = kev, p = partner[k];
-      const double sk = te - tloc[k];
-      for (int d = 0; d < 3; d++) fi.xi[d] = x[k][d] + sk * v[k][d];
-      imp.itag = tag[k];
-      if (p >= 0) {
-        const double sp = te - tloc[p];
-        for (int d = 0; d < 3; d++) {
-          fi.xj[d] = x[p][d] + sp * v[p][d];
-          imp.dq[d] = fi.xi[d] - fi.xj[d];
-        }
-        const double dv[3] = {v[k][0] - v[p][0], v[k][1] - v[p][1], v[k][2] - v[p][2]};
-        imp.type = PAIR_EVENT;
-        imp.wall = -1;
-        imp.jtag = tag[p];
-        imp.apply = imp.dq[0] * dv[0] + imp.dq[1] * dv[1] + imp.dq[2] * dv[2] < 0.0;
-        if (imp.apply) HardSphere::pair_impulse(imp.dq, dv, mass_of(k), mass_of(p), imp.J);
-      } else {
-        const Wall &wl = walls[-1 - p];
-        imp.type = WALL_EVENT;
-        imp.wall = -1 - p;
-        imp.dq[wl.dim] = fi.xi[wl.dim] - wl.coord;
-        const double vn = (wl.side < 0) ? v[k][wl.dim] : -v[k][wl.dim];
-        imp.apply = vn < 0.0;
-        if (imp.apply) imp.J[wl.dim] = -2.0 * mass_of(k) * v[k][wl.dim];
-      }
-      if (imp.apply) {
-        // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
-        const double s = 1.0 / (dtv * ftm2v);
-        virial[0] += s * imp.dq[0] * imp.J[0];
-        virial[1] += s * imp.dq[1] * imp.J[1];
-        virial[2] += s * imp.dq[2] * imp.J[2];
-        virial[3] += s * imp.dq[0] * imp.J[1];
-        virial[4] += s * imp.dq[0] * imp.J[2];
-        virial[5] += s * imp.dq[1] * imp.J[2];
-      }
+    if (me == first.rank && fi.imp.apply) {
+      // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
+      const double s = 1.0 / (dtv * ftm2v);
+      const Impulse &imp = fi.imp;
+      virial[0] += s * imp.dq[0] * imp.J[0];
+      virial[1] += s * imp.dq[1] * imp.J[1];
+      virial[2] += s * imp.dq[2] * imp.J[2];
+      virial[3] += s * imp.dq[0] * imp.J[1];
+      virial[4] += s * imp.dq[0] * imp.J[2];
+      virial[5] += s * imp.dq[1] * imp.J[2];
     }
-    if (nprocs > 1) MPI_Bcast(&fi, sizeof(FlightImpulse), MPI_BYTE, first.rank, world);
 
     // every rank: its copies of the atoms to the contact, the impulse, new
     // predictions for them (a grazing contact gets no impulse, but its

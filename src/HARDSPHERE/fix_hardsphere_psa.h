@@ -31,6 +31,7 @@ namespace LAMMPS_NS {
 class FixHardSpherePSA : public FixHardSphere {
  public:
   FixHardSpherePSA(class LAMMPS *, int, char **);
+  ~FixHardSpherePSA() override;
   void setup_post_neighbor() override;
   void post_neighbor() override;
   void initial_integrate(int) override;
@@ -40,14 +41,20 @@ class FixHardSpherePSA : public FixHardSphere {
   void apply_impulse(const Impulse &) override;
 
  private:
-  // a collision as broadcast to every rank: the impulse plus the contact
-  // time and both spheres' positions at it (as the predicting rank has its
-  // copies), so every copy, owned or ghost, is put at the same place
+  // a rank's earliest event, as reduced over all ranks (the earliest wins,
+  // ties to the lower rank) in one collective per collision: the contact
+  // time, the impulse, and both spheres' positions at contact (as the
+  // predicting rank has its copies), so every copy, owned or ghost, is put
+  // at the same place
   struct FlightImpulse {
-    Impulse imp;
     double t;
+    int rank;
+    Impulse imp;
     double xi[3], xj[3];
   };
+  MPI_Datatype event_type;
+  MPI_Op event_op;
+  static void earliest_event(void *in, void *inout, int *len, MPI_Datatype *);
 
   // contact candidates per atom (owned and ghost), from the base's cand
   // list, rebuilt lazily after each neighbor list build
@@ -66,6 +73,7 @@ class FixHardSpherePSA : public FixHardSphere {
   HardSphere::EventHeap heap;  // one scheduled event (the earliest) per atom
 
   void build_adjacency();
+  void build_event(int k, double te, FlightImpulse &fi);
   void predict_all();
   void predict_atom(int k);
   void place_copies(tagint tag, const double *xc, double t);
