@@ -1,0 +1,104 @@
+// fix hardsphere/psa: invalid set-ups end in an ERROR naming the problem
+// (the base class's checks, with psa's name, and psa's own check that a
+// sphere's flight after a collision stays within the neighbor skin).
+// LAMMPS here is built without exceptions: each case runs in its own lmp
+// process through run_lmp().
+
+#include "hs_test_main.h"
+
+#include <string>
+
+namespace {
+
+// two atoms of types 1 and 2 (masses m1, m2) at (x1,0,0) and (x2,0,0)
+// with x-velocities v1, v2
+std::string two_atoms(const std::string &x1, const std::string &x2, const std::string &fix,
+                      const std::string &extra = "", const std::string &v1 = "0",
+                      const std::string &v2 = "0", const std::string &m1 = "1.0",
+                      const std::string &m2 = "1.0", const std::string &dt = "0.005")
+{
+  return "units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
+         "region box block -5 5 -5 5 -5 5 units box\ncreate_box 2 box\n"
+         "create_atoms 1 single " + x1 + " 0 0 units box\n"
+         "create_atoms 2 single " + x2 + " 0 0 units box\n"
+         "mass 1 " + m1 + "\nmass 2 " + m2 + "\nset atom 1 vx " + v1 + "\nset atom 2 vx " + v2 +
+      "\ncomm_modify cutoff 3.0\ntimestep " + dt + "\n" + extra + fix + "\nrun 10\n";
+}
+
+void expect_error(const std::string &input, const std::vector<std::string> &needles)
+{
+  RunResult r = run_lmp(input);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
+  for (const auto &n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
+}
+
+}    // namespace
+
+TEST(PSAErrors, ValidBaselineRuns)
+{
+  RunResult r = run_lmp(two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0 wall xlo -4",
+                                  "", "1", "-1"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+}
+
+TEST(PSAErrors, OverlapAtSetup)
+{
+  expect_error(two_atoms("0", "0.5", "fix hs all hardsphere/psa diameter 1.0"),
+               {"hardsphere/psa", "atoms 1 and 2 overlap", "set-up"});
+}
+
+TEST(PSAErrors, SphereThroughWallAtSetup)
+{
+  expect_error(two_atoms("-1.8", "1", "fix hs all hardsphere/psa diameter 1.0 wall xlo -2.0"),
+               {"atom 1 is", "through wall xlo"});
+}
+
+TEST(PSAErrors, UnknownKeyword)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0 bogus 3"),
+               {"Unknown fix hardsphere/psa keyword", "bogus"});
+}
+
+TEST(PSAErrors, MissingDiameterAtomic)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/psa"), {"hardsphere/psa", "diameter"});
+}
+
+TEST(PSAErrors, SecondIntegratorOnSameAtoms)
+{
+  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0",
+                         "fix mynve all nve\n"),
+               {"mynve", "both time-integrate"});
+}
+
+TEST(PSAErrors, StepLongerThanSkinAllows)
+{
+  // 5 x dt at speed 1 > skin 0.3: screening refuses the step
+  expect_error(two_atoms("-2", "2", "fix hs all hardsphere/psa diameter 1.0", "", "1", "0",
+                         "1.0", "1.0", "0.5"),
+               {"atom 1 may be", "more than the skin"});
+}
+
+TEST(PSAErrors, FlightAfterCollisionBeyondSkin)
+{
+  // a heavy sphere (mass 10, v = 1, dt 0.25: 0.25 < skin 0.3 per step) hits
+  // a light one (mass 0.1) 0.05 into the step: the light one leaves at
+  // 2 x 10/10.1 ~ 1.98 and would fly 0.2 x 1.98 ~ 0.4 > skin in the rest of
+  // the step, out of the neighbor list's reach
+  expect_error(two_atoms("-1.0", "0.05", "fix hs all hardsphere/psa diameter 1.0", "", "1", "0",
+                         "10.0", "0.1", "0.25"),
+               {"atom 2 may be", "after a collision", "more than the skin"});
+}
+
+TEST(PSAErrors, SameCollisionWithSmallerStepRuns)
+{
+  // the previous case with dt 0.1 is fine, and collides
+  RunResult r = run_lmp(two_atoms("-1.0", "0.05", "fix hs all hardsphere/psa diameter 1.0",
+                                  "", "1", "0", "10.0", "0.1", "0.1") +
+                        "print \"RESULT $(f_hs[2])\"\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\nRESULT 1"), std::string::npos) << r.output;
+}
