@@ -28,6 +28,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <mpi.h>
 #include <vector>
 
@@ -41,6 +42,8 @@ namespace {
 constexpr double STEP_HESS = 7.4e-4;
 constexpr double STEP_THIRD = 2.0e-3;
 constexpr double STEP_D4 = 5.8e-3;
+// d4 is NaN when its error estimate exceeds this fraction of its scale
+constexpr double D4_TOL = 1.0e-3;
 
 // the energy tallies a style keeps; saved and restored around derivatives
 struct Tally {
@@ -65,7 +68,7 @@ struct HSPotential::Impl : protected Pointers {
   int pair_lj = 0;          // lj/cut: phi'', phi''', phi'''' analytic
   double **lj_eps = nullptr, **lj_sig = nullptr;
   int bond_harm = 0;        // harmonic: phi'' = 2K, phi''' = phi'''' = 0
-  double *bond_k = nullptr;
+  std::vector<double> bond_k;
   NeighList *list = nullptr;
 
   // FDIFF path: which contributions the force evaluations include
@@ -321,7 +324,10 @@ struct HSPotential::Impl : protected Pointers {
   }
 
   // FDIFF part of V''''[w,w,w,w] from f(m s) = w.F(x0 + m s w), m = +-1..3:
-  // f''' = -V''''[w,w,w,w], seven-point O(s^4) stencil
+  // f''' = -V''''[w,w,w,w], seven-point O(s^4) stencil. NaN if V is not
+  // smooth at this step: the O(s^2) five-point value (its error ~ s^2 f^(5))
+  // or the round-off estimate differ by more than D4_TOL of the natural
+  // scale |V''''| + |V''[w,w]| wmax^2 / L^2
   double fd_d4(double **w, double wmax)
   {
     const double s = STEP_D4 * length / wmax;
@@ -338,7 +344,18 @@ struct HSPotential::Impl : protected Pointers {
     MPI_Allreduce(loc, all, 6, MPI_DOUBLE, MPI_SUM, world);
     const double fm3 = all[0], fm2 = all[1], fm1 = all[2], fp1 = all[3], fp2 = all[4],
                  fp3 = all[5];
-    return -(-fp3 + 8.0 * fp2 - 13.0 * fp1 + 13.0 * fm1 - 8.0 * fm2 + fm3) / (8.0 * s * s * s);
+    const double s3 = s * s * s;
+    const double hi = -(-fp3 + 8.0 * fp2 - 13.0 * fp1 + 13.0 * fm1 - 8.0 * fm2 + fm3) / (8.0 * s3);
+    const double lo = -(fp2 - 2.0 * fp1 + 2.0 * fm1 - fm2) / (2.0 * s3);
+    const double rnd = 10.0 * 2.2e-16 *
+        (fabs(fp3) + 8.0 * fabs(fp2) + 13.0 * fabs(fp1) + 13.0 * fabs(fm1) + 8.0 * fabs(fm2) +
+         fabs(fm3)) /
+        (8.0 * s3);
+    const double d2 = (fp1 - fm1) / (2.0 * s);
+    const double scale = fabs(hi) + fabs(d2) * wmax * wmax / (length * length);
+    if (!(fabs(hi - lo) <= D4_TOL * scale) || !(rnd <= D4_TOL * scale))
+      return std::numeric_limits<double>::quiet_NaN();
+    return hi;
   }
 
   /* ---- SINGLE: radial pair and bond terms ---- */
@@ -561,9 +578,20 @@ void HSPotential::init(Mode mode)
     if (mode != FDIFF) {
       m.bond_single = 1;
       if (strcmp(force->bond_style, "harmonic") == 0) {
-        int dim = 0;
-        m.bond_k = (double *) force->bond->extract("k", dim);
-        m.bond_harm = m.bond_k ? 1 : 0;
+        // K (r - r0)^2: K from single() at r = r0 + d, where phi' = 2 K d
+        // and phi = K d^2 (this LAMMPS' bond harmonic has no extract());
+        // both must agree, else the r-differences are used
+        m.bond_k.assign(atom->nbondtypes + 1, 0.0);
+        m.bond_harm = 1;
+        for (int t = 1; t <= atom->nbondtypes; t++) {
+          const double r0 = force->bond->equilibrium_distance(t);
+          const double d = (r0 > 0.0) ? r0 : 1.0;
+          double fforce = 0.0;
+          const double e = force->bond->single(t, (r0 + d) * (r0 + d), 0, 0, fforce);
+          const double k1 = -fforce * (r0 + d) / (2.0 * d), k2 = e / (d * d);
+          if (!(fabs(k1 - k2) <= 1e-12 * fabs(k1))) m.bond_harm = 0;
+          m.bond_k[t] = k1;
+        }
       }
     } else
       m.fd_bond = 1;
@@ -692,6 +720,11 @@ double HSPotential::evaluate(int eflag)
   if (modify->n_post_force) modify->post_force(0);
   nevals_ += 1.0;
   return eflag ? impl->tally_energy() : 0.0;
+}
+
+double HSPotential::tallied_energy()
+{
+  return impl->tally_energy();
 }
 
 /* ----------------------------------------------------------------------

@@ -65,6 +65,10 @@ class HSPotential : protected Pointers {
   // first.
   double evaluate(int eflag);
 
+  // V from LAMMPS' current energy tallies (the sum compute pe reports);
+  // valid on steps where LAMMPS tallied energy (update->eflag_global)
+  double tallied_energy();
+
   // --- derivatives at the current x; x, f and tallies are left unchanged
   double energy();                                 // V (global)
   void hess_vec(double **w, double **hw);          // hw = V'' w
@@ -73,7 +77,10 @@ class HSPotential : protected Pointers {
   double d2(double **w);                           // w^T V'' w (global)
   double d2_mixed(double **a, double **b);         // a^T V'' b (global)
   double d3_mixed(double **a, double **w);         // V'''[a,w,w] (global)
-  double d4(double **w);                           // V''''[w,w,w,w] (global)
+  // V''''[w,w,w,w] (global); NaN when the FDIFF differences show that V is
+  // not smooth enough at the step size (their error estimate exceeds 1e-3
+  // of the natural scale), e.g. for grid-based kspace forces
+  double d4(double **w);
 
   // number of full force evaluations done so far (for the owners' counters)
   double nevals() const { return nevals_; }

@@ -8,12 +8,14 @@
 
 #include "hs_test_main.h"
 
+#include "compute_hamiltonian_modified.h"
 #include "hs_potential.h"
 #include "hs_series.h"
 
 #include "atom.h"
 #include "force.h"
 #include "group.h"
+#include "modify.h"
 #include "pair.h"
 
 #include <algorithm>
@@ -46,9 +48,9 @@ std::string setup_text(bool angles)
     s += "create_atoms 1 single " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
         std::to_string(p[2]) + " units box\n";
   s += "pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0\n"
-       "bond_style harmonic\nbond_coeff 1 50.0 1.1\n"
-       "angle_style cosine/squared\nangle_coeff 1 5.0 110.0\n"
-       "special_bonds lj 0.0 0.5 1.0\n"
+       "bond_style harmonic\nbond_coeff 1 50.0 1.1\n";
+  if (angles) s += "angle_style cosine/squared\nangle_coeff 1 5.0 110.0\n";
+  s += "special_bonds lj 0.0 0.5 1.0\n"
        "create_bonds single/bond 1 1 2\ncreate_bonds single/bond 1 2 3\n"
        "create_bonds single/bond 1 3 4\n";
   if (angles) s += "create_bonds single/angle 1 1 2 3\ncreate_bonds single/angle 1 2 3 4\n";
@@ -231,4 +233,104 @@ TEST(PotentialDerivs, EvaluateMatchesVerletForces)
   EXPECT_NEAR(v, pe, 1e-12 * std::fabs(pe));
   for (size_t k = 0; k < fb.size(); k++) EXPECT_NEAR((&atom->f[0][0])[k], fb[k], 1e-12);
   EXPECT_EQ(pot.nevals(), 1.0);
+}
+
+// ---- SINGLE and AUTO paths, through compute hamiltonian/modified's
+// HSPotential (the compute supplies the neighbor list)
+
+namespace {
+HSPotential *compute_potential(HSLammps &h, const char *id)
+{
+  auto *modify = h.lmp->modify;
+  const int ic = modify->find_compute(id);
+  if (ic < 0) return nullptr;
+  auto *c = dynamic_cast<LAMMPS_NS::ComputeHamiltonianModified *>(modify->compute[ic]);
+  return c ? c->potential() : nullptr;
+}
+
+std::string with_compute(bool angles, const std::string &args)
+{
+  std::string s = setup_text(angles);
+  s.insert(s.find("thermo_style"), "velocity all create 1.5 87287 loop geom\n"
+                                   "compute hm all hamiltonian/modified " + args + "\n");
+  s.replace(s.find("thermo_style custom step pe"), 27, "thermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]");
+  return s;
+}
+}    // namespace
+
+// pair lj/cut (analytic phi'', phi''', phi'''') and bond harmonic
+// (analytic) through single(); no angles (path single refuses them)
+TEST(PotentialDerivs, SinglePairAndBond)
+{
+  HSLammps h;
+  h.lines(with_compute(false, "path single"));
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(), "pair lj/cut: single (analytic); bond harmonic: single (analytic)");
+  Molecule m = reference(false);
+  const double n0 = pot->nevals();
+  check_all(h, *pot, m, {1, 2, 3, 4, 5}, Tol{1e-12, 1e-12, 1e-12}, "single");
+  EXPECT_EQ(pot->nevals(), n0) << "the single path needs no force evaluation";
+}
+
+TEST(PotentialDerivs, SingleGroupSubset)
+{
+  HSLammps h;
+  std::string s = with_compute(false, "path single");
+  s.insert(s.find("compute hm"), "group sub id 1 3 5\n");
+  s.replace(s.find("compute hm all"), 14, "compute hm sub");
+  h.lines(s);
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  check_all(h, *pot, reference(false), {1, 3, 5}, Tol{1e-12, 1e-12, 1e-12}, "single group");
+}
+
+// r-differences of single(): the same LJ potential as lj/expand with
+// shift 0 (no analytic derivatives for that style)
+TEST(PotentialDerivs, SingleByRadialDifferences)
+{
+  HSLammps h;
+  std::string s = with_compute(false, "path single");
+  s.replace(s.find("pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0"), 43,
+            "pair_style lj/expand 3.0\npair_coeff 1 1 1.0 1.0 0.0");
+  h.lines(s);
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(),
+            "pair lj/expand: single (differences in r); bond harmonic: single (analytic)");
+  check_all(h, *pot, reference(false), {1, 2, 3, 4, 5}, Tol{1e-11, 1e-9, 1e-7}, "single fd-r");
+}
+
+// auto: pair and bond on single, angles on fdiff, summed
+TEST(PotentialDerivs, AutoMixesPaths)
+{
+  HSLammps h;
+  h.lines(with_compute(true, "path auto"));
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(), "pair lj/cut: single (analytic); bond harmonic: single (analytic); "
+                             "angle cosine/squared: fdiff");
+  check_all(h, *pot, reference(true), {1, 2, 3, 4, 5}, Tol{1e-9, 1e-7, 1e-5}, "auto");
+}
+
+// the three paths give the same compute values
+TEST(PotentialDerivs, ComputeValuesAgreeAcrossPaths)
+{
+  double val[3][3];
+  const char *paths[3] = {"path single", "path fdiff", "path auto"};
+  for (int p = 0; p < 3; p++) {
+    HSLammps h;
+    h.lines(with_compute(false, paths[p]));
+    // the vector as thermo output of "run 0" computed it
+    auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
+    ASSERT_NE(v, nullptr);
+    for (int k = 0; k < 3; k++) val[p][k] = v[k];
+  }
+  // H2 and H4 terms are visible: the three values differ
+  EXPECT_GT(std::fabs(val[0][1] - val[0][0]), 1e-6 * std::fabs(val[0][0]));
+  EXPECT_GT(std::fabs(val[0][2] - val[0][1]), 1e-9 * std::fabs(val[0][0]));
+  for (int k = 0; k < 3; k++) {
+    EXPECT_NEAR(val[1][k], val[0][k], 1e-12 * std::fabs(val[0][k])) << k;
+    EXPECT_NEAR(val[2][k], val[0][k], 1e-14 * std::fabs(val[0][k])) << k;
+  }
 }
