@@ -98,7 +98,7 @@ double chain_modified_drift_compute(const std::string &method, double dt, int ns
   h.file(CHAIN);
   const std::string out = "conv_hm_" + method + ".txt";
   h.cmd("compute hm chain hamiltonian/modified");
-  h.cmd("fix hmo all ave/time 1 1 1 c_hm[2] file " + out + " format %.17g");
+  h.cmd("fix hmo all ave/time 1 1 1 c_hm[2] file " + out + " format \" %.17g\"");
   h.cmd("run " + std::to_string(nsteps));
   h.cmd("unfix hmo");
   const auto ser = read_series(out);
