@@ -16,9 +16,13 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <mpi.h>
 
 using namespace LAMMPS_NS;
+
+// H2 (H4) is NaN when the FDIFF error estimate of V''v (V'''[v,v], V'''') exceeds this
+static constexpr double FD_TOL = 1.0e-3;
 
 /* ---------------------------------------------------------------------- */
 
@@ -28,13 +32,13 @@ ComputeHamiltonianModified::ComputeHamiltonianModified(LAMMPS *lmp, int narg, ch
 {
   scalar_flag = 1;
   vector_flag = 1;
-  size_vector = 3;
+  size_vector = 5;
   extscalar = 1;    // energies, normalized like compute pe by thermo_modify norm
   extvector = 1;
   peflag = 1;       // LAMMPS tallies the energy on the steps we are invoked
   timeflag = 1;
   vector = vec;
-  vec[0] = vec[1] = vec[2] = 0.0;
+  for (double &x : vec) x = 0.0;
 
   int iarg = 3;
   while (iarg < narg) {
@@ -129,6 +133,7 @@ void ComputeHamiltonianModified::eval(int want_h4)
   const double ftm2v = force->ftm2v, mvv2e = force->mvv2e;
 
   // hv = V''v (and tv = V'''[v,v,.])
+  pot->reset_fd_error();
   pot->hess_third(v, hv, want_h4 ? tv : nullptr);
 
   // local sums: K, grad V.M^-1 grad V, v.V''v, (V''v).M^-1(V''v), g.V'''[v,v]
@@ -151,15 +156,21 @@ void ComputeHamiltonianModified::eval(int want_h4)
   MPI_Allreduce(loc, all, 5, MPI_DOUBLE, MPI_SUM, world);
 
   const double dt = update->dt;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   h2_ = 2.0 * all[2] - all[1];
+  // differences across a discontinuity of the forces are meaningless
+  if (pot->fd_error_hess() > FD_TOL) h2_ = nan;
   const double H = all[0] + pot->tallied_energy();
   vec[0] = H;
-  vec[1] = H + dt * dt / 24.0 * h2_;
+  vec[3] = dt * dt / 24.0 * h2_;
+  vec[1] = H + vec[3];
   if (want_h4) {
     const double gHg = pot->d2(g);
     const double d4 = pot->d4(v);    // NaN if the differences show V not smooth enough
     h4_ = -d4 - 3.0 * gHg + 12.0 * all[3] + 6.0 * all[4];
-    vec[2] = vec[1] + dt * dt * dt * dt / 720.0 * h4_;
+    if (pot->fd_error_hess() > FD_TOL || pot->fd_error_third() > FD_TOL) h4_ = nan;
+    vec[4] = dt * dt * dt * dt / 720.0 * h4_;
+    vec[2] = vec[1] + vec[4];
   }
 }
 

@@ -1,7 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    HARDSPHERE package: compute hamiltonian/modified, the modified
    Hamiltonians of velocity Verlet (Bond & Leimkuhler 2007, section 3):
-   [1] H, [2] H_[2,VV] = H + dt^2/24 H2, [3] H_[4,VV] = H_[2,VV] + dt^4/720 H4.
+   [1] H, [2] H_[2,VV] = H + dt^2/24 H2, [3] H_[4,VV] = H_[2,VV] + dt^4/720 H4,
+   [4] dt^2/24 H2, [5] dt^4/720 H4 (the corrections alone).
    See doc/compute_hamiltonian_modified.rst.
 ------------------------------------------------------------------------- */
 
@@ -37,7 +38,7 @@ class ComputeHamiltonianModified : public Compute {
  protected:
   class HSPotential *pot;
   int mode;
-  double vec[3];
+  double vec[5];
   double h2_, h4_;
   bigint step_h2, step_h4;    // steps at which H2 / H4 were last evaluated
   int nmax;

@@ -76,6 +76,7 @@ struct HSPotential::Impl : protected Pointers {
   std::vector<int> efix;    // fixes with fix_modify energy yes and a post_force()
   int fd_any = 0;
   double length = 1.0;      // length scale L of the differences
+  double err_hess = 0.0, err_third = 0.0;    // see fd_error_hess()
 
   // scratch, [nmax][3]
   int nmax = 0;
@@ -305,6 +306,7 @@ struct HSPotential::Impl : protected Pointers {
   void fd_hess_third(double **w, double wmax, double **hw, double **tw)
   {
     const int nlocal = atom->nlocal;
+    const int *mask = atom->mask;
     const double s = (tw ? STEP_THIRD : STEP_HESS) * length / wmax;
     const int ms[5] = {-2, -1, 1, 2, 0};
     const int neval = tw ? 5 : 4;
@@ -313,14 +315,36 @@ struct HSPotential::Impl : protected Pointers {
       fd_forces(fb[e]);
     }
     double **Fm2 = fb[0], **Fm1 = fb[1], **Fp1 = fb[2], **Fp2 = fb[3], **F0 = fb[4];
+    // error estimates: O(s^4) minus O(s^2) (three-point) values, the largest
+    // over the group, against the natural scales |F| w/L and |F| w^2/L^2
+    double loc[5] = {0, 0, 0, 0, 0}, all[5];
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < 3; k++) {
-        hw[i][k] += -(-Fp2[i][k] + 8.0 * Fp1[i][k] - 8.0 * Fm1[i][k] + Fm2[i][k]) / (12.0 * s);
-        if (tw)
-          tw[i][k] += -(-Fp2[i][k] + 16.0 * Fp1[i][k] - 30.0 * F0[i][k] + 16.0 * Fm1[i][k] -
-                        Fm2[i][k]) /
+        const double h4 = -(-Fp2[i][k] + 8.0 * Fp1[i][k] - 8.0 * Fm1[i][k] + Fm2[i][k]) / (12.0 * s);
+        hw[i][k] += h4;
+        double t4 = 0.0;
+        if (tw) {
+          t4 = -(-Fp2[i][k] + 16.0 * Fp1[i][k] - 30.0 * F0[i][k] + 16.0 * Fm1[i][k] - Fm2[i][k]) /
               (12.0 * s * s);
+          tw[i][k] += t4;
+        }
+        if (!(mask[i] & groupbit)) continue;
+        const double h2 = -(Fp1[i][k] - Fm1[i][k]) / (2.0 * s);
+        loc[0] = MAX(loc[0], fabs(h4 - h2));
+        loc[1] = MAX(loc[1], fabs(h4));
+        loc[4] = MAX(loc[4], MAX(fabs(Fp1[i][k]), fabs(Fm1[i][k])));
+        if (tw) {
+          const double t2 = -(Fp1[i][k] - 2.0 * F0[i][k] + Fm1[i][k]) / (s * s);
+          loc[2] = MAX(loc[2], fabs(t4 - t2));
+          loc[3] = MAX(loc[3], fabs(t4));
+        }
       }
+    MPI_Allreduce(loc, all, 5, MPI_DOUBLE, MPI_MAX, world);
+    const double sh = all[1] + all[4] * wmax / length;
+    const double st = all[3] + all[4] * wmax * wmax / (length * length);
+    if (sh > 0.0) err_hess = MAX(err_hess, all[0] / sh);
+    if (tw && st > 0.0) err_third = MAX(err_third, all[2] / st);
+    if (!std::isfinite(all[0]) || !std::isfinite(all[2])) err_hess = err_third = INFINITY;
   }
 
   // FDIFF part of V''''[w,w,w,w] from f(m s) = w.F(x0 + m s w), m = +-1..3:
@@ -353,6 +377,7 @@ struct HSPotential::Impl : protected Pointers {
         (8.0 * s3);
     const double d2 = (fp1 - fm1) / (2.0 * s);
     const double scale = fabs(hi) + fabs(d2) * wmax * wmax / (length * length);
+    if (scale > 0.0) err_third = MAX(err_third, MAX(fabs(hi - lo), rnd) / scale);
     if (!(fabs(hi - lo) <= D4_TOL * scale) || !(rnd <= D4_TOL * scale))
       return std::numeric_limits<double>::quiet_NaN();
     return hi;
@@ -653,6 +678,21 @@ void HSPotential::set_length(double len)
 double HSPotential::length() const
 {
   return impl->length;
+}
+
+void HSPotential::reset_fd_error()
+{
+  impl->err_hess = impl->err_third = 0.0;
+}
+
+double HSPotential::fd_error_hess() const
+{
+  return impl->err_hess;
+}
+
+double HSPotential::fd_error_third() const
+{
+  return impl->err_third;
 }
 
 void HSPotential::request_list(Fix *fix, int instance)

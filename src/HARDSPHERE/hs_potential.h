@@ -56,6 +56,16 @@ class HSPotential : protected Pointers {
   void set_length(double);
   double length() const;
 
+  // relative error estimates of the FDIFF parts since the last reset:
+  // |O(s^4) - O(s^2)| difference values over the natural scales |F| w/L
+  // (V''w, d2) and |F| w^2/L^2 (V'''[w,w,.], d3, d4). Small (< 1e-5) for
+  // smooth potentials; of order one or more when a force is discontinuous
+  // within the steps (e.g. a pair crossing an unsmoothed cutoff), where the
+  // differences are meaningless. 0 without FDIFF parts.
+  void reset_fd_error();
+  double fd_error_hess() const;
+  double fd_error_third() const;
+
   // --- a full force (re-)evaluation as Verlet::run does it, at the current
   // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse
   // comm, post_force. With eflag the total potential energy V (the sum

@@ -313,10 +313,11 @@ TEST(PotentialDerivs, AutoMixesPaths)
   check_all(h, *pot, reference(true), {1, 2, 3, 4, 5}, Tol{1e-9, 1e-7, 1e-5}, "auto");
 }
 
-// the three paths give the same compute values
+// the three paths give the same compute values, and the corrections
+// [4] = dt^2/24 H2, [5] = dt^4/720 H4 agree to the accuracy of the paths
 TEST(PotentialDerivs, ComputeValuesAgreeAcrossPaths)
 {
-  double val[3][3];
+  double val[3][5];
   const char *paths[3] = {"path single", "path fdiff", "path auto"};
   for (int p = 0; p < 3; p++) {
     HSLammps h;
@@ -324,13 +325,49 @@ TEST(PotentialDerivs, ComputeValuesAgreeAcrossPaths)
     // the vector as thermo output of "run 0" computed it
     auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
     ASSERT_NE(v, nullptr);
-    for (int k = 0; k < 3; k++) val[p][k] = v[k];
+    for (int k = 0; k < 5; k++) val[p][k] = v[k];
   }
-  // H2 and H4 terms are visible: the three values differ
-  EXPECT_GT(std::fabs(val[0][1] - val[0][0]), 1e-6 * std::fabs(val[0][0]));
-  EXPECT_GT(std::fabs(val[0][2] - val[0][1]), 1e-9 * std::fabs(val[0][0]));
+  EXPECT_GT(std::fabs(val[0][3]), 1e-6 * std::fabs(val[0][0]));
+  EXPECT_GT(std::fabs(val[0][4]), 1e-9 * std::fabs(val[0][0]));
+  EXPECT_DOUBLE_EQ(val[0][1], val[0][0] + val[0][3]);
+  EXPECT_DOUBLE_EQ(val[0][2], val[0][1] + val[0][4]);
   for (int k = 0; k < 3; k++) {
-    EXPECT_NEAR(val[1][k], val[0][k], 1e-12 * std::fabs(val[0][k])) << k;
-    EXPECT_NEAR(val[2][k], val[0][k], 1e-14 * std::fabs(val[0][k])) << k;
+    EXPECT_NEAR(val[1][k], val[0][k], 1e-14 * std::fabs(val[0][k])) << k;
+    EXPECT_EQ(val[2][k], val[0][k]) << k;
+  }
+  EXPECT_NEAR(val[1][3], val[0][3], 1e-10 * std::fabs(val[0][3]));
+  EXPECT_NEAR(val[1][4], val[0][4], 1e-5 * std::fabs(val[0][4]));
+  if (getenv("HS_TEST_VERBOSE"))
+    printf("dt^2/24 H2: single %.15g fdiff %.15g; dt^4/720 H4: single %.15g fdiff %.15g\n",
+           val[0][3], val[1][3], val[0][4], val[1][4]);
+}
+
+// a pair 1e-5 inside the lj/cut cutoff, moving along its axis: the force
+// jumps within the FDIFF steps, so path fdiff reports NaN for H_[2,VV] and
+// H_[4,VV]; the single path differentiates the pair term inside the cutoff
+TEST(PotentialDerivs, FdiffFlagsCutoffDiscontinuity)
+{
+  const double rc = 2.5;
+  for (const char *path : {"fdiff", "single"}) {
+    HSLammps h;
+    h.lines(std::string("units lj\natom_style atomic\nboundary p p p\n"
+                        "region box block -10 10 -10 10 -10 10\ncreate_box 1 box\n"
+                        "create_atoms 1 single 0 0 0 units box\n"
+                        "create_atoms 1 single ") +
+            std::to_string(rc - 1e-5) + " 0 0 units box\nmass 1 1.0\n"
+            "pair_style lj/cut " + std::to_string(rc) + "\npair_coeff 1 1 1.0 1.0\n"
+            "group a id 1\ngroup b id 2\n"
+            "velocity a set 0.3 0.1 0 units box\nvelocity b set -0.3 0 0 units box\n"
+            "compute hm all hamiltonian/modified path " + path + "\n"
+            "thermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]\nrun 0\n");
+    auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
+    ASSERT_NE(v, nullptr);
+    EXPECT_TRUE(std::isfinite(v[0])) << path;
+    if (std::string(path) == "fdiff") {
+      EXPECT_TRUE(std::isnan(v[1])) << path << " " << v[1];
+      EXPECT_TRUE(std::isnan(v[2])) << path << " " << v[2];
+    } else {
+      EXPECT_TRUE(std::isfinite(v[1]) && std::isfinite(v[2])) << path;
+    }
   }
 }
