@@ -124,7 +124,9 @@ void FixHardSpherePCVA::project(const char *where)
                      "target {}, U {}, K~ {}); the sub-step is left unprojected. Such "
                      "sub-steps are counted in f_{}[7]; this warning is printed once",
                      style_name, where, update->ntimestep,
-                     st == HardSphere::SCALE_NO_ROOT ? "target below U" : "K~ <= 0", Ht0, U, Kt,
+                     st == HardSphere::SCALE_NO_ROOT ? "target - U <= 0 or not a number"
+                                                     : "K~ <= 0 or not a number",
+                     Ht0, U, Kt,
                      id);
     warned = 1;
     return;
