@@ -1,0 +1,52 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: fix hardsphere/pcva, the projected collision Verlet
+   algorithm (Bond & Leimkuhler 2007, section 3.2): CVA, and after every
+   sub-step of a step with a collision the group's momenta are scaled so
+   that the modified Hamiltonian H_[2,VV] keeps the value it had at the
+   step's start. Collision-free steps are fix nve's.
+   See doc/fix_hardsphere_pcva.rst.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(hardsphere/pcva,FixHardSpherePCVA);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_HARDSPHERE_PCVA_H
+#define LMP_FIX_HARDSPHERE_PCVA_H
+
+#include "fix_hardsphere.h"
+
+namespace LAMMPS_NS {
+
+class FixHardSpherePCVA : public FixHardSphere {
+ public:
+  FixHardSpherePCVA(class LAMMPS *, int, char **);
+  ~FixHardSpherePCVA() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+
+ protected:
+  class HSPotential *pot;
+  double Ht0;            // H_[2,VV] at the start of the current collisional step
+  double nproj;          // projections done
+  double nskip;          // sub-steps left unprojected (no real positive alpha)
+  double maxdev;         // max |alpha - 1| of the projections done
+  int warned;
+
+  void begin_collisional_step() override;
+  void end_substep(double tau) override;
+  void end_collisional_step() override;
+
+  double modified_energy(double &U, double &Kt);
+  void project(const char *where);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

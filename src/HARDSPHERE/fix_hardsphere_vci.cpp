@@ -1,0 +1,352 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: fix hardsphere/vci (Bond & Leimkuhler 2007,
+   section 2.3; Fetecau, Marsden, Ortiz, West 2003). See
+   fix_hardsphere_vci.h and doc/fix_hardsphere_vci.rst.
+
+   One collisional sub-step q_k -> q_c of length tau1 (kick, drift, forces
+   at q_c, kick) has the discrete energy of section 2.3
+     E_d^- = 1/2 |v_h|^2_M + (V(q_k) + V(q_c))/2,  v_h = (q_c - q_k)/tau1,
+   v_h being the velocity after the first half kick. The impulse s J
+   (J the elastic one of section 2) is chosen so that the sub-step that
+   follows, q_c -> q_next of length tau2 (the time to the next contact or
+   the step's end, found as the sub-step loop finds it, so it depends on s),
+   has the same discrete energy E_d^+(s). Each evaluation of E_d^+ is a
+   trial sub-step: impulse, prediction of tau2, half kick and drift, V at
+   q_next; x and v are restored afterwards (f is not changed by it).
+------------------------------------------------------------------------- */
+
+#include "fix_hardsphere_vci.h"
+
+#include "hs_potential.h"
+#include "hs_vci.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+
+static constexpr int POT_LIST_ID = 1;
+// the impulse strength is sought in [SMIN, SMAX] times the elastic one:
+// below 1/2 the contact would not separate (1/2 stops the normal approach)
+static constexpr double SMIN = 0.5, SMAX = 2.0;
+static constexpr int MAXIT = 100;
+
+/* ---------------------------------------------------------------------- */
+
+FixHardSphereVCI::FixHardSphereVCI(LAMMPS *lmp, int narg, char **arg) :
+    FixHardSphere(lmp, narg, arg), pot(nullptr), Vk(0.0), Etarget(0.0), have_target(0),
+    tleft_after(0.0), pending(0), pending_target(0.0), nsolved(0.0), nnoroot(0.0), nzero(0.0),
+    nevals(0.0), maxevals(0.0), maxdiff(0.0), warned(0)
+{
+  size_vector = 11;
+  pot = new HSPotential(lmp, groupbit, "fix " + style_name);
+}
+
+FixHardSphereVCI::~FixHardSphereVCI()
+{
+  delete pot;
+}
+
+void FixHardSphereVCI::init()
+{
+  FixHardSphere::init();
+  pot->init(HSPotential::AUTO);
+  // init_list() tells the lists apart by the request's id (0: the base's)
+  const int before = neighbor->nrequest;
+  pot->request_list(this, instance_me);
+  if (neighbor->nrequest > before) {
+#if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
+    neighbor->requests[before]->set_id(POT_LIST_ID);
+#else
+    neighbor->requests[before]->id = POT_LIST_ID;
+#endif
+  }
+}
+
+void FixHardSphereVCI::init_list(int id, NeighList *ptr)
+{
+  if (id == POT_LIST_ID) pot->init_list(ptr);
+  else FixHardSphere::init_list(id, ptr);
+}
+
+/* ----------------------------------------------------------------------
+   1/2 p^T M^-1 p of the group (energy units), collective
+------------------------------------------------------------------------- */
+
+double FixHardSphereVCI::kinetic()
+{
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double loc = 0.0, all;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit)
+      loc += mass_of(i) * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+  MPI_Allreduce(&loc, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return 0.5 * force->mvv2e * all;
+}
+
+// V at the current x (ghosts are forwarded by the energy evaluation)
+double FixHardSphereVCI::potential_at_new_x()
+{
+  const double before = pot->nevals();
+  const double V = pot->energy();
+  nforce_evals += pot->nevals() - before;
+  return V;
+}
+
+std::string FixHardSphereVCI::who(const Impulse &imp) const
+{
+  if (imp.type == WALL_EVENT) {
+    std::string name;
+    wall_name(walls[imp.wall], name);
+    return fmt::format("atom {} with wall {}", imp.itag, name);
+  }
+  return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
+}
+
+void FixHardSphereVCI::check_pending(double Ed)
+{
+  if (!pending) return;
+  maxdiff = MAX(maxdiff, fabs(Ed - pending_target));
+  pending = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphereVCI::begin_collisional_step()
+{
+  Vk = potential_at_new_x();    // V(q^n)
+  have_target = 0;
+  pending = 0;
+}
+
+/* ----------------------------------------------------------------------
+   CVA's Verlet sub-step to the contact, recording E_d of the sub-step (the
+   force evaluation at q_c also gives V(q_c))
+------------------------------------------------------------------------- */
+
+bool FixHardSphereVCI::advance_to_contact(double &tau, double tleft, const Impulse &)
+{
+  if (tau > 0.0) {
+    kick_drift(tau);
+    const double Kh = kinetic();    // 1/2 |(q_c - q_k)/tau|^2_M
+    double Vc = 0.0;
+    if (forces_present) {
+      const double before = pot->nevals();
+      Vc = pot->evaluate(1);
+      nforce_evals += pot->nevals() - before;
+    } else
+      comm->forward_comm();
+    kick(tau);
+    comm_vel_acc();
+    const double Ed = Kh + 0.5 * (Vk + Vc);
+    check_pending(Ed);
+    Etarget = Ed;
+    have_target = 1;
+    Vk = Vc;
+  } else {
+    // a contact at the same instant as the last one (or at the step's
+    // start): no sub-step in between. E_d^- stays the last sub-step's; at
+    // the step's start it is the limit of E_d for tau -> 0, H(q, p).
+    if (pending) check_pending(kinetic() + Vk);
+    if (!have_target) {
+      Etarget = kinetic() + Vk;
+      have_target = 1;
+    }
+  }
+  tleft_after = tleft - tau;
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   no contact in the rest of the step: CVA's last sub-step; after a solved
+   contact, measure its E_d (V at the step's end: one more evaluation)
+------------------------------------------------------------------------- */
+
+void FixHardSphereVCI::finish_step(double tleft)
+{
+  FixHardSphere::finish_step(tleft);
+  if (pending) {
+    const double Kh = kinetic();
+    const double Vn = potential_at_new_x();
+    check_pending(Kh + 0.5 * (Vk + Vn));
+  }
+}
+
+/* ----------------------------------------------------------------------
+   E_d^+(s) - E_d^- by a trial sub-step with the impulse s J, exactly as
+   the loop will do it: impulse, screen + predict the next contact in the
+   time left (tau2), Verlet half kick + drift over tau2, V there.
+   x and v (owned and ghost) are restored from xsave/vsave. Collective.
+------------------------------------------------------------------------- */
+
+double FixHardSphereVCI::trial(const Impulse &imp, double s, double &scale, double &tau2)
+{
+  Impulse t = imp;
+  if (s != 1.0) {
+    for (int k = 0; k < 3; k++) t.J[k] = s * imp.J[k];
+    t.reflect = 0;
+  }
+  apply_impulse(t);
+
+  screen(tleft_after);
+  comm_vel_acc();
+  Event ev{PAIR_EVENT, -1, -1, -1};
+  struct {
+    double t;
+    int rank;
+  } mine{predict(tleft_after, ev), comm->me}, first;
+  MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
+  tau2 = (first.t >= tleft_after) ? tleft_after : first.t;
+
+  double Ed;
+  if (tau2 > 0.0) {
+    kick_drift(tau2);
+    const double Kh = kinetic();
+    const double Vn = potential_at_new_x();
+    Ed = Kh + 0.5 * (Vk + Vn);
+    scale = Kh + 0.5 * (fabs(Vk) + fabs(Vn)) + fabs(Etarget);
+  } else {
+    // zero length: E_d -> H(q_c, p+) (only used as a value; the caller
+    // treats tau2 = 0 at s = 1 as the elastic case)
+    const double K = kinetic();
+    Ed = K + Vk;
+    scale = K + fabs(Vk) + fabs(Etarget);
+  }
+
+  const int nall = atom->nlocal + atom->nghost;
+  if (nall) {
+    memcpy(&atom->x[0][0], xsave.data(), sizeof(double) * 3 * nall);
+    memcpy(&atom->v[0][0], vsave.data(), sizeof(double) * 3 * nall);
+  }
+  return Ed - Etarget;
+}
+
+/* ----------------------------------------------------------------------
+   the impulse strength of section 2.3: solve E_d^+(s) = E_d^- for the
+   root near the elastic s = 1 (hs_vci.h)
+------------------------------------------------------------------------- */
+
+void FixHardSphereVCI::modify_impulse(Impulse &imp)
+{
+  pending = 0;
+  const int nall = atom->nlocal + atom->nghost;
+  xsave.resize(3 * (size_t) nall);
+  vsave.resize(3 * (size_t) nall);
+  if (nall) {
+    memcpy(xsave.data(), &atom->x[0][0], sizeof(double) * 3 * nall);
+    memcpy(vsave.data(), &atom->v[0][0], sizeof(double) * 3 * nall);
+  }
+
+  // slope of E_d^+ in s near 1 from the kinetic term alone: |J|^2_{M^-1}/2
+  const double J2 = imp.J[0] * imp.J[0] + imp.J[1] * imp.J[1] + imp.J[2] * imp.J[2];
+  double loc = 0.0, all;
+  const tagint *tag = atom->tag;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (tag[i] == imp.itag) loc += J2 / mass_of(i);
+    if (imp.type == PAIR_EVENT && tag[i] == imp.jtag) loc += J2 / mass_of(i);
+  }
+  MPI_Allreduce(&loc, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double slope = 0.5 * force->mvv2e * all;
+
+  double scale1, tau2;
+  const double f1 = trial(imp, 1.0, scale1, tau2);
+  if (tau2 == 0.0) {
+    // the next contact is at the same instant: no sub-step after this one
+    // whose E_d could be matched; E_d^+ degenerates to H(q_c, p+), which
+    // the elastic impulse conserves. E_d^- is carried to that next contact.
+    nzero += 1.0;
+    nevals += 1.0;
+    maxevals = MAX(maxevals, 1.0);
+    return;
+  }
+  auto eval = [&](double s, double &scale) {
+    double t2;
+    return trial(imp, s, scale, t2);
+  };
+  const HardSphere::VciRoot r = HardSphere::vci_root(eval, f1, scale1, slope, SMIN, SMAX, MAXIT);
+  nevals += r.evals;
+  maxevals = MAX(maxevals, (double) r.evals);
+
+  if (r.status == HardSphere::VCI_NOT_CONVERGED)
+    error->all(FLERR,
+               "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
+               "step {} did not converge in {} evaluations (impulse strength in [{}, {}] "
+               "times the elastic one, residual {})",
+               style_name, who(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
+  if (r.status != HardSphere::VCI_CONVERGED) {
+    nnoroot += 1.0;
+    if (!warned && comm->me == 0)
+      error->warning(FLERR,
+                     "Fix {}: no impulse strength between {} and {} times the elastic one "
+                     "matches the discrete energy across the collision of {} on step {} ({}, "
+                     "E_d- {}, E_d+ - E_d- {} for the elastic impulse); the elastic impulse is "
+                     "used. Such collisions are counted in f_{}[7]; this warning is printed once",
+                     style_name, SMIN, SMAX, who(imp), update->ntimestep,
+                     r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
+                     Etarget, f1, id);
+    warned = 1;
+    return;
+  }
+  nsolved += 1.0;
+  pending = 1;
+  pending_target = Etarget;
+  if (r.s != 1.0) {
+    for (int k = 0; k < 3; k++) imp.J[k] *= r.s;
+    imp.reflect = 0;
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixHardSphereVCI::compute_vector(int n)
+{
+  switch (n) {
+    case 5:
+      return nsolved;
+    case 6:
+      return nnoroot;
+    case 7:
+      return nzero;
+    case 8:
+      return nevals;
+    case 9:
+      return maxevals;
+    case 10:
+      return maxdiff;
+  }
+  return FixHardSphere::compute_vector(n);
+}
+
+void FixHardSphereVCI::write_restart(FILE *fp)
+{
+  if (comm->me == 0) {
+    double list_[10] = {ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals, nsolved,
+                        nnoroot,    nzero,      nevals,      maxevals,     maxdiff};
+    int size = sizeof(list_);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list_, sizeof(double), 10, fp);
+  }
+}
+
+void FixHardSphereVCI::restart(char *buf)
+{
+  FixHardSphere::restart(buf);
+  const double *list_ = (const double *) buf;
+  nsolved = list_[4];
+  nnoroot = list_[5];
+  nzero = list_[6];
+  nevals = list_[7];
+  maxevals = list_[8];
+  maxdiff = list_[9];
+}

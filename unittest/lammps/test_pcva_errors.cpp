@@ -1,0 +1,126 @@
+// fix hardsphere/pcva: the keywords and errors are hardsphere/cva's (shared
+// base), named with the pcva style; a sub-step where no momentum scaling can
+// restore H_[2,VV] (section 3.2: alpha^2 = (H~0 - U)/K~ has no positive
+// root) is left unprojected with a one-time warning and counted in f_ID[7].
+// LAMMPS here is built without exceptions: each case runs in its own lmp
+// process (run_lmp).
+
+#include "hs_test_main.h"
+
+#include <regex>
+#include <string>
+
+namespace {
+
+std::string two_atoms(const std::string &fix)
+{
+  return "units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
+         "region box block -5 5 -5 5 -5 5 units box\ncreate_box 1 box\n"
+         "create_atoms 1 single -1 0 0 units box\ncreate_atoms 1 single 1 0 0 units box\n"
+         "mass 1 1.0\ncomm_modify cutoff 3.0\nvelocity all set 0.5 0 0 units box\n" +
+      fix + "\nthermo_style custom step f_hs[1] f_hs[6] f_hs[7]\nrun 100\n";
+}
+
+void expect_error(const std::string &input, const std::vector<std::string> &needles)
+{
+  RunResult r = run_lmp(input);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
+  for (const auto &n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
+}
+
+}    // namespace
+
+TEST(PCVAErrors, ValidBaselineRuns)
+{
+  RunResult r = run_lmp(two_atoms("fix hs all hardsphere/pcva diameter 1.0 wall xlo -4 wall xhi 4"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("WARNING: Fix hardsphere/pcva"), std::string::npos) << r.output;
+}
+
+TEST(PCVAErrors, SharedKeywordErrorsNamePCVA)
+{
+  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0 bogus 1"),
+               {"Unknown fix hardsphere/pcva keyword: bogus"});
+  expect_error(two_atoms("fix hs all hardsphere/pcva diameter -1"),
+               {"Fix hardsphere/pcva diameter must be > 0"});
+  expect_error(two_atoms("fix hs all hardsphere/pcva"),
+               {"Fix hardsphere/pcva needs the diameter keyword"});
+  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0 wall xlo -4.0 wall xlo 3"),
+               {"Fix hardsphere/pcva wall xlo given twice"});
+  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0\nfix 2 all nve"),
+               {"both time-integrate atoms"});
+}
+
+TEST(PCVAErrors, NoRealScalingIsCountedAndWarnedOnce)
+{
+  // a sphere on a strongly compressed stiff bond (r = 0.5, r0 = 1, K = 50)
+  // moving sideways, thrown against a wall by the bond: along its velocity
+  // V'' = 2K (r - r0)/r = -100, so with dt = 0.3 the quadratic form
+  // K~ = 1/2 |v|^2 + dt^2/12 v^T V'' v is negative after the bounce
+  // (|v_y| = 3 > sqrt(5) |v_x|): no alpha > 0 exists
+  const std::string input = R"IN(units lj
+dimension 2
+atom_style bond
+atom_modify map array
+boundary f f p
+region box block -12 12 -12 12 -0.5 0.5 units box
+create_box 2 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 2
+create_atoms 1 single 0 0 0 units box
+create_atoms 2 single 0.5 0 0 units box
+mass * 1.0
+bond_style harmonic
+bond_coeff 1 50.0 1.0
+create_bonds single/bond 1 1 2
+group s type 2
+velocity s set 0 3.0 0 units box
+neighbor 4.0 bin
+comm_modify cutoff 10.0
+fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735
+fix 2d all enforce2d
+timestep 0.3
+run 1
+print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
+)IN";
+  RunResult r = run_lmp(input);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("WARNING: Fix hardsphere/pcva: no momentum scaling restores H_[2,VV]"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("K~ <= 0"), std::string::npos) << r.output;
+  // printed once however often it happens
+  const size_t first = r.output.find("no momentum scaling");
+  EXPECT_EQ(r.output.find("no momentum scaling", first + 1), std::string::npos) << r.output;
+  std::smatch m;
+  const std::regex re(R"((?:^|\n)SKIPPED ([0-9.eE+-]+) PROJECTED ([0-9.eE+-]+))");
+  ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
+  EXPECT_GE(std::stod(m[1]), 1.0);
+}
+
+TEST(PCVAErrors, CountersSurviveRestart)
+{
+  // the 8 counters go to the restart file and come back with the fix ID
+  const std::string chain = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
+  RunResult a = run_lmp("include " + chain +
+                            "\nprint \"BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[8]:%.17g)\"\n"
+                            "write_restart pcva.restart\n",
+                        {"-var", "method", "pcva", "-var", "T", "20"});
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  RunResult b = run_lmp(R"IN(read_restart pcva.restart
+comm_modify cutoff 2.0
+fix hs chain hardsphere/pcva diameter 0.9 wall xlo 0.0
+fix 2d all enforce2d
+run 0
+print "BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[8]:%.17g)"
+)IN");
+  std::remove("pcva.restart");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  std::smatch ma, mb;
+  const std::regex re(R"((?:^|\n)(BEFORE [^\n]*))");
+  ASSERT_TRUE(std::regex_search(a.output, ma, re)) << a.output;
+  ASSERT_TRUE(std::regex_search(b.output, mb, re)) << b.output;
+  EXPECT_EQ(ma[1].str(), mb[1].str());
+  EXPECT_NE(ma[1].str(), "BEFORE 0 0 0 0");
+}

@@ -1,0 +1,179 @@
+// fix hardsphere/vci: the keywords and errors are hardsphere/cva's (shared
+// base), named with the vci style. A contact where no impulse strength in
+// [1/2, 2] times the elastic one matches the discrete energy (grazing
+// contacts: E_d+ - E_d- at the elastic impulse is O(dt^2) while the
+// impulse is small, section 2.3 / hs_vci.h) gets the elastic impulse, is
+// counted in f_ID[7] and warned about once. Each case runs in its own lmp
+// process (run_lmp): LAMMPS here is built without exceptions.
+
+#include "hs_test_main.h"
+
+#include <regex>
+#include <string>
+
+namespace {
+
+std::string two_atoms(const std::string &fix)
+{
+  return "units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
+         "region box block -5 5 -5 5 -5 5 units box\ncreate_box 1 box\n"
+         "create_atoms 1 single -1 0 0 units box\ncreate_atoms 1 single 1 0 0 units box\n"
+         "mass 1 1.0\ncomm_modify cutoff 3.0\nvelocity all set 0.5 0 0 units box\n" +
+      fix + "\nrun 100\n";
+}
+
+void expect_error(const std::string &input, const std::vector<std::string> &needles)
+{
+  RunResult r = run_lmp(input);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
+  for (const auto &n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
+}
+
+}    // namespace
+
+TEST(VCIErrors, ValidBaselineRuns)
+{
+  // free flight (no potential) between walls: E_d = H, every contact is
+  // elastic (s = 1 solves it) and counted as solved
+  RunResult r = run_lmp(R"IN(units lj
+atom_style atomic
+atom_modify map array
+boundary f f f
+region box block -5 5 -5 5 -5 5 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+comm_modify cutoff 3.0
+group a id 1
+velocity a set 1.0 0.3 0 units box
+fix hs all hardsphere/vci diameter 1.0 wall xlo -4 wall xhi 4 wall ylo -4 wall yhi 4
+timestep 0.05
+run 400
+print "COUNTS $(f_hs[1]) $(f_hs[6]) $(f_hs[7])"
+)IN");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("WARNING: Fix"), std::string::npos) << r.output;
+  std::smatch m;
+  const std::regex re(R"((?:^|\n)COUNTS ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+))");
+  ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
+  EXPECT_GT(std::stod(m[1]), 2.0);
+  EXPECT_EQ(std::stod(m[2]), std::stod(m[1]));
+  EXPECT_EQ(std::stod(m[3]), 0.0);
+}
+
+TEST(VCIErrors, SharedKeywordErrorsNameVCI)
+{
+  expect_error(two_atoms("fix hs all hardsphere/vci diameter 1.0 bogus 1"),
+               {"Unknown fix hardsphere/vci keyword: bogus"});
+  expect_error(two_atoms("fix hs all hardsphere/vci diameter 0"),
+               {"Fix hardsphere/vci diameter must be > 0"});
+  expect_error(two_atoms("fix hs all hardsphere/vci diameter 1.0 wall qlo 1"),
+               {"Fix hardsphere/vci wall face must be"});
+  expect_error(two_atoms("fix hs all hardsphere/vci diameter 1.0\nfix 2 all nve"),
+               {"both time-integrate atoms"});
+}
+
+TEST(VCIErrors, NoRootFallsBackToElasticCountedAndWarnedOnce)
+{
+  // hard spheres with LJ attraction at density 0.6: some contacts graze
+  const std::string input = R"IN(units lj
+atom_style atomic
+lattice fcc 0.6
+region box block 0 5 0 5 0 5
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+velocity all create 1.5 87287 mom yes rot yes dist gaussian loop geom
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+neighbor 0.3 bin
+fix hs all hardsphere/vci diameter 1.0
+timestep 0.005
+run 100
+print "COUNTS $(f_hs[1]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[11]:%.3e)"
+)IN";
+  RunResult r = run_lmp(input);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const std::string warn = "WARNING: Fix hardsphere/vci: no impulse strength between 0.5 and 2 times";
+  const size_t first = r.output.find(warn);
+  ASSERT_NE(first, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(warn, first + 1), std::string::npos) << "warned more than once";
+  EXPECT_NE(r.output.find("the elastic impulse is used", first), std::string::npos);
+  std::smatch m;
+  const std::regex re(R"((?:^|\n)COUNTS ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+))");
+  ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
+  const double ncoll = std::stod(m[1]), solved = std::stod(m[2]), fallback = std::stod(m[3]),
+               zero = std::stod(m[4]), maxdiff = std::stod(m[5]);
+  printf("[ vci fluid ] %g collisions: %g solved, %g elastic fallbacks, %g with tau2 = 0; "
+         "max|E_d+ - E_d-| %.3e\n", ncoll, solved, fallback, zero, maxdiff);
+  EXPECT_GE(fallback, 1.0);
+  EXPECT_EQ(solved + fallback + zero, ncoll);
+  EXPECT_GT(solved, 0.9 * ncoll);
+  // the solved ones are matched to round-off (energies ~ 1e3 here)
+  EXPECT_LT(maxdiff, 1e-9);
+}
+
+TEST(VCIErrors, SimultaneousContactsGetElasticImpulseWithZeroSubstep)
+{
+  // three spheres on a line, the outer two moving in symmetrically: both
+  // contacts at the same instant. The first has no sub-step after it
+  // (tau2 = 0): elastic, counted in f_ID[8]; the second matches the E_d of
+  // the sub-step before the first. Kinetic energy is conserved (no forces).
+  RunResult r = run_lmp(R"IN(units lj
+atom_style atomic
+atom_modify map array
+boundary f f f
+region box block -6 6 -6 6 -6 6 units box
+create_box 1 box
+create_atoms 1 single -2.05 0 0 units box
+create_atoms 1 single 0 0 0 units box
+create_atoms 1 single 2.05 0 0 units box
+mass 1 1.0
+comm_modify cutoff 3.0
+group a id 1
+group c id 3
+velocity a set 1.0 0 0 units box
+velocity c set -1.0 0 0 units box
+fix hs all hardsphere/vci diameter 1.0
+timestep 0.1
+thermo_style custom step ke
+run 0
+variable k0 equal $(ke:%.17g)
+run 20
+print "COUNTS $(f_hs[1]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(abs(ke-v_k0):%.3e)"
+)IN");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::smatch m;
+  const std::regex re(R"((?:^|\n)COUNTS ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+))");
+  ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
+  EXPECT_GE(std::stod(m[1]), 2.0);
+  EXPECT_GE(std::stod(m[4]), 1.0);
+  EXPECT_EQ(std::stod(m[2]) + std::stod(m[3]) + std::stod(m[4]), std::stod(m[1]));
+  EXPECT_LT(std::stod(m[5]), 1e-14);
+}
+
+TEST(VCIErrors, CountersSurviveRestart)
+{
+  // the 11 counters go to the restart file and come back with the fix ID
+  const std::string chain = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
+  const std::string show =
+      "print \"BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) "
+      "$(f_hs[10]) $(f_hs[11]:%.17g)\"\n";
+  RunResult a = run_lmp("include " + chain + "\n" + show + "write_restart vci.restart\n",
+                        {"-var", "method", "vci", "-var", "T", "20"});
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  RunResult b = run_lmp("read_restart vci.restart\ncomm_modify cutoff 2.0\n"
+                        "fix hs chain hardsphere/vci diameter 0.9 wall xlo 0.0\n"
+                        "fix 2d all enforce2d\nrun 0\n" + show);
+  std::remove("vci.restart");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  std::smatch ma, mb;
+  const std::regex re(R"((?:^|\n)(BEFORE [^\n]*))");
+  ASSERT_TRUE(std::regex_search(a.output, ma, re)) << a.output;
+  ASSERT_TRUE(std::regex_search(b.output, mb, re)) << b.output;
+  EXPECT_EQ(ma[1].str(), mb[1].str());
+}

@@ -1,0 +1,168 @@
+// Unit tests for the VCI root solve HardSphere::vci_root
+// (src/HARDSPHERE/hs_vci.h; Bond & Leimkuhler 2007, section 2.3).
+//
+// Expected values: closed-form roots of the quadratic model
+// F(s) = a (s^2 - s) + c (nontrivial root 1/2 + sqrt(1/4 - c/a)), brute-force
+// bisection of perturbed models, and the cases without a root (c > a/4,
+// a root beyond smax, a jump of F across zero) which must be reported.
+
+#include "hs_vci.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace HardSphere;
+
+namespace {
+
+constexpr double EPS = std::numeric_limits<double>::epsilon();
+
+struct Quadratic {
+  double a, c;
+  int calls = 0;
+  double operator()(double s, double &scale)
+  {
+    calls++;
+    scale = a * (s * s + s) + std::fabs(c);
+    return a * (s * s - s) + c;
+  }
+};
+
+// brute force: bisection to the last bit
+template <class F> double bisect(F f, double lo, double hi)
+{
+  double flo = f(lo);
+  for (int it = 0; it < 2000 && hi - lo > 0; it++) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid == lo || mid == hi) break;
+    const double fm = f(mid);
+    if ((fm > 0) == (flo > 0)) {
+      lo = mid;
+      flo = fm;
+    } else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+VciRoot solve(Quadratic &q, double smin = 0.5, double smax = 2.0, int maxit = 60)
+{
+  double scale;
+  const double f1 = q(1.0, scale);
+  return vci_root(q, f1, scale, q.a, smin, smax, maxit);
+}
+
+}    // namespace
+
+TEST(VciRoot, QuadraticModelClosedForm)
+{
+  for (double c : {1e-3, -1e-3, 0.1, -0.4, 1e-9, -1e-9, 0.2}) {
+    Quadratic q{1.3, c};
+    const VciRoot r = solve(q);
+    ASSERT_EQ(r.status, VCI_CONVERGED) << "c " << c;
+    const double exact = 0.5 + std::sqrt(0.25 - c / q.a);
+    EXPECT_NEAR(r.s, exact, 1e-13) << "c " << c;
+    EXPECT_LE(std::fabs(r.F), 64 * EPS * (q.a * (r.s * r.s + r.s) + std::fabs(c)));
+    EXPECT_EQ(r.evals, q.calls);
+    EXPECT_LE(r.evals, 12) << "c " << c;
+  }
+}
+
+TEST(VciRoot, ElasticWhenAlreadyBalanced)
+{
+  Quadratic q{2.0, 0.0};
+  const VciRoot r = solve(q);
+  EXPECT_EQ(r.status, VCI_CONVERGED);
+  EXPECT_EQ(r.s, 1.0);
+  EXPECT_EQ(r.evals, 1);
+  EXPECT_EQ(q.calls, 1);
+}
+
+TEST(VciRoot, NoRootIsReported)
+{
+  // c > a/4: F > 0 on all of [1/2, 2] (minimum at s = 1/2)
+  Quadratic q{1.0, 0.3};
+  VciRoot r = solve(q);
+  EXPECT_EQ(r.status, VCI_NO_ROOT);
+  EXPECT_EQ(r.s, 1.0);
+  EXPECT_EQ(r.lo, 0.5);    // it did look at the limit
+  // the root lies beyond smax: 1/2 + sqrt(1/4 + 3) = 2.30 > 2
+  Quadratic q2{1.0, -3.0};
+  r = solve(q2);
+  EXPECT_EQ(r.status, VCI_NO_ROOT);
+  EXPECT_EQ(r.hi, 2.0);
+  // ... and is found with a larger smax
+  Quadratic q3{1.0, -3.0};
+  r = solve(q3, 0.5, 4.0);
+  ASSERT_EQ(r.status, VCI_CONVERGED);
+  EXPECT_NEAR(r.s, 0.5 + std::sqrt(3.25), 1e-13);
+}
+
+TEST(VciRoot, JumpAcrossZeroIsNotARoot)
+{
+  // F changes sign at s = 0.9 by a jump (the next sub-step's length
+  // switching between two contacts), without passing through zero
+  int calls = 0;
+  auto F = [&](double s, double &scale) {
+    calls++;
+    scale = 1.0;
+    return s < 0.9 ? -0.01 - 0.1 * (0.9 - s) : 0.02 + 0.1 * (s - 0.9);
+  };
+  double sc;
+  const double f1 = F(1.0, sc);
+  const VciRoot r = vci_root(F, f1, sc, 0.5, 0.5, 2.0, 200);
+  EXPECT_EQ(r.status, VCI_JUMP);
+  EXPECT_EQ(r.s, 1.0);
+  EXPECT_LE(r.lo, 0.9);
+  EXPECT_GE(r.hi, 0.9);
+  EXPECT_LE(r.hi - r.lo, 4 * EPS);
+  EXPECT_LT(calls, 200);
+}
+
+TEST(VciRoot, IterationLimitIsReported)
+{
+  Quadratic q{1.0, 1e-2};
+  const VciRoot r = solve(q, 0.5, 2.0, 2);
+  EXPECT_EQ(r.status, VCI_NOT_CONVERGED);
+  EXPECT_EQ(r.evals, 2);
+  EXPECT_EQ(r.s, 1.0);
+}
+
+TEST(VciRoot, PerturbedModelsAgainstBisection)
+{
+  // F = a (s^2 - s) + c + b (s - 1)^3 + d sin(5 s): smooth, not quadratic
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int found = 0;
+  for (int trial = 0; trial < 300; trial++) {
+    const double a = 0.2 + std::fabs(u(rng)), c = 0.05 * u(rng), b = 0.1 * u(rng),
+                 d = 0.002 * u(rng);
+    auto f = [&](double s) { return a * (s * s - s) + c + b * std::pow(s - 1, 3) + d * std::sin(5 * s); };
+    int calls = 0;
+    auto F = [&](double s, double &scale) {
+      calls++;
+      scale = a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
+      return f(s);
+    };
+    double sc;
+    const double f1 = F(1.0, sc);
+    const VciRoot r = vci_root(F, f1, sc, a, 0.5, 2.0, 100);
+    // brute force: is there a sign change between 1 and the limit on its side?
+    const double lim = f1 > 0 ? 0.5 : 2.0;
+    if ((f(lim) > 0) != (f1 > 0)) {
+      ASSERT_EQ(r.status, VCI_CONVERGED) << trial;
+      const double ref = bisect(f, std::min(1.0, lim), std::max(1.0, lim));
+      // the model is monotone near its root here: one root on that side
+      EXPECT_NEAR(r.s, ref, 1e-12) << trial;
+      EXPECT_LE(r.evals, 15) << trial;
+      found++;
+    } else {
+      EXPECT_EQ(r.status, VCI_NO_ROOT) << trial;
+    }
+    EXPECT_EQ(r.evals, calls);
+  }
+  EXPECT_GT(found, 200);
+}
