@@ -172,9 +172,13 @@ void check_all(HSLammps &h, HSPotential &pot, const Molecule &m, const std::vect
   const double scale4 = std::fabs(d4r) + scale3;
   EXPECT_NEAR(d4, d4r, tol.d4 * scale4) << what << " d4";
   if (getenv("HS_TEST_VERBOSE"))
-    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e)\n",
+    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e); "
+           "fdiff error estimates: hess %.1e third %.1e\n",
            what, d2r, (d2 - d2r) / scale2, (d2m - d2mr) / scale2, d3mr, (d3m - d3mr) / scale3,
-           d4r, (d4 - d4r) / scale4);
+           d4r, (d4 - d4r) / scale4, pot.fd_error_hess(), pot.fd_error_third());
+  // smooth potentials: the error estimates are far below the NaN threshold
+  EXPECT_LT(pot.fd_error_hess(), 1e-4) << what;
+  EXPECT_LT(pot.fd_error_third(), 1e-4) << what;
 
   // x, f and tallies exactly as found
   EXPECT_EQ(0, memcmp(xb.data(), &atom->x[0][0], 3 * nall * sizeof(double))) << what << " x";
@@ -326,6 +330,15 @@ TEST(PotentialDerivs, ComputeValuesAgreeAcrossPaths)
     auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
     ASSERT_NE(v, nullptr);
     for (int k = 0; k < 5; k++) val[p][k] = v[k];
+    // cost: fdiff evaluates forces 5 + 4 + 6 times for the vector, 4 for the
+    // scalar; single none
+    HSPotential *pot = compute_potential(h, "hm");
+    ASSERT_NE(pot, nullptr);
+    const double n0 = pot->nevals();
+    EXPECT_EQ(n0, p == 1 ? 15.0 : 0.0) << paths[p];
+    auto *c = h.lmp->modify->compute[h.lmp->modify->find_compute("hm")];
+    c->compute_scalar();
+    EXPECT_EQ(pot->nevals() - n0, p == 1 ? 4.0 : 0.0) << paths[p];
   }
   EXPECT_GT(std::fabs(val[0][3]), 1e-6 * std::fabs(val[0][0]));
   EXPECT_GT(std::fabs(val[0][4]), 1e-9 * std::fabs(val[0][0]));

@@ -255,3 +255,65 @@ TEST(Jet, ZeroDistanceIsNaN)
   radial_directional(x, W, p, out);
   for (double o : out) EXPECT_TRUE(std::isnan(o));
 }
+
+// ---- the paper's H2 and H4 (section 3) on a 1-D anharmonic potential with
+// a mass: one velocity Verlet step changes H_[4,VV] by O(h^7) (error ratio
+// 2^7 when h is halved); with any one coefficient of H4 changed by 10% the
+// change is O(h^5) (ratio 2^5), of H2 O(h^3). Long double throughout.
+
+namespace {
+// V = q^4/4 + q^3/3 + sin q, derivatives d[k] = V^(k)(q)
+void vderivs(long double q, long double d[5])
+{
+  d[0] = q * q * q * q / 4 + q * q * q / 3 + std::sin(q);
+  d[1] = q * q * q + q * q + std::cos(q);
+  d[2] = 3 * q * q + 2 * q - std::sin(q);
+  d[3] = 6 * q + 2 - std::cos(q);
+  d[4] = 6 + std::sin(q);
+}
+
+// c: coefficients of H2 = c0 v V'' v + c1 V' M^-1 V',
+// H4 = c2 V''''vvvv + c3 g V'' g + c4 (V''v) M^-1 (V''v) + c5 V'''[g,v,v]
+long double hmod(const long double c[6], long double q, long double p, long double m,
+                 long double h)
+{
+  long double d[5];
+  vderivs(q, d);
+  const long double v = p / m, g = d[1] / m;
+  const long double H = p * p / (2 * m) + d[0];
+  const long double H2 = c[0] * v * d[2] * v + c[1] * d[1] * d[1] / m;
+  const long double H4 = c[2] * d[4] * v * v * v * v + c[3] * g * d[2] * g +
+      c[4] * (d[2] * v) * (d[2] * v) / m + c[5] * d[3] * g * v * v;
+  return H + h * h / 24 * H2 + h * h * h * h / 720 * H4;
+}
+
+long double step_change(const long double c[6], long double h)
+{
+  const long double m = 1.3L, q = 0.3L, p = 0.7L;
+  long double d[5];
+  vderivs(q, d);
+  const long double ph = p - h / 2 * d[1];
+  const long double q1 = q + h * ph / m;
+  vderivs(q1, d);
+  const long double p1 = ph - h / 2 * d[1];
+  return hmod(c, q1, p1, m, h) - hmod(c, q, p, m, h);
+}
+}    // namespace
+
+TEST(Jet, PaperModifiedHamiltonianOrders)
+{
+  const long double paper[6] = {2, -1, -1, -3, 12, 6};
+  // h = 0.02: the O(h^8) term still shifts the log-ratio by about +0.1;
+  // much smaller h meets long-double round-off (1e-19)
+  const long double h = 0.02L;
+  const double r = double(step_change(paper, h) / step_change(paper, h / 2));
+  EXPECT_NEAR(std::log2(std::fabs(r)), 7.0, 0.3) << "paper's H2, H4: O(h^7) per step";
+  for (int k = 0; k < 6; k++) {
+    long double c[6];
+    for (int i = 0; i < 6; i++) c[i] = paper[i];
+    c[k] *= 1.1L;
+    const double rk = double(step_change(c, h) / step_change(c, h / 2));
+    const double expect = (k < 2) ? 3.0 : 5.0;
+    EXPECT_NEAR(std::log2(std::fabs(rk)), expect, 0.3) << "coefficient " << k << " changed";
+  }
+}
