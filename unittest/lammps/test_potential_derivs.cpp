@@ -384,3 +384,39 @@ TEST(PotentialDerivs, FdiffFlagsCutoffDiscontinuity)
     }
   }
 }
+
+// atom_style sphere (the hard-sphere case): reverse communication carries
+// torques too; paths agree, forces and torques are left as found
+TEST(PotentialDerivs, SphereAtomStyle)
+{
+  double val[2][5];
+  const char *paths[2] = {"single", "fdiff"};
+  for (int p = 0; p < 2; p++) {
+    HSLammps h;
+    h.lines(std::string("units lj\natom_style sphere\natom_modify map array\nboundary p p p\n"
+                        "region box block -3 3 -3 3 -3 3\ncreate_box 1 box\n"
+                        "create_atoms 1 single 2.8 0 0 units box\n"
+                        "create_atoms 1 single -2.2 0.3 0 units box\n"
+                        "create_atoms 1 single 0 2.7 0.2 units box\n"
+                        "create_atoms 1 single 0.3 -2.5 0 units box\n"
+                        "set group all diameter 1.0\nset group all mass 1.0\n"
+                        "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+                        "pair_modify shift yes\n"
+                        "velocity all create 1.0 4928459 loop geom\n"
+                        "compute hm all hamiltonian/modified path ") +
+            paths[p] + "\nthermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]\nrun 0\n");
+    auto *atom = h.lmp->atom;
+    const int nall = atom->nlocal + atom->nghost;
+    std::vector<double> fb(&atom->f[0][0], &atom->f[0][0] + 3 * nall);
+    std::vector<double> tb(&atom->torque[0][0], &atom->torque[0][0] + 3 * nall);
+    auto *c = h.lmp->modify->compute[h.lmp->modify->find_compute("hm")];
+    c->compute_vector();
+    for (int k = 0; k < 5; k++) val[p][k] = c->vector[k];
+    EXPECT_EQ(0, memcmp(fb.data(), &atom->f[0][0], fb.size() * sizeof(double))) << paths[p];
+    EXPECT_EQ(0, memcmp(tb.data(), &atom->torque[0][0], tb.size() * sizeof(double))) << paths[p];
+  }
+  // the pairs cross the periodic faces (ghosts, newton on)
+  EXPECT_GT(std::fabs(val[0][3]), 0.0);
+  EXPECT_NEAR(val[1][3], val[0][3], 1e-10 * std::fabs(val[0][3]));
+  EXPECT_NEAR(val[1][4], val[0][4], 1e-5 * std::fabs(val[0][4]));
+}

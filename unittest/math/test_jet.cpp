@@ -236,6 +236,21 @@ TEST(Jet, RadialDifferencesAccuracy)
   }
 }
 
+// the closed form (Faa di Bruno) against the series, random directions
+TEST(Jet, ClosedFormMatchesSeries)
+{
+  Morse mo;
+  for (int t = 0; t < 20; t++) {
+    const double x[3] = {std::sin(1.1 * t) + 0.2, std::cos(0.7 * t), 0.5 * std::sin(2.3 * t + 1)};
+    const double w[3] = {std::cos(3.1 * t), std::sin(0.3 * t + 2), std::cos(1.9 * t + 0.5)};
+    double p[5], a[5], b[5];
+    mo.derivs(std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), p);
+    radial_directional(x, w, p, a);
+    radial_directional_fdb(x, w, p, b);
+    for (int k = 0; k < 5; k++) EXPECT_NEAR(a[k], b[k], 1e-12 * (1 + std::fabs(a[k]))) << t << " " << k;
+  }
+}
+
 TEST(Jet, PowerDerivs)
 {
   double p[5];
