@@ -452,7 +452,10 @@ struct HSPotential::Impl : protected Pointers {
 
     if (pair_single) {
       if (!list)
-        error->all(FLERR, "{}: no neighbor list for the single path (internal error)", owner);
+        error->all(FLERR,
+                   "{}: the single path has no neighbor list (the owner must call "
+                   "request_list() after init() and forward init_list())",
+                   owner);
       Pair *pair = force->pair;
       double **cutsq = pair->cutsq;
       const int newton_pair = force->newton_pair;
