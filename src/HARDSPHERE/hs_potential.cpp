@@ -163,6 +163,9 @@ struct HSPotential::Impl : protected Pointers {
       if (atom->torque_flag) memcpy(&t0[0][0], &atom->torque[0][0], n);
     }
     save_tallies();
+    // ghosts at the owners' current x for both paths (a caller may have
+    // moved owned atoms since the last forward communication)
+    comm->forward_comm();
   }
 
   // back to the saved state; fixes in efix recompute their energy at the
@@ -397,13 +400,15 @@ struct HSPotential::Impl : protected Pointers {
     phi[2] = phi[3] = phi[4] = 0.0;
     if (order < 2) return;
     if (pair_lj) {
-      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor
+      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor:
+      // d^k/dr^k r^-n = (-n)(-n-1)...(-n-k+1) r^-n-k
       const double eps = lj_eps[itype][jtype], sig = lj_sig[itype][jtype];
-      const double s6 = pow(sig, 6.0);
-      double a[5], b[5];
-      HardSphere::power_derivs(4.0 * eps * s6 * s6 * fl, 12.0, r, a);
-      HardSphere::power_derivs(-4.0 * eps * s6 * fl, 6.0, r, b);
-      for (int k = 2; k <= order; k++) phi[k] = a[k] + b[k];
+      const double s2 = sig * sig / rsq, s6 = s2 * s2 * s2;
+      const double c12 = 4.0 * eps * fl * s6 * s6, c6 = -4.0 * eps * fl * s6;
+      const double rinv = 1.0 / r;
+      phi[2] = (156.0 * c12 + 42.0 * c6) * rinv * rinv;
+      if (order >= 3) phi[3] = (-2184.0 * c12 - 336.0 * c6) * rinv * rinv * rinv;
+      if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * rinv * rinv * rinv * rinv;
       return;
     }
     auto dphi = [&](double rr) {
@@ -450,7 +455,10 @@ struct HSPotential::Impl : protected Pointers {
 
     if (pair_single) {
       if (!list)
-        error->all(FLERR, "{}: no neighbor list for the single path (internal error)", owner);
+        error->all(FLERR,
+                   "{}: the single path has no neighbor list (the owner must call "
+                   "request_list() after init() and forward init_list())",
+                   owner);
       Pair *pair = force->pair;
       double **cutsq = pair->cutsq;
       const int newton_pair = force->newton_pair;
@@ -582,9 +590,25 @@ void HSPotential::init(Mode mode)
                owner, what);
   };
 
+  // the single path sums ghost terms to their owners with comm->reverse_comm()
+  // through atom->f (saved and restored with the torque); an atom style
+  // whose reverse communication carries other per-atom arrays (e.g.
+  // electron, spin) would have them summed too
+  const int size_reverse = atom->avec->size_reverse;
+  const bool reverse_ok = !force->newton || size_reverse == 3 ||
+      (size_reverse == 6 && atom->torque_flag);
+  auto no_reverse = [&](const std::string &what) {
+    error->all(FLERR,
+               "{}: path single for {} needs newton off with atom style {} (its reverse "
+               "communication carries more than forces and torques); use path auto or fdiff",
+               owner, what, atom->atom_style);
+  };
+
   Pair *pair = force->pair;
   if (pair && pair->compute_flag) {
-    const bool can = pair->single_enable && !pair->manybody_flag;
+    const bool can = pair->single_enable && !pair->manybody_flag && reverse_ok;
+    if (mode == SINGLE && pair->single_enable && !pair->manybody_flag && !reverse_ok)
+      no_reverse(std::string("pair style ") + force->pair_style);
     if (mode != FDIFF && can) {
       m.pair_single = 1;
       const std::string ps = force->pair_style;
@@ -600,7 +624,8 @@ void HSPotential::init(Mode mode)
       m.fd_pair = 1;
   }
   if (molecular && force->bond) {
-    if (mode != FDIFF) {
+    if (mode == SINGLE && !reverse_ok) no_reverse(std::string("bond style ") + force->bond_style);
+    if (mode != FDIFF && reverse_ok) {
       m.bond_single = 1;
       if (strcmp(force->bond_style, "harmonic") == 0) {
         // K (r - r0)^2: K from single() at r = r0 + d, where phi' = 2 K d
@@ -775,7 +800,6 @@ double HSPotential::energy()
 {
   Impl &m = *impl;
   m.save();
-  comm->forward_comm();
   m.force_clear();
   if (force->pair && force->pair->compute_flag) force->pair->compute(1, 0);
   if (atom->molecular != Atom::ATOMIC) {
@@ -898,7 +922,7 @@ double HSPotential::d4(double **w)
                         [](const double *del, const double *phi, const double *wij,
                            const double *) {
                           double out[5];
-                          HardSphere::radial_directional(del, wij, phi, out);
+                          HardSphere::radial_directional_fdb(del, wij, phi, out);
                           return out[4];
                         });
   }

@@ -5,6 +5,9 @@
 #include "hs_test_main.h"
 
 #include "atom.h"
+#include "compute_hamiltonian_modified.h"
+#include "hs_potential.h"
+#include "modify.h"
 #include "force.h"
 #include "library.h"
 #include "update.h"
@@ -67,6 +70,11 @@ void ho_check(const HO &p, double vscale)
   const double Hm2 = H + dt * dt / 24.0 * H2, Hm4 = Hm2 + std::pow(dt, 4) / 720.0 * H4;
   auto c = compute_vector(h, "hm");
   EXPECT_NEAR(c[0], H, 1e-13 * H) << p.units;
+  // HSPotential::energy() with an energy fix (fix spring, fdiff path)
+  auto *cm = dynamic_cast<LAMMPS_NS::ComputeHamiltonianModified *>(
+      h.lmp->modify->compute[h.lmp->modify->find_compute("hm")]);
+  ASSERT_NE(cm, nullptr);
+  EXPECT_NEAR(cm->potential()->energy(), V, 1e-14 * V) << p.units;
   EXPECT_NEAR(c[1], Hm2, 1e-13 * H) << p.units;
   EXPECT_NEAR(c[2], Hm4, 1e-13 * H) << p.units;
 
@@ -249,6 +257,24 @@ TEST(HamiltonianModified, ConservationOrdersChainAnglesFdiff)
 TEST(HamiltonianModified, ConservationOrdersCluster)
 {
   check_orders(CLUSTER, {0.02, 0.01, 0.005}, 2.0, "cluster");
+}
+
+// ---- fix ave/time invokes the compute on steps without thermo output:
+// LAMMPS tallies the energy there (peflag), the values are those of the step
+TEST(HamiltonianModified, FixAveTimeOnNonThermoSteps)
+{
+  HSLammps h;
+  h.lines(CLUSTER);
+  h.cmd("compute hm all hamiltonian/modified");
+  h.cmd("fix av all ave/time 5 1 5 c_hm[1] c_hm[2] c_hm[3] c_hm");
+  h.cmd("thermo 7");
+  h.cmd("thermo_style custom step pe");
+  h.cmd("run 20");
+  // at step 20 (a fix ave/time step, and the last thermo step) both agree
+  auto c = compute_vector(h, "hm");
+  for (int k = 0; k < 3; k++) EXPECT_DOUBLE_EQ(h.fix_vector("av", k), c[k]) << k;
+  EXPECT_DOUBLE_EQ(h.fix_vector("av", 3), c[1]);
+  EXPECT_GT(std::fabs(c[1] - c[0]), 0.0);
 }
 
 // ---- errors

@@ -172,9 +172,13 @@ void check_all(HSLammps &h, HSPotential &pot, const Molecule &m, const std::vect
   const double scale4 = std::fabs(d4r) + scale3;
   EXPECT_NEAR(d4, d4r, tol.d4 * scale4) << what << " d4";
   if (getenv("HS_TEST_VERBOSE"))
-    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e)\n",
+    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e); "
+           "fdiff error estimates: hess %.1e third %.1e\n",
            what, d2r, (d2 - d2r) / scale2, (d2m - d2mr) / scale2, d3mr, (d3m - d3mr) / scale3,
-           d4r, (d4 - d4r) / scale4);
+           d4r, (d4 - d4r) / scale4, pot.fd_error_hess(), pot.fd_error_third());
+  // smooth potentials: the error estimates are far below the NaN threshold
+  EXPECT_LT(pot.fd_error_hess(), 1e-4) << what;
+  EXPECT_LT(pot.fd_error_third(), 1e-4) << what;
 
   // x, f and tallies exactly as found
   EXPECT_EQ(0, memcmp(xb.data(), &atom->x[0][0], 3 * nall * sizeof(double))) << what << " x";
@@ -326,6 +330,15 @@ TEST(PotentialDerivs, ComputeValuesAgreeAcrossPaths)
     auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
     ASSERT_NE(v, nullptr);
     for (int k = 0; k < 5; k++) val[p][k] = v[k];
+    // cost: fdiff evaluates forces 5 + 4 + 6 times for the vector, 4 for the
+    // scalar; single none
+    HSPotential *pot = compute_potential(h, "hm");
+    ASSERT_NE(pot, nullptr);
+    const double n0 = pot->nevals();
+    EXPECT_EQ(n0, p == 1 ? 15.0 : 0.0) << paths[p];
+    auto *c = h.lmp->modify->compute[h.lmp->modify->find_compute("hm")];
+    c->compute_scalar();
+    EXPECT_EQ(pot->nevals() - n0, p == 1 ? 4.0 : 0.0) << paths[p];
   }
   EXPECT_GT(std::fabs(val[0][3]), 1e-6 * std::fabs(val[0][0]));
   EXPECT_GT(std::fabs(val[0][4]), 1e-9 * std::fabs(val[0][0]));
@@ -370,4 +383,40 @@ TEST(PotentialDerivs, FdiffFlagsCutoffDiscontinuity)
       EXPECT_TRUE(std::isfinite(v[1]) && std::isfinite(v[2])) << path;
     }
   }
+}
+
+// atom_style sphere (the hard-sphere case): reverse communication carries
+// torques too; paths agree, forces and torques are left as found
+TEST(PotentialDerivs, SphereAtomStyle)
+{
+  double val[2][5];
+  const char *paths[2] = {"single", "fdiff"};
+  for (int p = 0; p < 2; p++) {
+    HSLammps h;
+    h.lines(std::string("units lj\natom_style sphere\natom_modify map array\nboundary p p p\n"
+                        "region box block -3 3 -3 3 -3 3\ncreate_box 1 box\n"
+                        "create_atoms 1 single 2.8 0 0 units box\n"
+                        "create_atoms 1 single -2.2 0.3 0 units box\n"
+                        "create_atoms 1 single 0 2.7 0.2 units box\n"
+                        "create_atoms 1 single 0.3 -2.5 0 units box\n"
+                        "set group all diameter 1.0\nset group all mass 1.0\n"
+                        "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+                        "pair_modify shift yes\n"
+                        "velocity all create 1.0 4928459 loop geom\n"
+                        "compute hm all hamiltonian/modified path ") +
+            paths[p] + "\nthermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]\nrun 0\n");
+    auto *atom = h.lmp->atom;
+    const int nall = atom->nlocal + atom->nghost;
+    std::vector<double> fb(&atom->f[0][0], &atom->f[0][0] + 3 * nall);
+    std::vector<double> tb(&atom->torque[0][0], &atom->torque[0][0] + 3 * nall);
+    auto *c = h.lmp->modify->compute[h.lmp->modify->find_compute("hm")];
+    c->compute_vector();
+    for (int k = 0; k < 5; k++) val[p][k] = c->vector[k];
+    EXPECT_EQ(0, memcmp(fb.data(), &atom->f[0][0], fb.size() * sizeof(double))) << paths[p];
+    EXPECT_EQ(0, memcmp(tb.data(), &atom->torque[0][0], tb.size() * sizeof(double))) << paths[p];
+  }
+  // the pairs cross the periodic faces (ghosts, newton on)
+  EXPECT_GT(std::fabs(val[0][3]), 0.0);
+  EXPECT_NEAR(val[1][3], val[0][3], 1e-10 * std::fabs(val[0][3]));
+  EXPECT_NEAR(val[1][4], val[0][4], 1e-5 * std::fabs(val[0][4]));
 }
