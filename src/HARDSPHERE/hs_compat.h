@@ -47,6 +47,26 @@ namespace HSCompat {
 #endif
   }
 
+  // the same for a compute (a perpetual list: LAMMPS builds or copies it at
+  // every reneighboring, so it is current whenever the compute is invoked)
+  inline void request_half_list(Neighbor *neighbor, class Compute *compute, int instance,
+                                double cutoff)
+  {
+#if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
+    (void) instance;
+    auto *req = neighbor->add_request(compute, NeighConst::REQ_DEFAULT);
+    if (cutoff > 0.0) req->set_cutoff(cutoff);
+#else
+    int irequest = neighbor->request(compute, instance);
+    neighbor->requests[irequest]->pair = 0;
+    neighbor->requests[irequest]->compute = 1;
+    if (cutoff > 0.0) {
+      neighbor->requests[irequest]->cut = 1;
+      neighbor->requests[irequest]->cutoff = cutoff;
+    }
+#endif
+  }
+
   inline void forward_comm_fix(Comm *comm, class Fix *fix)
   {
 #if defined(HS_LAMMPS_NEW_COMM_API) && HS_LAMMPS_NEW_COMM_API

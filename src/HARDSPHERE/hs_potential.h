@@ -42,13 +42,19 @@ class HSPotential : protected Pointers {
   // contribution cannot take it; FDIFF forces differences for everything
   void init(Mode mode = AUTO);
   // the owner forwards the half list it requested with request_list()
-  // (needed by the SINGLE path; instance identifies the request)
+  // (needed by the SINGLE path; instance identifies the request); call
+  // request_list() after init(), which decides whether a list is needed
   void request_list(class Fix *owner, int instance);
   void request_list(class Compute *owner, int instance);
   void init_list(class NeighList *);
 
   // a one-line description of the path each contributing style takes
   std::string describe() const;
+
+  // length scale L of the FDIFF differences (init() sets a tenth of the
+  // shortest pair cutoff or bond length); an owner may override it after init()
+  void set_length(double);
+  double length() const;
 
   // --- a full force (re-)evaluation as Verlet::run does it, at the current
   // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse

@@ -1,0 +1,835 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: derivatives of the potential energy through LAMMPS'
+   styles. See hs_potential.h and doc/compute_hamiltonian_modified.rst.
+------------------------------------------------------------------------- */
+
+#include "hs_potential.h"
+
+#include "hs_compat.h"
+#include "hs_jet.h"
+
+#include "angle.h"
+#include "atom.h"
+#include "atom_vec.h"
+#include "bond.h"
+#include "comm.h"
+#include "dihedral.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "improper.h"
+#include "kspace.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+
+#include <cmath>
+#include <cstring>
+#include <mpi.h>
+#include <vector>
+
+using namespace LAMMPS_NS;
+
+namespace {
+// step factors of the differences along a field, times the length scale L
+// (section "FDIFF" of the doc page): eps^(1/5) for V''w (O(s^4) stencil,
+// round-off eps/s), about eps^(1/6) when V''w and V'''[w,w,.] share the
+// evaluations, eps^(1/7) for V''''[w,w,w,w] (O(s^4), round-off eps/s^3)
+constexpr double STEP_HESS = 7.4e-4;
+constexpr double STEP_THIRD = 2.0e-3;
+constexpr double STEP_D4 = 5.8e-3;
+
+// the energy tallies a style keeps; saved and restored around derivatives
+struct Tally {
+  double e1 = 0.0, e2 = 0.0, v[6] = {0, 0, 0, 0, 0, 0};
+};
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+struct HSPotential::Impl : protected Pointers {
+  Impl(LAMMPS *lmp, int gb, const std::string &own) : Pointers(lmp), groupbit(gb), owner(own) {}
+  ~Impl() { destroy(); }
+
+  int groupbit;
+  std::string owner;
+  double *nevals = nullptr;
+  int initialized = 0;
+  Mode mode = AUTO;
+
+  // SINGLE path
+  int pair_single = 0, bond_single = 0;
+  int pair_lj = 0;          // lj/cut: phi'', phi''', phi'''' analytic
+  double **lj_eps = nullptr, **lj_sig = nullptr;
+  int bond_harm = 0;        // harmonic: phi'' = 2K, phi''' = phi'''' = 0
+  double *bond_k = nullptr;
+  NeighList *list = nullptr;
+
+  // FDIFF path: which contributions the force evaluations include
+  int fd_pair = 0, fd_bond = 0, fd_angle = 0, fd_dihedral = 0, fd_improper = 0, fd_kspace = 0;
+  std::vector<int> efix;    // fixes with fix_modify energy yes and a post_force()
+  int fd_any = 0;
+  double length = 1.0;      // length scale L of the differences
+
+  // scratch, [nmax][3]
+  int nmax = 0;
+  double **x0 = nullptr, **f0 = nullptr, **t0 = nullptr;
+  double **wl = nullptr, **al = nullptr;
+  double **fb[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
+  double **sa = nullptr, **sb = nullptr;
+  Tally tal[6];
+
+  void destroy()
+  {
+    memory->destroy(x0);
+    memory->destroy(f0);
+    memory->destroy(t0);
+    memory->destroy(wl);
+    memory->destroy(al);
+    for (auto &b : fb) memory->destroy(b);
+    memory->destroy(sa);
+    memory->destroy(sb);
+    nmax = 0;
+  }
+
+  void grow()
+  {
+    if (atom->nmax <= nmax) return;
+    destroy();
+    nmax = atom->nmax;
+    memory->create(x0, nmax, 3, "hs_potential:x0");
+    memory->create(f0, nmax, 3, "hs_potential:f0");
+    memory->create(t0, nmax, 3, "hs_potential:t0");
+    memory->create(wl, nmax, 3, "hs_potential:wl");
+    memory->create(al, nmax, 3, "hs_potential:al");
+    for (auto &b : fb) memory->create(b, nmax, 3, "hs_potential:fb");
+    memory->create(sa, nmax, 3, "hs_potential:sa");
+    memory->create(sb, nmax, 3, "hs_potential:sb");
+  }
+
+  bool molecular() const { return atom->molecular != Atom::ATOMIC; }
+
+  /* ---- tallies ---- */
+
+  static void get(Tally &t, double e1, double e2, const double *v)
+  {
+    t.e1 = e1;
+    t.e2 = e2;
+    for (int k = 0; k < 6; k++) t.v[k] = v[k];
+  }
+  static void put(const Tally &t, double &e1, double &e2, double *v)
+  {
+    e1 = t.e1;
+    e2 = t.e2;
+    for (int k = 0; k < 6; k++) v[k] = t.v[k];
+  }
+  void save_tallies()
+  {
+    double dummy = 0.0;
+    if (force->pair) get(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
+    if (force->bond) get(tal[1], force->bond->energy, dummy, force->bond->virial);
+    if (force->angle) get(tal[2], force->angle->energy, dummy, force->angle->virial);
+    if (force->dihedral) get(tal[3], force->dihedral->energy, dummy, force->dihedral->virial);
+    if (force->improper) get(tal[4], force->improper->energy, dummy, force->improper->virial);
+    if (force->kspace) get(tal[5], force->kspace->energy, dummy, force->kspace->virial);
+  }
+  void restore_tallies()
+  {
+    double dummy;
+    if (force->pair) put(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
+    if (force->bond) put(tal[1], force->bond->energy, dummy, force->bond->virial);
+    if (force->angle) put(tal[2], force->angle->energy, dummy, force->angle->virial);
+    if (force->dihedral) put(tal[3], force->dihedral->energy, dummy, force->dihedral->virial);
+    if (force->improper) put(tal[4], force->improper->energy, dummy, force->improper->virial);
+    if (force->kspace) put(tal[5], force->kspace->energy, dummy, force->kspace->virial);
+  }
+
+  /* ---- state: x, f, torque of owned and ghost atoms ---- */
+
+  void save()
+  {
+    grow();
+    const size_t n = 3 * sizeof(double) * (atom->nlocal + atom->nghost);
+    if (n) {
+      memcpy(&x0[0][0], &atom->x[0][0], n);
+      memcpy(&f0[0][0], &atom->f[0][0], n);
+      if (atom->torque_flag) memcpy(&t0[0][0], &atom->torque[0][0], n);
+    }
+    save_tallies();
+  }
+
+  // back to the saved state; fixes in efix recompute their energy at the
+  // restored x (their post_force stores it), then f is put back
+  void restore()
+  {
+    const size_t n = 3 * sizeof(double) * (atom->nlocal + atom->nghost);
+    if (n) memcpy(&atom->x[0][0], &x0[0][0], n);
+    if (!efix.empty()) {
+      for (int k : efix) modify->fix[k]->post_force(0);
+    }
+    if (n) {
+      memcpy(&atom->f[0][0], &f0[0][0], n);
+      if (atom->torque_flag) memcpy(&atom->torque[0][0], &t0[0][0], n);
+    }
+    restore_tallies();
+  }
+
+  // as FixHardSphere::force_clear (Verlet::force_clear)
+  void force_clear()
+  {
+    size_t nbytes = sizeof(double) * atom->nlocal;
+    if (force->newton) nbytes += sizeof(double) * atom->nghost;
+    if (nbytes) {
+      memset(&atom->f[0][0], 0, 3 * nbytes);
+      if (atom->torque_flag) memset(&atom->torque[0][0], 0, 3 * nbytes);
+      if (atom->avec->forceclearflag) atom->avec->force_clear(0, nbytes);
+    }
+  }
+
+  // every f (owned and ghost) to zero, for accumulating fields in f
+  void zero_f_all()
+  {
+    const size_t n = 3 * sizeof(double) * (atom->nlocal + atom->nghost);
+    if (n) {
+      memset(&atom->f[0][0], 0, n);
+      if (atom->torque_flag) memset(&atom->torque[0][0], 0, n);
+    }
+  }
+
+  // the total potential energy from the tallies, as compute pe sums it
+  double tally_energy()
+  {
+    double one = 0.0;
+    if (force->pair) one += force->pair->eng_vdwl + force->pair->eng_coul;
+    if (molecular()) {
+      if (force->bond) one += force->bond->energy;
+      if (force->angle) one += force->angle->energy;
+      if (force->dihedral) one += force->dihedral->energy;
+      if (force->improper) one += force->improper->energy;
+    }
+    double all = 0.0;
+    MPI_Allreduce(&one, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+    if (force->kspace) all += force->kspace->energy;    // already global
+    if (force->pair && force->pair->tail_flag)
+      all += force->pair->etail / (domain->xprd * domain->yprd * domain->zprd);
+    all += modify->energy_global();
+    return all;
+  }
+
+  /* ---- fields ---- */
+
+  // dst = w on owned atoms of the group, 0 elsewhere (owned); the largest
+  // |w_i| over all ranks is returned
+  double mask_field(double **w, double **dst)
+  {
+    const int nlocal = atom->nlocal;
+    const int *mask = atom->mask;
+    double m = 0.0;
+    for (int i = 0; i < nlocal; i++) {
+      if (mask[i] & groupbit) {
+        for (int k = 0; k < 3; k++) dst[i][k] = w[i][k];
+        m = MAX(m, dst[i][0] * dst[i][0] + dst[i][1] * dst[i][1] + dst[i][2] * dst[i][2]);
+      } else
+        dst[i][0] = dst[i][1] = dst[i][2] = 0.0;
+    }
+    double all = 0.0;
+    MPI_Allreduce(&m, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+    return sqrt(all);
+  }
+
+  void zero_field(double **a)
+  {
+    for (int i = 0; i < atom->nlocal; i++) a[i][0] = a[i][1] = a[i][2] = 0.0;
+  }
+
+  // outputs are derivatives with respect to the group's coordinates only
+  void project(double **a)
+  {
+    const int *mask = atom->mask;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (!(mask[i] & groupbit)) a[i][0] = a[i][1] = a[i][2] = 0.0;
+  }
+
+  double dot_global(double **a, double **b)
+  {
+    const int *mask = atom->mask;
+    double one = 0.0;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (mask[i] & groupbit) one += a[i][0] * b[i][0] + a[i][1] * b[i][1] + a[i][2] * b[i][2];
+    double all = 0.0;
+    MPI_Allreduce(&one, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+    return all;
+  }
+
+  /* ---- FDIFF: force evaluations of the contributions not on SINGLE ---- */
+
+  // x = x0 + s w on the group's owned atoms, ghosts forwarded
+  void displace(double s, double **w)
+  {
+    double **x = atom->x;
+    const int *mask = atom->mask;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (mask[i] & groupbit)
+        for (int k = 0; k < 3; k++) x[i][k] = x0[i][k] + s * w[i][k];
+    comm->forward_comm();
+  }
+
+  // -grad of the FDIFF part of V at the current x, owned atoms, into out
+  void fd_forces(double **out)
+  {
+    force_clear();
+    if (fd_pair) force->pair->compute(0, 0);
+    if (molecular()) {
+      if (fd_bond) force->bond->compute(0, 0);
+      if (fd_angle) force->angle->compute(0, 0);
+      if (fd_dihedral) force->dihedral->compute(0, 0);
+      if (fd_improper) force->improper->compute(0, 0);
+    }
+    if (fd_kspace) force->kspace->compute(0, 0);
+    if (force->newton) comm->reverse_comm();
+    for (int k : efix) modify->fix[k]->post_force(0);
+    double **f = atom->f;
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < 3; k++) out[i][k] = f[i][k];
+    *nevals += 1.0;
+  }
+
+  // FDIFF part of hw = V''w and (if tw) tw = V'''[w,w,.], w masked (owned)
+  // F at x0 + m s w, m = -2..2 (m = 0 only for tw); five-point stencils
+  void fd_hess_third(double **w, double wmax, double **hw, double **tw)
+  {
+    const int nlocal = atom->nlocal;
+    const double s = (tw ? STEP_THIRD : STEP_HESS) * length / wmax;
+    const int ms[5] = {-2, -1, 1, 2, 0};
+    const int neval = tw ? 5 : 4;
+    for (int e = 0; e < neval; e++) {
+      displace(ms[e] * s, w);
+      fd_forces(fb[e]);
+    }
+    double **Fm2 = fb[0], **Fm1 = fb[1], **Fp1 = fb[2], **Fp2 = fb[3], **F0 = fb[4];
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 3; k++) {
+        hw[i][k] += -(-Fp2[i][k] + 8.0 * Fp1[i][k] - 8.0 * Fm1[i][k] + Fm2[i][k]) / (12.0 * s);
+        if (tw)
+          tw[i][k] += -(-Fp2[i][k] + 16.0 * Fp1[i][k] - 30.0 * F0[i][k] + 16.0 * Fm1[i][k] -
+                        Fm2[i][k]) /
+              (12.0 * s * s);
+      }
+  }
+
+  // FDIFF part of V''''[w,w,w,w] from f(m s) = w.F(x0 + m s w), m = +-1..3:
+  // f''' = -V''''[w,w,w,w], seven-point O(s^4) stencil
+  double fd_d4(double **w, double wmax)
+  {
+    const double s = STEP_D4 * length / wmax;
+    const int ms[6] = {-3, -2, -1, 1, 2, 3};
+    double loc[6], all[6];
+    for (int e = 0; e < 6; e++) {
+      displace(ms[e] * s, w);
+      fd_forces(fb[0]);
+      double one = 0.0;
+      for (int i = 0; i < atom->nlocal; i++)
+        one += w[i][0] * fb[0][i][0] + w[i][1] * fb[0][i][1] + w[i][2] * fb[0][i][2];
+      loc[e] = one;
+    }
+    MPI_Allreduce(loc, all, 6, MPI_DOUBLE, MPI_SUM, world);
+    const double fm3 = all[0], fm2 = all[1], fm1 = all[2], fp1 = all[3], fp2 = all[4],
+                 fp3 = all[5];
+    return -(-fp3 + 8.0 * fp2 - 13.0 * fp1 + 13.0 * fm1 - 8.0 * fm2 + fm3) / (8.0 * s * s * s);
+  }
+
+  /* ---- SINGLE: radial pair and bond terms ---- */
+
+  // phi^(k)(r), k = 1..order, of one pair term
+  void pair_phi(int i, int j, int itype, int jtype, double rsq, double fc, double fl, int order,
+                double phi[5])
+  {
+    Pair *pair = force->pair;
+    double fforce = 0.0;
+    phi[0] = pair->single(i, j, itype, jtype, rsq, fc, fl, fforce);
+    const double r = sqrt(rsq);
+    phi[1] = -fforce * r;
+    phi[2] = phi[3] = phi[4] = 0.0;
+    if (order < 2) return;
+    if (pair_lj) {
+      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor
+      const double eps = lj_eps[itype][jtype], sig = lj_sig[itype][jtype];
+      const double s6 = pow(sig, 6.0);
+      double a[5], b[5];
+      HardSphere::power_derivs(4.0 * eps * s6 * s6 * fl, 12.0, r, a);
+      HardSphere::power_derivs(-4.0 * eps * s6 * fl, 6.0, r, b);
+      for (int k = 2; k <= order; k++) phi[k] = a[k] + b[k];
+      return;
+    }
+    auto dphi = [&](double rr) {
+      double ff = 0.0;
+      pair->single(i, j, itype, jtype, rr * rr, fc, fl, ff);
+      return -ff * rr;
+    };
+    HardSphere::radial_derivs_fd(dphi, r, phi[1], r / 16.0, order, phi);
+  }
+
+  void bond_phi(int type, int i, int j, double rsq, int order, double phi[5])
+  {
+    Bond *bond = force->bond;
+    double fforce = 0.0;
+    phi[0] = bond->single(type, rsq, i, j, fforce);
+    const double r = sqrt(rsq);
+    phi[1] = -fforce * r;
+    phi[2] = phi[3] = phi[4] = 0.0;
+    if (order < 2) return;
+    if (bond_harm) {    // K (r - r0)^2
+      phi[2] = 2.0 * bond_k[type];
+      return;
+    }
+    auto dphi = [&](double rr) {
+      double ff = 0.0;
+      bond->single(type, rr * rr, i, j, ff);
+      return -ff * rr;
+    };
+    HardSphere::radial_derivs_fd(dphi, r, phi[1], r / 16.0, order, phi);
+  }
+
+  // calls fn(i, j, del = x_i - x_j, phi[0..order], weight, upd_i, upd_j) for
+  // every radial term with an atom in the group. weight counts the term's
+  // share of global sums (1/2 for a term a newton-off rank shares with
+  // another); upd_* says whether this rank updates that atom's field (owned,
+  // or ghost with newton, summed to the owner by reverse communication)
+  template <class Fn> void for_each_radial(int order, Fn fn)
+  {
+    double **x = atom->x;
+    const int *mask = atom->mask;
+    const int *type = atom->type;
+    const int nlocal = atom->nlocal;
+    double phi[5], del[3];
+
+    if (pair_single) {
+      if (!list)
+        error->all(FLERR, "{}: no neighbor list for the single path (internal error)", owner);
+      Pair *pair = force->pair;
+      double **cutsq = pair->cutsq;
+      const int newton_pair = force->newton_pair;
+      for (int ii = 0; ii < list->inum; ii++) {
+        const int i = list->ilist[ii];
+        const int itype = type[i];
+        const int *jlist = list->firstneigh[i];
+        const int jnum = list->numneigh[i];
+        for (int jj = 0; jj < jnum; jj++) {
+          int j = jlist[jj];
+          const double fl = force->special_lj[j >> SBBITS & 3];
+          const double fc = force->special_coul[j >> SBBITS & 3];
+          j &= NEIGHMASK;
+          if (!((mask[i] | mask[j]) & groupbit)) continue;
+          for (int k = 0; k < 3; k++) del[k] = x[i][k] - x[j][k];
+          const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+          const int jtype = type[j];
+          if (rsq >= cutsq[itype][jtype]) continue;
+          pair_phi(i, j, itype, jtype, rsq, fc, fl, order, phi);
+          const bool full = newton_pair || j < nlocal;
+          fn(i, j, del, phi, full ? 1.0 : 0.5, true, full);
+        }
+      }
+    }
+
+    if (bond_single && molecular()) {
+      int **bondlist = neighbor->bondlist;
+      const int nb = neighbor->nbondlist;
+      const int newton_bond = force->newton_bond;
+      for (int n = 0; n < nb; n++) {
+        const int i = bondlist[n][0], j = bondlist[n][1], bt = bondlist[n][2];
+        if (bt <= 0) continue;
+        if (!((mask[i] | mask[j]) & groupbit)) continue;
+        for (int k = 0; k < 3; k++) del[k] = x[i][k] - x[j][k];
+        const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+        bond_phi(bt, i, j, rsq, order, phi);
+        double wgt = 1.0;
+        if (!newton_bond) wgt = 0.5 * ((i < nlocal) + (j < nlocal));
+        fn(i, j, del, phi, wgt, newton_bond || i < nlocal, newton_bond || j < nlocal);
+      }
+    }
+  }
+
+  bool any_single() const { return pair_single || bond_single; }
+
+  // fill ghost values of a masked field
+  void ghosts(double **a) { comm->forward_comm_array(3, a); }
+
+  // SINGLE part of hw (+=) and tw (+=, if tw); wl holds w with ghosts.
+  // Fields are accumulated in atom->f (ghosts summed by reverse_comm)
+  void single_hess_third(double **w, double **hw, double **tw)
+  {
+    const int nlocal = atom->nlocal;
+    for (int pass = 0; pass < (tw ? 2 : 1); pass++) {
+      zero_f_all();
+      double **f = atom->f;
+      for_each_radial(pass ? 3 : 2,
+                      [&](int i, int j, const double *del, const double *phi, double,
+                          bool ui, bool uj) {
+                        const double wij[3] = {w[i][0] - w[j][0], w[i][1] - w[j][1],
+                                               w[i][2] - w[j][2]};
+                        double out[3];
+                        if (pass == 0)
+                          HardSphere::radial_hess_vec(del, phi[1], phi[2], wij, out);
+                        else
+                          HardSphere::radial_third_ww(del, phi[1], phi[2], phi[3], wij, out);
+                        for (int k = 0; k < 3; k++) {
+                          if (ui) f[i][k] += out[k];
+                          if (uj) f[j][k] -= out[k];
+                        }
+                      });
+      if (force->newton) comm->reverse_comm();
+      double **dst = pass ? tw : hw;
+      for (int i = 0; i < nlocal; i++)
+        for (int k = 0; k < 3; k++) dst[i][k] += f[i][k];
+    }
+  }
+
+  // SINGLE part of sum over terms of a scalar g(del, phi, a_ij, b_ij)
+  template <class G> double single_sum(int order, double **a, double **b, G g)
+  {
+    double one = 0.0;
+    for_each_radial(order,
+                    [&](int i, int j, const double *del, const double *phi, double wgt, bool,
+                        bool) {
+                      const double aij[3] = {a[i][0] - a[j][0], a[i][1] - a[j][1],
+                                             a[i][2] - a[j][2]};
+                      const double bij[3] = {b[i][0] - b[j][0], b[i][1] - b[j][1],
+                                             b[i][2] - b[j][2]};
+                      one += wgt * g(del, phi, aij, bij);
+                    });
+    double all = 0.0;
+    MPI_Allreduce(&one, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+    return all;
+  }
+};
+
+/* ---------------------------------------------------------------------- */
+
+HSPotential::HSPotential(LAMMPS *lmp, int gb, const std::string &own) :
+    Pointers(lmp), groupbit(gb), owner(own)
+{
+  impl = new Impl(lmp, gb, own);
+  impl->nevals = &nevals_;
+}
+
+HSPotential::~HSPotential()
+{
+  delete impl;
+}
+
+/* ----------------------------------------------------------------------
+   which contribution takes which path; the length scale of differences
+------------------------------------------------------------------------- */
+
+void HSPotential::init(Mode mode)
+{
+  Impl &m = *impl;
+  m.mode = mode;
+  m.pair_single = m.bond_single = m.pair_lj = m.bond_harm = 0;
+  m.fd_pair = m.fd_bond = m.fd_angle = m.fd_dihedral = m.fd_improper = m.fd_kspace = 0;
+  m.efix.clear();
+  const bool molecular = atom->molecular != Atom::ATOMIC;
+
+  auto no_single = [&](const std::string &what) {
+    error->all(FLERR,
+               "{}: path single is not available for {}: it is not a radial pair or bond "
+               "style (use path auto or fdiff)",
+               owner, what);
+  };
+
+  Pair *pair = force->pair;
+  if (pair && pair->compute_flag) {
+    const bool can = pair->single_enable && !pair->manybody_flag;
+    if (mode != FDIFF && can) {
+      m.pair_single = 1;
+      const std::string ps = force->pair_style;
+      if (ps == "lj/cut" || ps == "lj/cut/opt" || ps == "lj/cut/omp") {
+        int dim = 0;
+        m.lj_eps = (double **) pair->extract("epsilon", dim);
+        m.lj_sig = (double **) pair->extract("sigma", dim);
+        m.pair_lj = (m.lj_eps && m.lj_sig) ? 1 : 0;
+      }
+    } else if (mode == SINGLE)
+      no_single(std::string("pair style ") + force->pair_style);
+    else
+      m.fd_pair = 1;
+  }
+  if (molecular && force->bond) {
+    if (mode != FDIFF) {
+      m.bond_single = 1;
+      if (strcmp(force->bond_style, "harmonic") == 0) {
+        int dim = 0;
+        m.bond_k = (double *) force->bond->extract("k", dim);
+        m.bond_harm = m.bond_k ? 1 : 0;
+      }
+    } else
+      m.fd_bond = 1;
+  }
+  if (molecular && force->angle) {
+    if (mode == SINGLE) no_single(std::string("angle style ") + force->angle_style);
+    m.fd_angle = 1;
+  }
+  if (molecular && force->dihedral) {
+    if (mode == SINGLE) no_single(std::string("dihedral style ") + force->dihedral_style);
+    m.fd_dihedral = 1;
+  }
+  if (molecular && force->improper) {
+    if (mode == SINGLE) no_single(std::string("improper style ") + force->improper_style);
+    m.fd_improper = 1;
+  }
+  if (force->kspace && force->kspace->compute_flag) {
+    if (mode == SINGLE) no_single(std::string("kspace style ") + force->kspace_style);
+    m.fd_kspace = 1;
+  }
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *fix = modify->fix[k];
+    if (fix->energy_global_flag && fix->thermo_energy && (modify->fmask[k] & FixConst::POST_FORCE)) {
+      if (mode == SINGLE) no_single(std::string("fix ") + fix->id + " " + fix->style);
+      m.efix.push_back(k);
+    }
+  }
+  m.fd_any = m.fd_pair || m.fd_bond || m.fd_angle || m.fd_dihedral || m.fd_improper ||
+      m.fd_kspace || !m.efix.empty();
+
+  // length scale L of the differences along a field: a tenth of the
+  // shortest pair cutoff or bond length in play; the skin otherwise
+  double len = 0.0;
+  if (pair) {
+    for (int a = 1; a <= atom->ntypes; a++)
+      for (int b = a; b <= atom->ntypes; b++)
+        if (pair->cutsq && pair->cutsq[a][b] > 0.0) {
+          const double c = sqrt(pair->cutsq[a][b]);
+          len = (len > 0.0) ? MIN(len, c) : c;
+        }
+  }
+  if (molecular && force->bond)
+    for (int t = 1; t <= atom->nbondtypes; t++) {
+      const double r0 = force->bond->equilibrium_distance(t);
+      if (r0 > 0.0) len = (len > 0.0) ? MIN(len, r0) : r0;
+    }
+  if (!(len > 0.0)) len = (neighbor->skin > 0.0) ? 10.0 * neighbor->skin : 10.0;
+  m.length = 0.1 * len;
+  m.list = nullptr;
+  m.initialized = 1;
+}
+
+void HSPotential::set_length(double len)
+{
+  if (!(len > 0.0)) error->all(FLERR, "{}: length scale must be > 0, got {}", owner, len);
+  impl->length = len;
+}
+
+double HSPotential::length() const
+{
+  return impl->length;
+}
+
+void HSPotential::request_list(Fix *fix, int instance)
+{
+  if (impl->pair_single) HSCompat::request_half_list(neighbor, fix, instance, 0.0);
+}
+
+void HSPotential::request_list(Compute *compute, int instance)
+{
+  if (impl->pair_single) HSCompat::request_half_list(neighbor, compute, instance, 0.0);
+}
+
+void HSPotential::init_list(NeighList *ptr)
+{
+  list = ptr;
+  impl->list = ptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+std::string HSPotential::describe() const
+{
+  const Impl &m = *impl;
+  std::string s;
+  auto add = [&](const std::string &t) { s += (s.empty() ? "" : "; ") + t; };
+  const bool molecular = atom->molecular != Atom::ATOMIC;
+  if (force->pair && force->pair->compute_flag)
+    add(std::string("pair ") + force->pair_style + ": " +
+        (m.pair_single ? (m.pair_lj ? "single (analytic)" : "single (differences in r)")
+                       : "fdiff"));
+  if (molecular && force->bond)
+    add(std::string("bond ") + force->bond_style + ": " +
+        (m.bond_single ? (m.bond_harm ? "single (analytic)" : "single (differences in r)")
+                       : "fdiff"));
+  if (m.fd_angle) add(std::string("angle ") + force->angle_style + ": fdiff");
+  if (m.fd_dihedral) add(std::string("dihedral ") + force->dihedral_style + ": fdiff");
+  if (m.fd_improper) add(std::string("improper ") + force->improper_style + ": fdiff");
+  if (m.fd_kspace) add(std::string("kspace ") + force->kspace_style + ": fdiff");
+  for (int k : m.efix)
+    add(std::string("fix ") + modify->fix[k]->id + " " + modify->fix[k]->style + ": fdiff");
+  if (s.empty()) s = "no potential energy";
+  return s;
+}
+
+/* ----------------------------------------------------------------------
+   a full force evaluation as Verlet::run does it
+------------------------------------------------------------------------- */
+
+double HSPotential::evaluate(int eflag)
+{
+  const int ef = eflag ? 1 : 0;    // ENERGY_GLOBAL
+  comm->forward_comm();
+  impl->force_clear();
+  if (modify->n_pre_force) modify->pre_force(0);
+  if (force->pair && force->pair->compute_flag) force->pair->compute(ef, 0);
+  if (atom->molecular != Atom::ATOMIC) {
+    if (force->bond) force->bond->compute(ef, 0);
+    if (force->angle) force->angle->compute(ef, 0);
+    if (force->dihedral) force->dihedral->compute(ef, 0);
+    if (force->improper) force->improper->compute(ef, 0);
+  }
+  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(ef, 0);
+  if (modify->n_pre_reverse) modify->pre_reverse(ef, 0);
+  if (force->newton) comm->reverse_comm();
+  if (modify->n_post_force) modify->post_force(0);
+  nevals_ += 1.0;
+  return eflag ? impl->tally_energy() : 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   V at the current x (compute pe's sum); x, f and tallies unchanged
+------------------------------------------------------------------------- */
+
+double HSPotential::energy()
+{
+  Impl &m = *impl;
+  m.save();
+  comm->forward_comm();
+  m.force_clear();
+  if (force->pair && force->pair->compute_flag) force->pair->compute(1, 0);
+  if (atom->molecular != Atom::ATOMIC) {
+    if (force->bond) force->bond->compute(1, 0);
+    if (force->angle) force->angle->compute(1, 0);
+    if (force->dihedral) force->dihedral->compute(1, 0);
+    if (force->improper) force->improper->compute(1, 0);
+  }
+  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(1, 0);
+  for (int k : m.efix) modify->fix[k]->post_force(0);
+  nevals_ += 1.0;
+  const double v = m.tally_energy();
+  m.restore();
+  return v;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void HSPotential::hess_vec(double **w, double **hw)
+{
+  hess_third(w, hw, nullptr);
+}
+
+void HSPotential::hess_third(double **w, double **hw, double **tw)
+{
+  Impl &m = *impl;
+  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  m.grow();
+  m.zero_field(hw);
+  if (tw) m.zero_field(tw);
+  const double wmax = m.mask_field(w, m.wl);
+  if (wmax == 0.0) return;
+  m.save();
+  if (m.any_single()) {
+    m.ghosts(m.wl);
+    m.single_hess_third(m.wl, hw, tw);
+  }
+  if (m.fd_any) m.fd_hess_third(m.wl, wmax, hw, tw);
+  m.restore();
+  m.project(hw);
+  if (tw) m.project(tw);
+}
+
+double HSPotential::d2(double **w)
+{
+  return d2_mixed(w, w);
+}
+
+double HSPotential::d2_mixed(double **a, double **b)
+{
+  Impl &m = *impl;
+  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  m.grow();
+  m.mask_field(a, m.al);
+  const double bmax = m.mask_field(b, m.wl);
+  if (bmax == 0.0) return 0.0;
+  double sum = 0.0;
+  m.save();
+  if (m.any_single()) {
+    m.ghosts(m.al);
+    m.ghosts(m.wl);
+    sum += m.single_sum(2, m.al, m.wl,
+                        [](const double *del, const double *phi, const double *aij,
+                           const double *bij) {
+                          return HardSphere::radial_hess_bilinear(del, phi[1], phi[2], aij, bij);
+                        });
+  }
+  if (m.fd_any) {
+    m.zero_field(m.sa);
+    m.fd_hess_third(m.wl, bmax, m.sa, nullptr);
+    sum += m.dot_global(m.al, m.sa);
+  }
+  m.restore();
+  return sum;
+}
+
+double HSPotential::d3_mixed(double **a, double **w)
+{
+  Impl &m = *impl;
+  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  m.grow();
+  m.mask_field(a, m.al);
+  const double wmax = m.mask_field(w, m.wl);
+  if (wmax == 0.0) return 0.0;
+  double sum = 0.0;
+  m.save();
+  if (m.any_single()) {
+    m.ghosts(m.al);
+    m.ghosts(m.wl);
+    sum += m.single_sum(3, m.al, m.wl,
+                        [](const double *del, const double *phi, const double *aij,
+                           const double *wij) {
+                          double t[3];
+                          HardSphere::radial_third_ww(del, phi[1], phi[2], phi[3], wij, t);
+                          return aij[0] * t[0] + aij[1] * t[1] + aij[2] * t[2];
+                        });
+  }
+  if (m.fd_any) {
+    m.zero_field(m.sa);
+    m.zero_field(m.sb);
+    m.fd_hess_third(m.wl, wmax, m.sb, m.sa);
+    sum += m.dot_global(m.al, m.sa);
+  }
+  m.restore();
+  return sum;
+}
+
+double HSPotential::d4(double **w)
+{
+  Impl &m = *impl;
+  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  m.grow();
+  const double wmax = m.mask_field(w, m.wl);
+  if (wmax == 0.0) return 0.0;
+  double sum = 0.0;
+  m.save();
+  if (m.any_single()) {
+    m.ghosts(m.wl);
+    sum += m.single_sum(4, m.wl, m.wl,
+                        [](const double *del, const double *phi, const double *wij,
+                           const double *) {
+                          double out[5];
+                          HardSphere::radial_directional(del, wij, phi, out);
+                          return out[4];
+                        });
+  }
+  if (m.fd_any) sum += m.fd_d4(m.wl, wmax);
+  m.restore();
+  return sum;
+}

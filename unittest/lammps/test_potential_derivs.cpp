@@ -1,0 +1,234 @@
+// HSPotential (hs_potential.h): V, V''w, V'''[w,w,.], d2, d2_mixed,
+// d3_mixed and d4 of a small molecule in a periodic box (harmonic bonds,
+// cosine/squared angles, lj/cut with special_bonds 0 0.5 1, straddling the
+// periodic boundary), against the exact series reference of hs_series.h.
+// Paths: FDIFF (differences of force evaluations) for everything here; the
+// SINGLE path is tested through compute hamiltonian/modified
+// (test_hamiltonian_paths.cpp).
+
+#include "hs_test_main.h"
+
+#include "hs_potential.h"
+#include "hs_series.h"
+
+#include "atom.h"
+#include "force.h"
+#include "group.h"
+#include "pair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using hs_series::Molecule;
+using hs_series::Vec;
+using LAMMPS_NS::HSPotential;
+
+namespace {
+
+const double PI = 3.14159265358979323846;
+
+const double POS[5][3] = {{3.4, 0.0, 0.0},
+                          {-3.6, 0.3, 0.1},
+                          {-2.9, 1.1, -0.2},
+                          {-2.0, 0.6, 0.5},
+                          {3.0, 1.2, 1.0}};
+
+std::string setup_text(bool angles)
+{
+  std::string s = "units lj\natom_style molecular\natom_modify map array\nboundary p p p\n"
+                  "region box block -4 4 -4 4 -4 4\n"
+                  "create_box 1 box bond/types 1 angle/types 1 extra/bond/per/atom 3 "
+                  "extra/angle/per/atom 3 extra/special/per/atom 8\n"
+                  "mass 1 1.0\n";
+  for (auto &p : POS)
+    s += "create_atoms 1 single " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
+        std::to_string(p[2]) + " units box\n";
+  s += "pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0\n"
+       "bond_style harmonic\nbond_coeff 1 50.0 1.1\n"
+       "angle_style cosine/squared\nangle_coeff 1 5.0 110.0\n"
+       "special_bonds lj 0.0 0.5 1.0\n"
+       "create_bonds single/bond 1 1 2\ncreate_bonds single/bond 1 2 3\n"
+       "create_bonds single/bond 1 3 4\n";
+  if (angles) s += "create_bonds single/angle 1 1 2 3\ncreate_bonds single/angle 1 2 3 4\n";
+  s += "neighbor 0.3 bin\nthermo_style custom step pe\nrun 0\n";
+  return s;
+}
+
+Molecule reference(bool angles)
+{
+  Molecule m;
+  for (auto &p : POS) m.x.push_back(Vec{p[0], p[1], p[2]});
+  m.box[0] = m.box[1] = m.box[2] = 8.0;
+  m.special[1] = 0.0;
+  m.special[2] = 0.5;
+  m.special[3] = 1.0;
+  m.bonds = {{0, 1}, {1, 2}, {2, 3}};
+  m.kb = 50.0;
+  m.r0 = 1.1;
+  if (angles) m.angles = {{0, 1, 2}, {1, 2, 3}};
+  m.ka = 5.0;
+  m.cos0 = std::cos(110.0 * PI / 180.0);
+  m.compute_hops();
+  return m;
+}
+
+// deterministic fields by tag
+std::vector<Vec> field(int seed, int n)
+{
+  std::vector<Vec> u(n);
+  for (int i = 0; i < n; i++)
+    for (int k = 0; k < 3; k++) u[i][k] = std::sin(1.7 * (i + 1) + 2.3 * k + 0.9 * seed);
+  return u;
+}
+
+struct Fields {
+  double **a = nullptr;
+  int nmax = 0;
+  LAMMPS_NS::LAMMPS *lmp;
+  explicit Fields(LAMMPS_NS::LAMMPS *l) : lmp(l)
+  {
+    nmax = lmp->atom->nmax;
+    a = new double *[nmax];
+    for (int i = 0; i < nmax; i++) a[i] = new double[3]{0, 0, 0};
+  }
+  ~Fields()
+  {
+    for (int i = 0; i < nmax; i++) delete[] a[i];
+    delete[] a;
+  }
+  void set(const std::vector<Vec> &u)
+  {
+    auto *atom = lmp->atom;
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < 3; k++) a[i][k] = u[atom->tag[i] - 1][k];
+  }
+  double get(int tag, int k) const { return a[lmp->atom->map(tag)][k]; }
+};
+
+// restrict a field to the atoms of a group (by tag list)
+std::vector<Vec> restrict(const std::vector<Vec> &u, const std::vector<int> &tags)
+{
+  std::vector<Vec> r(u.size(), Vec{0, 0, 0});
+  for (int t : tags) r[t - 1] = u[t - 1];
+  return r;
+}
+
+struct Tol {
+  double hess, third, d4;
+};
+
+void check_all(HSLammps &h, HSPotential &pot, const Molecule &m, const std::vector<int> &gtags,
+               const Tol &tol, const char *what)
+{
+  auto *atom = h.lmp->atom;
+  const int n = (int) m.x.size();
+  const std::vector<Vec> w = field(1, n), a = field(2, n);
+  const std::vector<Vec> wg = restrict(w, gtags), ag = restrict(a, gtags);
+  Fields W(h.lmp), A(h.lmp), HW(h.lmp), TW(h.lmp);
+  W.set(w);
+  A.set(a);
+
+  // state before: x and f (owned + ghost) and pe
+  const int nall = atom->nlocal + atom->nghost;
+  std::vector<double> xb(3 * nall), fb(3 * nall);
+  memcpy(xb.data(), &atom->x[0][0], 3 * nall * sizeof(double));
+  memcpy(fb.data(), &atom->f[0][0], 3 * nall * sizeof(double));
+  const double evdwl = h.lmp->force->pair->eng_vdwl;
+
+  // scale for relative errors: |w|^2 times the largest V'' entry ~ k_bond
+  const double scale2 = std::fabs(m.D(2, wg)) + 1.0;
+
+  pot.hess_third(W.a, HW.a, TW.a);
+  for (int t = 1; t <= n; t++) {
+    const bool in = std::find(gtags.begin(), gtags.end(), t) != gtags.end();
+    for (int k = 0; k < 3; k++) {
+      const auto e = m.unit(t - 1, k);
+      const double hw_ref = in ? m.d2_mixed(e, wg) : 0.0;
+      const double tw_ref = in ? m.d3_mixed(e, wg) : 0.0;
+      EXPECT_NEAR(HW.get(t, k), hw_ref, tol.hess * scale2) << what << " V''w atom " << t << " " << k;
+      EXPECT_NEAR(TW.get(t, k), tw_ref, tol.third * scale2)
+          << what << " V'''[w,w] atom " << t << " " << k;
+    }
+  }
+  pot.hess_vec(W.a, HW.a);
+  for (int t = 1; t <= n; t++) {
+    const bool in = std::find(gtags.begin(), gtags.end(), t) != gtags.end();
+    const auto e = m.unit(t - 1, 1);
+    EXPECT_NEAR(HW.get(t, 1), in ? m.d2_mixed(e, wg) : 0.0, tol.hess * scale2) << what;
+  }
+
+  const double d2 = pot.d2(W.a), d2r = m.D(2, wg);
+  EXPECT_NEAR(d2, d2r, tol.hess * scale2) << what << " d2";
+  const double d2m = pot.d2_mixed(A.a, W.a), d2mr = m.d2_mixed(ag, wg);
+  EXPECT_NEAR(d2m, d2mr, tol.hess * scale2) << what << " d2_mixed";
+  const double d3m = pot.d3_mixed(A.a, W.a), d3mr = m.d3_mixed(ag, wg);
+  const double scale3 = std::fabs(m.D(3, wg)) + scale2;
+  EXPECT_NEAR(d3m, d3mr, tol.third * scale3) << what << " d3_mixed";
+  const double d4 = pot.d4(W.a), d4r = m.D(4, wg);
+  const double scale4 = std::fabs(d4r) + scale3;
+  EXPECT_NEAR(d4, d4r, tol.d4 * scale4) << what << " d4";
+  if (getenv("HS_TEST_VERBOSE"))
+    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e)\n",
+           what, d2r, (d2 - d2r) / scale2, (d2m - d2mr) / scale2, d3mr, (d3m - d3mr) / scale3,
+           d4r, (d4 - d4r) / scale4);
+
+  // x, f and tallies exactly as found
+  EXPECT_EQ(0, memcmp(xb.data(), &atom->x[0][0], 3 * nall * sizeof(double))) << what << " x";
+  EXPECT_EQ(0, memcmp(fb.data(), &atom->f[0][0], 3 * nall * sizeof(double))) << what << " f";
+  EXPECT_EQ(evdwl, h.lmp->force->pair->eng_vdwl) << what << " eng_vdwl";
+}
+
+}    // namespace
+
+// the reference itself: V(x) against LAMMPS' pe, and a directional
+// derivative against a difference of the reference energy
+TEST(PotentialDerivs, ReferenceMatchesLammpsEnergy)
+{
+  HSLammps h;
+  h.lines(setup_text(true));
+  Molecule m = reference(true);
+  const std::vector<Vec> zero(5, Vec{0, 0, 0});
+  EXPECT_NEAR(m.energy(zero).c[0], h.thermo("pe") * 5, 1e-10 * std::fabs(m.energy(zero).c[0]));
+}
+
+TEST(PotentialDerivs, FdiffAllStyles)
+{
+  HSLammps h;
+  h.lines(setup_text(true));
+  Molecule m = reference(true);
+  HSPotential pot(h.lmp, 1, "test");
+  pot.init(HSPotential::FDIFF);
+  const std::vector<Vec> zero(5, Vec{0, 0, 0});
+  EXPECT_NEAR(pot.energy(), m.energy(zero).c[0], 1e-12 * std::fabs(m.energy(zero).c[0]));
+  check_all(h, pot, m, {1, 2, 3, 4, 5}, Tol{1e-9, 1e-7, 1e-5}, "fdiff all");
+}
+
+TEST(PotentialDerivs, FdiffGroupSubset)
+{
+  HSLammps h;
+  h.lines(setup_text(true));
+  h.cmd("group sub id 1 3 5");
+  Molecule m = reference(true);
+  const int bit = h.lmp->group->bitmask[h.lmp->group->find("sub")];
+  HSPotential pot(h.lmp, bit, "test");
+  pot.init(HSPotential::FDIFF);
+  check_all(h, pot, m, {1, 3, 5}, Tol{1e-9, 1e-7, 1e-5}, "fdiff group");
+}
+
+TEST(PotentialDerivs, EvaluateMatchesVerletForces)
+{
+  HSLammps h;
+  h.lines(setup_text(true));
+  auto *atom = h.lmp->atom;
+  std::vector<double> fb(3 * atom->nlocal);
+  memcpy(fb.data(), &atom->f[0][0], fb.size() * sizeof(double));
+  HSPotential pot(h.lmp, 1, "test");
+  pot.init(HSPotential::AUTO);
+  const double pe = h.thermo("pe") * atom->natoms;
+  const double v = pot.evaluate(1);
+  EXPECT_NEAR(v, pe, 1e-12 * std::fabs(pe));
+  for (size_t k = 0; k < fb.size(); k++) EXPECT_NEAR((&atom->f[0][0])[k], fb[k], 1e-12);
+  EXPECT_EQ(pot.nevals(), 1.0);
+}
