@@ -37,11 +37,11 @@ static constexpr int NVEC_BASE = 5;
 /* ---------------------------------------------------------------------- */
 
 FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), pot(nullptr), nlists_seen(0), gauss_step(0), gauss_iters(0.0),
-    gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), pot_evals_seen(0.0), hprev(0.0),
+    FixHardSphere(lmp, narg, arg), pot(nullptr), nlists_seen(0), gauss_step(0), cancel(0), gauss_iters(0.0),
+    gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0), pot_evals_seen(0.0), hprev(0.0),
     f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr), fhv(nullptr), ftv(nullptr), fha(nullptr)
 {
-  size_vector = NVEC_BASE + 4;
+  size_vector = NVEC_BASE + 5;
   pot = new HSPotential(lmp, groupbit, std::string("fix ") + style_name);
 }
 
@@ -282,80 +282,49 @@ double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
 }
 
 /* ----------------------------------------------------------------------
-   hooks of the base's sub-step loop
+   the contact time of c on the Gauss flow from the saved start, within
+   (0, tmax], from a guess. Returns 1 with tau and the state (x, v, ghosts'
+   x) at the contact on the allowed side; 0 with the state at tmax if the
+   flow has no contact there. Collective.
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::begin_collisional_step()
+int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax, double &tau)
 {
-  gauss_step = 1;
-}
-
-// no contact in the rest of the step: plain Verlet if the step never had
-// one (the base's fix nve step), else one Gauss sub-step to the step's end
-void FixHardSphereMCVA::finish_step(double tleft)
-{
-  if (!gauss_step) {
-    FixHardSphere::finish_step(tleft);
-    return;
-  }
-  gauss_substep(tleft);
-  gauss_step = 0;
-  dtf_last = 0.0;    // the sub-step is complete: final_integrate adds nothing
-  sync_evals();
-  // LAMMPS computes the forces at the step's end itself
-}
-
-// refine the contact time predicted by Verlet (tau) on the Gauss flow of H~
-bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impulse &imp)
-{
-  save_start();
-  if (tau == 0.0) {    // touching and approaching now: no sub-step
-    gauss_substeps += 1.0;
-    return true;
-  }
-
-  // phi(t): gap on the Gauss flow after time t from the saved start; the
-  // solution at the latest t with a positive gap is kept
+  // phi(t): gap on the Gauss flow after t; the solution at the latest t
+  // with a nonnegative gap is kept
   std::vector<double> ylo(y0.size());
   double tlo = -1.0;
   auto phi = [&](double t, double &g, double &dg) {
     gauss_solve(t, y1);
     set_state(y1);
     comm->forward_comm();
-    g = gap_of(imp, dg);
+    g = gap_of(c, dg);
     if (g >= 0.0 && t > tlo) {
       tlo = t;
       ylo = y1;
     }
   };
   const HardSphere::RootResult r =
-      HardSphere::contact_root(phi, tau, tleft, ROOT_TTOL * dtv, ROOT_MAXEVAL);
+      HardSphere::contact_root(phi, guess, tmax, ROOT_TTOL * dtv, ROOT_MAXEVAL);
 
   if (r.status == HardSphere::ROOT_FAILED) {
-    std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-    if (imp.type == WALL_EVENT) {
-      wall_name(walls[imp.wall], who);
-      who = fmt::format("atom {} and wall {}", imp.itag, who);
+    std::string who = fmt::format("atoms {} and {}", c.itag, c.jtag);
+    if (c.type == WALL_EVENT) {
+      wall_name(walls[c.wall], who);
+      who = fmt::format("atom {} and wall {}", c.itag, who);
     }
     error->all(FLERR,
                "Fix {}: no contact time of {} found on the Gauss flow on step {} ({} Gauss "
                "solves, last tau {}, gap {})",
                style_name, who, update->ntimestep, r.nevals, r.t, r.g);
   }
-
-  gauss_substeps += 1.0;
   if (r.status == HardSphere::ROOT_NONE) {
-    // the Gauss flow has no contact in the rest of the step: one sub-step
-    // to its end
-    // (y1 holds the last evaluation, at r.t)
-    if (r.t != tleft) gauss_solve(tleft, y1);
+    if (r.t != tmax) gauss_solve(tmax, y1);    // else y1 holds the last solve, at tmax
     set_state(y1);
-    gauss_step = 0;
-    dtf_last = 0.0;
-    sync_evals();
-    return false;
+    comm->forward_comm();
+    tau = tmax;
+    return 0;
   }
-
   tau = r.t;
   if (tau == 0.0) set_state(y0);
   else {
@@ -365,6 +334,214 @@ bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impu
     }
     set_state(ylo);
   }
+  comm->forward_comm();
+  return 1;
+}
+
+/* ----------------------------------------------------------------------
+   the Verlet prescreen can miss a contact of the Gauss flow (their paths
+   differ by O(tau dt^2)): the contact with the deepest overlap at the
+   current x, if any (pair gap |q_i - q_j|^2 - sigma^2 relative to sigma^2,
+   wall gap relative to the diameter). c gets its tags (all ranks), ev its
+   local indices on 'rank'. Collective.
+------------------------------------------------------------------------- */
+
+bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double worst = 0.0;
+  Event mine{PAIR_EVENT, -1, -1, -1};
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    for (int w = 0; w < (int) walls.size(); w++) {
+      const double r = radius_of(i);
+      const double g = wall_gap(walls[w], x[i], r) / (2.0 * r);
+      if (g < worst) {
+        worst = g;
+        mine = {WALL_EVENT, i, -1, w};
+      }
+    }
+  }
+  const int ncand = (int) cand.size();
+  for (int k = 0; k < ncand; k += 2) {
+    const int i = cand[k], j = cand[k + 1];
+    const double sigma = radius_of(i) + radius_of(j);
+    const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+    const double g = (dx * dx + dy * dy + dz * dz - sigma * sigma) / (sigma * sigma);
+    if (g < worst) {
+      worst = g;
+      mine = {PAIR_EVENT, i, j, -1};
+    }
+  }
+  struct {
+    double g;
+    int rank;
+  } in{worst, comm->me}, out;
+  MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
+  if (!(out.g < 0.0)) return false;
+  rank = out.rank;
+  memset(&c, 0, sizeof(c));
+  if (comm->me == rank) {
+    ev = mine;
+    c.type = mine.type;
+    c.itag = atom->tag[mine.i];
+    c.jtag = (mine.type == PAIR_EVENT) ? atom->tag[mine.j] : 0;
+    c.wall = mine.wall;
+  }
+  MPI_Bcast(&c, sizeof(Impulse), MPI_BYTE, rank, world);
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   with the state at the Gauss solution at T from the saved start: if some
+   contact overlaps there, its crossing is earlier: find it on the flow and
+   move there (T shrinks), until no contact overlaps at T. Returns true if
+   T moved (the contact in ev on rank). Collective.
+------------------------------------------------------------------------- */
+
+bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
+{
+  bool moved = false;
+  Impulse c;
+  for (int it = 0; find_overlap(c, ev, rank); it++) {
+    if (it > 100)
+      error->all(FLERR, "Fix {}: no first contact found on the Gauss flow on step {}",
+                 style_name, update->ntimestep);
+    double dg;
+    const double gT = gap_of(c, dg);
+    set_state(y0);
+    comm->forward_comm();
+    const double g0 = gap_of(c, dg);
+    double tau = 0.0;
+    if (g0 > 0.0) {
+      // guess by linear interpolation between 0 and T; the flow has a
+      // contact in (0, T] (the gap is negative at T)
+      const double guess = T * g0 / (g0 - gT);
+      if (!solve_contact(c, guess, T, tau))
+        error->all(FLERR,
+                   "Fix {}: atoms {} and {} (or a wall) overlap after a Gauss sub-step on step {} "
+                   "but no contact time was found",
+                   style_name, c.itag, c.jtag, update->ntimestep);
+    }
+    // g0 <= 0: touching at the start already: a contact now (tau = 0, state y0)
+    T = tau;
+    moved = true;
+    if (tau == 0.0) break;
+  }
+  return moved;
+}
+
+/* ----------------------------------------------------------------------
+   a contact found by earliest_crossing() inside finish_step(), where the
+   base loop is over: the base loop's collision, done here (rare)
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::collide_missed(const Event &ev, int rank)
+{
+  Impulse imp;
+  memset(&imp, 0, sizeof(imp));
+  if (comm->me == rank) {
+    imp.type = ev.type;
+    imp.itag = atom->tag[ev.i];
+    imp.jtag = (ev.type == PAIR_EVENT) ? atom->tag[ev.j] : 0;
+    imp.wall = ev.wall;
+    if (ev.type == PAIR_EVENT) collide_pair(ev.i, ev.j, imp);
+    else collide_wall(ev.i, walls[ev.wall], imp);
+  }
+  MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, rank, world);
+  if (!imp.apply)
+    error->all(FLERR,
+               "Fix {}: atoms {} and {} (or a wall) touch on the Gauss flow on step {} without "
+               "approaching: cannot resolve the contact",
+               style_name, imp.itag, imp.jtag, update->ntimestep);
+  modify_impulse(imp);
+  if (comm->me == rank) {
+    const double s = 1.0 / (dtv * force->ftm2v);
+    virial[0] += s * imp.dq[0] * imp.J[0];
+    virial[1] += s * imp.dq[1] * imp.J[1];
+    virial[2] += s * imp.dq[2] * imp.J[2];
+    virial[3] += s * imp.dq[0] * imp.J[1];
+    virial[4] += s * imp.dq[0] * imp.J[2];
+    virial[5] += s * imp.dq[1] * imp.J[2];
+  }
+  apply_impulse(imp);
+  if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
+  else ncoll_wall += 1.0;
+  step_collided = 1;
+  nmissed += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   hooks of the base's sub-step loop
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::begin_collisional_step()
+{
+  gauss_step = 1;
+}
+
+// no contact predicted in the rest of the step: plain Verlet if the step
+// never had one (the base's fix nve step), else Gauss sub-steps to the
+// step's end, stopping at contacts the Verlet prediction missed
+void FixHardSphereMCVA::finish_step(double tleft)
+{
+  if (!gauss_step) {
+    FixHardSphere::finish_step(tleft);
+    return;
+  }
+  cancel = 0;
+  for (int guard = 0;; guard++) {
+    gauss_substep(tleft);
+    comm->forward_comm();
+    double T = tleft;
+    Event ev;
+    int rank = 0;
+    if (!earliest_crossing(T, ev, rank)) break;
+    if (guard > 1000)
+      error->all(FLERR, "Fix {}: too many contacts missed by the prediction on step {}",
+                 style_name, update->ntimestep);
+    // at the missed contact: forces there, ghosts' v, the impulse
+    pot->evaluate(0);
+    comm_vel_acc();
+    collide_missed(ev, rank);
+    tleft -= T;
+  }
+  gauss_step = 0;
+  dtf_last = 0.0;    // the sub-step is complete: final_integrate adds nothing
+  sync_evals();
+  // LAMMPS computes the forces at the step's end itself
+}
+
+// refine the contact time predicted by Verlet (tau) on the Gauss flow of H~
+bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impulse &imp)
+{
+  cancel = 0;
+  gauss_substeps += 1.0;
+  if (tau == 0.0) return true;    // touching and approaching now: no sub-step
+
+  save_start();
+  double T;
+  const int found = solve_contact(imp, tau, tleft, T);
+  // a contact the prediction missed may come first on the Gauss flow
+  Event ev;
+  int rank;
+  if (earliest_crossing(T, ev, rank)) {
+    // stop there and drop the predicted contact: the next prediction finds
+    // the earlier one touching and approaching (CONTACT_NOW) and collides it
+    tau = T;
+    cancel = 1;
+    nmissed += 1.0;
+  } else if (!found) {
+    // the Gauss flow has no contact in the rest of the step: that was its
+    // last sub-step
+    gauss_step = 0;
+    dtf_last = 0.0;
+    sync_evals();
+    return false;
+  } else
+    tau = T;
   pot->evaluate(0);    // forces at the contact: the next prediction needs them
   comm_vel_acc();      // ghosts' velocities at contact, for the impulse
   sync_evals();
@@ -383,6 +560,11 @@ bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impu
 
 void FixHardSphereMCVA::modify_impulse(Impulse &imp)
 {
+  if (cancel) {    // the sub-step stopped at an earlier contact instead
+    imp.apply = 0;
+    cancel = 0;
+    return;
+  }
   grow_fields();
   const double ftm2v = force->ftm2v;
   const double dt = update->dt;
@@ -442,7 +624,8 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
 
 /* ----------------------------------------------------------------------
    output: the base's 5 entries, then total Gauss stage iterations, Gauss
-   sub-steps, the most iterations in one solve, Gauss solves
+   sub-steps, the most iterations in one solve, Gauss solves, contacts the
+   Verlet prediction missed (found on the Gauss flow)
 ------------------------------------------------------------------------- */
 
 double FixHardSphereMCVA::compute_vector(int n)
@@ -457,6 +640,8 @@ double FixHardSphereMCVA::compute_vector(int n)
       return gauss_maxit;
     case 3:
       return gauss_solves;
+    case 4:
+      return nmissed;
   }
   return 0.0;
 }
@@ -464,11 +649,11 @@ double FixHardSphereMCVA::compute_vector(int n)
 void FixHardSphereMCVA::write_restart(FILE *fp)
 {
   if (comm->me == 0) {
-    double list_[8] = {ncoll_pair, ncoll_wall,     ncoll_steps, nforce_evals,
-                       gauss_iters, gauss_substeps, gauss_maxit, gauss_solves};
+    double list_[9] = {ncoll_pair,  ncoll_wall,     ncoll_steps, nforce_evals, gauss_iters,
+                       gauss_substeps, gauss_maxit, gauss_solves, nmissed};
     int size = sizeof(list_);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list_, sizeof(double), 8, fp);
+    fwrite(list_, sizeof(double), 9, fp);
   }
 }
 
@@ -480,6 +665,7 @@ void FixHardSphereMCVA::restart(char *buf)
   gauss_substeps = list_[5];
   gauss_maxit = list_[6];
   gauss_solves = list_[7];
+  nmissed = list_[8];
 }
 
 double FixHardSphereMCVA::memory_usage()

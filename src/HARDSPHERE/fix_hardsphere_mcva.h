@@ -47,8 +47,10 @@ class FixHardSphereMCVA : public FixHardSphere {
   int nlists_seen;    // init_list() calls since init(): ours first, then pot's
 
   int gauss_step;    // 1 while the current step has had a predicted contact
+  int cancel;        // 1: the Verlet-predicted contact is replaced by an earlier one
   // counters (global, identical on all ranks)
   double gauss_iters, gauss_substeps, gauss_maxit, gauss_solves;
+  double nmissed;    // contacts of the Gauss flow the Verlet prediction missed
   double pot_evals_seen;    // pot->nevals() already added to nforce_evals
 
   // the state of a Gauss sub-step: owned group atoms idx[k], y = (q, v)
@@ -68,6 +70,10 @@ class FixHardSphereMCVA : public FixHardSphere {
   void gauss_solve(double h, std::vector<double> &out);
   void gauss_substep(double h);
   double gap_of(const Impulse &, double &dg);
+  int solve_contact(const Impulse &, double guess, double tmax, double &tau);
+  bool find_overlap(Impulse &, Event &, int &rank);
+  bool earliest_crossing(double &T, Event &, int &rank);
+  void collide_missed(const Event &, int rank);
   void sync_evals();
 };
 
