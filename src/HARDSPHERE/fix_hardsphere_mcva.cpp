@@ -32,6 +32,10 @@ static constexpr int STAGE_MAXIT = 100;
 // most ROOT_MAXEVAL Gauss solves
 static constexpr double ROOT_TTOL = 1.0e-13;
 static constexpr int ROOT_MAXEVAL = 100;
+// an overlap after a Gauss solve counts as a missed contact beyond this
+// (relative to sigma^2, resp. the diameter): far above the round-off of
+// gaps across periodic images, far below the base's touching tolerance
+static constexpr double OVERLAP_TOL = 1.0e-12;
 static constexpr int NVEC_BASE = 5;
 
 /* ---------------------------------------------------------------------- */
@@ -235,6 +239,24 @@ void FixHardSphereMCVA::gauss_substep(double h)
 }
 
 /* ----------------------------------------------------------------------
+   local index of the owned atom with tag t, -1 if another rank owns it
+   (a scan when the atom style keeps no map)
+------------------------------------------------------------------------- */
+
+static int owned_index(Atom *atom, tagint t)
+{
+  const int nlocal = atom->nlocal;
+  if (atom->map_style != Atom::MAP_NONE) {
+    const int k = atom->map(t);
+    return (k >= 0 && k < nlocal) ? k : -1;
+  }
+  const tagint *tag = atom->tag;
+  for (int i = 0; i < nlocal; i++)
+    if (tag[i] == t) return i;
+  return -1;
+}
+
+/* ----------------------------------------------------------------------
    gap of the contact imp (pair: |q_i - q_j|^2 - sigma^2; wall: distance of
    the surface from the plane) at the current x, and an estimate of its
    time derivative from the current v (the flow's dq/dt differs from v by
@@ -247,8 +269,8 @@ double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
   double **x = atom->x, **v = atom->v;
   const int nlocal = atom->nlocal;
   auto put = [&](tagint t, double *b) {
-    const int k = atom->map(t);
-    if (k >= 0 && k < nlocal) {
+    const int k = owned_index(atom, t);
+    if (k >= 0) {
       for (int d = 0; d < 3; d++) {
         b[d] = x[k][d];
         b[3 + d] = v[k][d];
@@ -351,7 +373,7 @@ bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
   double **x = atom->x;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  double worst = 0.0;
+  double worst = -OVERLAP_TOL;
   Event mine{PAIR_EVENT, -1, -1, -1};
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
@@ -380,7 +402,7 @@ bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
     int rank;
   } in{worst, comm->me}, out;
   MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
-  if (!(out.g < 0.0)) return false;
+  if (!(out.g < -OVERLAP_TOL)) return false;
   rank = out.rank;
   memset(&c, 0, sizeof(c));
   if (comm->me == rank) {
@@ -411,6 +433,7 @@ bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
                  style_name, update->ntimestep);
     double dg;
     const double gT = gap_of(c, dg);
+    if (!(gT < 0.0)) break;    // round-off across periodic images: no crossing
     set_state(y0);
     comm->forward_comm();
     const double g0 = gap_of(c, dg);
@@ -583,8 +606,8 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
 
   double loc[2] = {0.0, 0.0};    // u.v, u.w
   auto put = [&](tagint t, double sgn) {
-    const int k = atom->map(t);
-    if (k < 0 || k >= nlocal) return;
+    const int k = owned_index(atom, t);
+    if (k < 0) return;
     const double im = ftm2v / mass_of(k);
     for (int d = 0; d < 3; d++) {
       const double u = sgn * u_i[d];
