@@ -67,6 +67,10 @@ void FixHardSphereMCVA::init()
   FixHardSphere::init();    // requests the contact list first
   pot->init(HSPotential::AUTO);
   pot->request_list(this, instance_me);    // a second list if its path needs one
+  const std::string path = pot->describe();
+  if (comm->me == 0 && path != path_told)
+    utils::logmesg(lmp, "fix {}: derivatives of V: {}\n", style_name, path);
+  path_told = path;
   pot_evals_seen = pot->nevals();
   gauss_step = 0;
 }

@@ -21,6 +21,7 @@ FixStyle(hardsphere/mcva,FixHardSphereMCVA);
 
 #include "fix_hardsphere.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -44,7 +45,8 @@ class FixHardSphereMCVA : public FixHardSphere {
 
  private:
   class HSPotential *pot;
-  int nlists_seen;    // init_list() calls since init(): ours first, then pot's
+  int nlists_seen;          // init_list() calls since init(): ours first, then pot's
+  std::string path_told;    // the derivative paths last reported
 
   int gauss_step;    // 1 while the current step has had a predicted contact
   int cancel;        // 1: the Verlet-predicted contact is replaced by an earlier one
