@@ -24,9 +24,11 @@
 using namespace LAMMPS_NS;
 
 // relative change of the stage derivatives at which the fixed-point
-// iteration stops (or stagnation below STAGE_STAG); at most STAGE_MAXIT sweeps
+// iteration stops, or at which it may stop once it no longer decreases
+// (the noise floor of the derivatives: ~1e-11 for differences in r, more for
+// differences of force evaluations); at most STAGE_MAXIT sweeps
 static constexpr double STAGE_TOL = 1.0e-14;
-static constexpr double STAGE_STAG = 1.0e-10;
+static constexpr double STAGE_STAG = 1.0e-8;
 static constexpr int STAGE_MAXIT = 100;
 // the contact time on the Gauss flow is resolved to ROOT_TTOL * dt, with at
 // most ROOT_MAXEVAL Gauss solves

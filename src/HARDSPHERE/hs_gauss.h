@@ -47,7 +47,8 @@ struct GaussOptions {
   // over the blocks, see below) drops to tol ...
   double tol = 1.0e-14;
   // ... or stops decreasing while already below stag_tol (the round-off
-  // floor of the field evaluation was reached)
+  // floor of the field evaluation was reached). It fails on NaN or inf, and
+  // as soon as the change grows while above 1 (diverging)
   double stag_tol = 1.0e-10;
   int maxit = 100;
 };
@@ -102,16 +103,20 @@ GaussStatus gauss2_stages(Field &&field, Reduce &&reduce, const double *y0, int 
     double d = 0.0;
     for (int b = 0; b < nb; ++b) {
       const double num = sums[2 * b], den = sums[2 * b + 1];
-      const double r = (num == 0.0) ? 0.0 : (den > 0.0 ? std::sqrt(num / den) : HUGE_VAL);
-      d = std::max(d, r);
+      const double r = (num == 0.0) ? 0.0 : std::sqrt(num / den);
+      if (!(r <= HUGE_VAL)) d = r;    // NaN (0/0, inf/inf): keep it, std::max would drop it
+      else if (!(d != d)) d = std::max(d, r);
     }
     st.iterations = it;
     st.residual = d;
-    if (!(d == d)) return st;    // NaN: not converged
+    if (!(d <= HUGE_VAL) || !std::isfinite(d)) return st;    // NaN or inf: not converged
     if (d <= opt.tol || (d >= prev && d <= opt.stag_tol)) {
       st.converged = true;
       return st;
     }
+    // growing while the stage derivatives change by more than their size:
+    // diverging; stop before the stage states run away
+    if (it >= 2 && d > 1.0 && d > prev) return st;
     prev = d;
   }
   return st;
