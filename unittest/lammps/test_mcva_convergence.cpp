@@ -176,3 +176,39 @@ TEST(MCVAConvergence, PendulumChainModifiedHamiltonianFourthOrder)
   EXPECT_NEAR(pH, 2.0, 0.3);
   EXPECT_NEAR(pC, 2.0, 0.4);
 }
+
+// The cost of a collision (doc/fix_hardsphere_mcva.rst quotes these lines):
+// Gauss solves per collision (root finding included), stage iterations per
+// solve (2 field evaluations each: a force evaluation plus V''v, V'''[v,v],
+// V''a from the derivative layer), force evaluations per collision.
+TEST(MCVAConvergence, PendulumChainCostPerCollision)
+{
+  std::string input = slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
+  input += "print \"MCVACOST $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) "
+           "$(f_hs[10])\"\n";
+  RunResult res = run_lmp(input, {"-var", "method", "mcva", "-var", "dt", "0.02", "-var", "T",
+                                  "500", "-var", "seed", "1", "-var", "every", "1000000"});
+  ASSERT_EQ(res.exit_code, 0) << res.output;
+  std::smatch m;
+  std::regex re(R"((?:^|\n)MCVACOST (\S+) (\S+) (\S+) (\S+) (\S+) (\S+) (\S+))");
+  ASSERT_TRUE(std::regex_search(res.output, m, re)) << res.output;
+  const double ncoll = std::stod(m[1]), nforce = std::stod(m[2]), iters = std::stod(m[3]),
+               nsub = std::stod(m[4]), maxit = std::stod(m[5]), solves = std::stod(m[6]),
+               missed = std::stod(m[7]);
+  printf("[ mcva cost ] chain dt 0.02 T 500: %g collisions, %g Gauss sub-steps, %g Gauss "
+         "solves (%.2f per collision), %g stage iterations (%.2f per solve, at most %g), %g "
+         "force evaluations (%.1f per collision), %g contacts missed by the prediction\n",
+         ncoll, nsub, solves, solves / ncoll, iters, iters / solves, maxit, nforce,
+         nforce / ncoll, missed);
+  ASSERT_GT(ncoll, 100.0);
+  // a contact is reached with a few root-finder evaluations, each a
+  // near-round-off stage solve from a warm start
+  EXPECT_GE(solves / ncoll, 2.0);
+  EXPECT_LT(solves / ncoll, 15.0);
+  EXPECT_LT(iters / solves, 10.0);
+  EXPECT_LE(maxit, 20.0);
+  // each iteration evaluates the field at both stages (one force evaluation
+  // each on this bonded system; the bond derivatives take no force evaluation)
+  EXPECT_GE(nforce, 2.0 * iters);
+  EXPECT_LT(nforce, 2.0 * iters + 4.0 * nsub + 4.0 * ncoll);
+}
