@@ -81,6 +81,34 @@ inline void radial_directional(const double x[3], const double w[3], const doubl
 }
 
 /* ----------------------------------------------------------------------
+   the same derivatives in closed form (Faa di Bruno), cheaper than the
+   series: rho rho' = r u + s w.w gives at s = 0, with u = e.w and
+   q = w.w - u^2,
+     rho' = u, rho'' = q/r, rho''' = -3 u q/r^2, rho'''' = (12 u^2 q - 3 q^2)/r^3
+   and d^k/ds^k phi(rho(s)) by the chain rule
+------------------------------------------------------------------------- */
+
+inline void radial_directional_fdb(const double x[3], const double w[3], const double phi[5],
+                                   double out[5])
+{
+  const double r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+  const double r = std::sqrt(r2);
+  if (!(r > 0.0)) {
+    for (int k = 0; k < 5; k++) out[k] = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  const double u = (x[0] * w[0] + x[1] * w[1] + x[2] * w[2]) / r;
+  const double q = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - u * u;
+  const double p1 = u, p2 = q / r, p3 = -3.0 * u * q / r2, p4 = (12.0 * u * u * q - 3.0 * q * q) / (r2 * r);
+  out[0] = phi[0];
+  out[1] = phi[1] * p1;
+  out[2] = phi[2] * p1 * p1 + phi[1] * p2;
+  out[3] = phi[3] * p1 * p1 * p1 + 3.0 * phi[2] * p1 * p2 + phi[1] * p3;
+  out[4] = phi[4] * p1 * p1 * p1 * p1 + 6.0 * phi[3] * p1 * p1 * p2 +
+      phi[2] * (3.0 * p2 * p2 + 4.0 * p1 * p3) + phi[1] * p4;
+}
+
+/* ----------------------------------------------------------------------
    closed forms with A = phi''(r), B = phi'(r)/r, e = x/r:
    grad^2 f w = A e (e.w) + B (w - e (e.w))
    a^T grad^2 f b = A (e.a)(e.b) + B (a.b - (e.a)(e.b))

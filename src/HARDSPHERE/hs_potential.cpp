@@ -28,6 +28,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <mpi.h>
 #include <vector>
 
@@ -41,6 +42,8 @@ namespace {
 constexpr double STEP_HESS = 7.4e-4;
 constexpr double STEP_THIRD = 2.0e-3;
 constexpr double STEP_D4 = 5.8e-3;
+// d4 is NaN when its error estimate exceeds this fraction of its scale
+constexpr double D4_TOL = 1.0e-3;
 
 // the energy tallies a style keeps; saved and restored around derivatives
 struct Tally {
@@ -65,7 +68,7 @@ struct HSPotential::Impl : protected Pointers {
   int pair_lj = 0;          // lj/cut: phi'', phi''', phi'''' analytic
   double **lj_eps = nullptr, **lj_sig = nullptr;
   int bond_harm = 0;        // harmonic: phi'' = 2K, phi''' = phi'''' = 0
-  double *bond_k = nullptr;
+  std::vector<double> bond_k;
   NeighList *list = nullptr;
 
   // FDIFF path: which contributions the force evaluations include
@@ -73,6 +76,7 @@ struct HSPotential::Impl : protected Pointers {
   std::vector<int> efix;    // fixes with fix_modify energy yes and a post_force()
   int fd_any = 0;
   double length = 1.0;      // length scale L of the differences
+  double err_hess = 0.0, err_third = 0.0;    // see fd_error_hess()
 
   // scratch, [nmax][3]
   int nmax = 0;
@@ -302,6 +306,7 @@ struct HSPotential::Impl : protected Pointers {
   void fd_hess_third(double **w, double wmax, double **hw, double **tw)
   {
     const int nlocal = atom->nlocal;
+    const int *mask = atom->mask;
     const double s = (tw ? STEP_THIRD : STEP_HESS) * length / wmax;
     const int ms[5] = {-2, -1, 1, 2, 0};
     const int neval = tw ? 5 : 4;
@@ -310,18 +315,43 @@ struct HSPotential::Impl : protected Pointers {
       fd_forces(fb[e]);
     }
     double **Fm2 = fb[0], **Fm1 = fb[1], **Fp1 = fb[2], **Fp2 = fb[3], **F0 = fb[4];
+    // error estimates: O(s^4) minus O(s^2) (three-point) values, the largest
+    // over the group, against the natural scales |F| w/L and |F| w^2/L^2
+    double loc[5] = {0, 0, 0, 0, 0}, all[5];
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < 3; k++) {
-        hw[i][k] += -(-Fp2[i][k] + 8.0 * Fp1[i][k] - 8.0 * Fm1[i][k] + Fm2[i][k]) / (12.0 * s);
-        if (tw)
-          tw[i][k] += -(-Fp2[i][k] + 16.0 * Fp1[i][k] - 30.0 * F0[i][k] + 16.0 * Fm1[i][k] -
-                        Fm2[i][k]) /
+        const double h4 = -(-Fp2[i][k] + 8.0 * Fp1[i][k] - 8.0 * Fm1[i][k] + Fm2[i][k]) / (12.0 * s);
+        hw[i][k] += h4;
+        double t4 = 0.0;
+        if (tw) {
+          t4 = -(-Fp2[i][k] + 16.0 * Fp1[i][k] - 30.0 * F0[i][k] + 16.0 * Fm1[i][k] - Fm2[i][k]) /
               (12.0 * s * s);
+          tw[i][k] += t4;
+        }
+        if (!(mask[i] & groupbit)) continue;
+        const double h2 = -(Fp1[i][k] - Fm1[i][k]) / (2.0 * s);
+        loc[0] = MAX(loc[0], fabs(h4 - h2));
+        loc[1] = MAX(loc[1], fabs(h4));
+        loc[4] = MAX(loc[4], MAX(fabs(Fp1[i][k]), fabs(Fm1[i][k])));
+        if (tw) {
+          const double t2 = -(Fp1[i][k] - 2.0 * F0[i][k] + Fm1[i][k]) / (s * s);
+          loc[2] = MAX(loc[2], fabs(t4 - t2));
+          loc[3] = MAX(loc[3], fabs(t4));
+        }
       }
+    MPI_Allreduce(loc, all, 5, MPI_DOUBLE, MPI_MAX, world);
+    const double sh = all[1] + all[4] * wmax / length;
+    const double st = all[3] + all[4] * wmax * wmax / (length * length);
+    if (sh > 0.0) err_hess = MAX(err_hess, all[0] / sh);
+    if (tw && st > 0.0) err_third = MAX(err_third, all[2] / st);
+    if (!std::isfinite(all[0]) || !std::isfinite(all[2])) err_hess = err_third = INFINITY;
   }
 
   // FDIFF part of V''''[w,w,w,w] from f(m s) = w.F(x0 + m s w), m = +-1..3:
-  // f''' = -V''''[w,w,w,w], seven-point O(s^4) stencil
+  // f''' = -V''''[w,w,w,w], seven-point O(s^4) stencil. NaN if V is not
+  // smooth at this step: the O(s^2) five-point value (its error ~ s^2 f^(5))
+  // or the round-off estimate differ by more than D4_TOL of the natural
+  // scale |V''''| + |V''[w,w]| wmax^2 / L^2
   double fd_d4(double **w, double wmax)
   {
     const double s = STEP_D4 * length / wmax;
@@ -338,7 +368,19 @@ struct HSPotential::Impl : protected Pointers {
     MPI_Allreduce(loc, all, 6, MPI_DOUBLE, MPI_SUM, world);
     const double fm3 = all[0], fm2 = all[1], fm1 = all[2], fp1 = all[3], fp2 = all[4],
                  fp3 = all[5];
-    return -(-fp3 + 8.0 * fp2 - 13.0 * fp1 + 13.0 * fm1 - 8.0 * fm2 + fm3) / (8.0 * s * s * s);
+    const double s3 = s * s * s;
+    const double hi = -(-fp3 + 8.0 * fp2 - 13.0 * fp1 + 13.0 * fm1 - 8.0 * fm2 + fm3) / (8.0 * s3);
+    const double lo = -(fp2 - 2.0 * fp1 + 2.0 * fm1 - fm2) / (2.0 * s3);
+    const double rnd = 10.0 * 2.2e-16 *
+        (fabs(fp3) + 8.0 * fabs(fp2) + 13.0 * fabs(fp1) + 13.0 * fabs(fm1) + 8.0 * fabs(fm2) +
+         fabs(fm3)) /
+        (8.0 * s3);
+    const double d2 = (fp1 - fm1) / (2.0 * s);
+    const double scale = fabs(hi) + fabs(d2) * wmax * wmax / (length * length);
+    if (scale > 0.0) err_third = MAX(err_third, MAX(fabs(hi - lo), rnd) / scale);
+    if (!(fabs(hi - lo) <= D4_TOL * scale) || !(rnd <= D4_TOL * scale))
+      return std::numeric_limits<double>::quiet_NaN();
+    return hi;
   }
 
   /* ---- SINGLE: radial pair and bond terms ---- */
@@ -355,13 +397,15 @@ struct HSPotential::Impl : protected Pointers {
     phi[2] = phi[3] = phi[4] = 0.0;
     if (order < 2) return;
     if (pair_lj) {
-      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor
+      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor:
+      // d^k/dr^k r^-n = (-n)(-n-1)...(-n-k+1) r^-n-k
       const double eps = lj_eps[itype][jtype], sig = lj_sig[itype][jtype];
-      const double s6 = pow(sig, 6.0);
-      double a[5], b[5];
-      HardSphere::power_derivs(4.0 * eps * s6 * s6 * fl, 12.0, r, a);
-      HardSphere::power_derivs(-4.0 * eps * s6 * fl, 6.0, r, b);
-      for (int k = 2; k <= order; k++) phi[k] = a[k] + b[k];
+      const double s2 = sig * sig / rsq, s6 = s2 * s2 * s2;
+      const double c12 = 4.0 * eps * fl * s6 * s6, c6 = -4.0 * eps * fl * s6;
+      const double rinv = 1.0 / r;
+      phi[2] = (156.0 * c12 + 42.0 * c6) * rinv * rinv;
+      if (order >= 3) phi[3] = (-2184.0 * c12 - 336.0 * c6) * rinv * rinv * rinv;
+      if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * rinv * rinv * rinv * rinv;
       return;
     }
     auto dphi = [&](double rr) {
@@ -408,7 +452,10 @@ struct HSPotential::Impl : protected Pointers {
 
     if (pair_single) {
       if (!list)
-        error->all(FLERR, "{}: no neighbor list for the single path (internal error)", owner);
+        error->all(FLERR,
+                   "{}: the single path has no neighbor list (the owner must call "
+                   "request_list() after init() and forward init_list())",
+                   owner);
       Pair *pair = force->pair;
       double **cutsq = pair->cutsq;
       const int newton_pair = force->newton_pair;
@@ -540,9 +587,25 @@ void HSPotential::init(Mode mode)
                owner, what);
   };
 
+  // the single path sums ghost terms to their owners with comm->reverse_comm()
+  // through atom->f (saved and restored with the torque); an atom style
+  // whose reverse communication carries other per-atom arrays (e.g.
+  // electron, spin) would have them summed too
+  const int size_reverse = atom->avec->size_reverse;
+  const bool reverse_ok = !force->newton || size_reverse == 3 ||
+      (size_reverse == 6 && atom->torque_flag);
+  auto no_reverse = [&](const std::string &what) {
+    error->all(FLERR,
+               "{}: path single for {} needs newton off with atom style {} (its reverse "
+               "communication carries more than forces and torques); use path auto or fdiff",
+               owner, what, atom->atom_style);
+  };
+
   Pair *pair = force->pair;
   if (pair && pair->compute_flag) {
-    const bool can = pair->single_enable && !pair->manybody_flag;
+    const bool can = pair->single_enable && !pair->manybody_flag && reverse_ok;
+    if (mode == SINGLE && pair->single_enable && !pair->manybody_flag && !reverse_ok)
+      no_reverse(std::string("pair style ") + force->pair_style);
     if (mode != FDIFF && can) {
       m.pair_single = 1;
       const std::string ps = force->pair_style;
@@ -558,12 +621,24 @@ void HSPotential::init(Mode mode)
       m.fd_pair = 1;
   }
   if (molecular && force->bond) {
-    if (mode != FDIFF) {
+    if (mode == SINGLE && !reverse_ok) no_reverse(std::string("bond style ") + force->bond_style);
+    if (mode != FDIFF && reverse_ok) {
       m.bond_single = 1;
       if (strcmp(force->bond_style, "harmonic") == 0) {
-        int dim = 0;
-        m.bond_k = (double *) force->bond->extract("k", dim);
-        m.bond_harm = m.bond_k ? 1 : 0;
+        // K (r - r0)^2: K from single() at r = r0 + d, where phi' = 2 K d
+        // and phi = K d^2 (this LAMMPS' bond harmonic has no extract());
+        // both must agree, else the r-differences are used
+        m.bond_k.assign(atom->nbondtypes + 1, 0.0);
+        m.bond_harm = 1;
+        for (int t = 1; t <= atom->nbondtypes; t++) {
+          const double r0 = force->bond->equilibrium_distance(t);
+          const double d = (r0 > 0.0) ? r0 : 1.0;
+          double fforce = 0.0;
+          const double e = force->bond->single(t, (r0 + d) * (r0 + d), 0, 0, fforce);
+          const double k1 = -fforce * (r0 + d) / (2.0 * d), k2 = e / (d * d);
+          if (!(fabs(k1 - k2) <= 1e-12 * fabs(k1))) m.bond_harm = 0;
+          m.bond_k[t] = k1;
+        }
       }
     } else
       m.fd_bond = 1;
@@ -625,6 +700,21 @@ void HSPotential::set_length(double len)
 double HSPotential::length() const
 {
   return impl->length;
+}
+
+void HSPotential::reset_fd_error()
+{
+  impl->err_hess = impl->err_third = 0.0;
+}
+
+double HSPotential::fd_error_hess() const
+{
+  return impl->err_hess;
+}
+
+double HSPotential::fd_error_third() const
+{
+  return impl->err_third;
 }
 
 void HSPotential::request_list(Fix *fix, int instance)
@@ -692,6 +782,11 @@ double HSPotential::evaluate(int eflag)
   if (modify->n_post_force) modify->post_force(0);
   nevals_ += 1.0;
   return eflag ? impl->tally_energy() : 0.0;
+}
+
+double HSPotential::tallied_energy()
+{
+  return impl->tally_energy();
 }
 
 /* ----------------------------------------------------------------------
@@ -825,7 +920,7 @@ double HSPotential::d4(double **w)
                         [](const double *del, const double *phi, const double *wij,
                            const double *) {
                           double out[5];
-                          HardSphere::radial_directional(del, wij, phi, out);
+                          HardSphere::radial_directional_fdb(del, wij, phi, out);
                           return out[4];
                         });
   }

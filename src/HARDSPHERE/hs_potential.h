@@ -56,6 +56,16 @@ class HSPotential : protected Pointers {
   void set_length(double);
   double length() const;
 
+  // relative error estimates of the FDIFF parts since the last reset:
+  // |O(s^4) - O(s^2)| difference values over the natural scales |F| w/L
+  // (V''w, d2) and |F| w^2/L^2 (V'''[w,w,.], d3, d4). Small (< 1e-5) for
+  // smooth potentials; of order one or more when a force is discontinuous
+  // within the steps (e.g. a pair crossing an unsmoothed cutoff), where the
+  // differences are meaningless. 0 without FDIFF parts.
+  void reset_fd_error();
+  double fd_error_hess() const;
+  double fd_error_third() const;
+
   // --- a full force (re-)evaluation as Verlet::run does it, at the current
   // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse
   // comm, post_force. With eflag the total potential energy V (the sum
@@ -65,6 +75,10 @@ class HSPotential : protected Pointers {
   // first.
   double evaluate(int eflag);
 
+  // V from LAMMPS' current energy tallies (the sum compute pe reports);
+  // valid on steps where LAMMPS tallied energy (update->eflag_global)
+  double tallied_energy();
+
   // --- derivatives at the current x; x, f and tallies are left unchanged
   double energy();                                 // V (global)
   void hess_vec(double **w, double **hw);          // hw = V'' w
@@ -73,7 +87,10 @@ class HSPotential : protected Pointers {
   double d2(double **w);                           // w^T V'' w (global)
   double d2_mixed(double **a, double **b);         // a^T V'' b (global)
   double d3_mixed(double **a, double **w);         // V'''[a,w,w] (global)
-  double d4(double **w);                           // V''''[w,w,w,w] (global)
+  // V''''[w,w,w,w] (global); NaN when the FDIFF differences show that V is
+  // not smooth enough at the step size (their error estimate exceeds 1e-3
+  // of the natural scale), e.g. for grid-based kspace forces
+  double d4(double **w);
 
   // number of full force evaluations done so far (for the owners' counters)
   double nevals() const { return nevals_; }

@@ -8,12 +8,14 @@
 
 #include "hs_test_main.h"
 
+#include "compute_hamiltonian_modified.h"
 #include "hs_potential.h"
 #include "hs_series.h"
 
 #include "atom.h"
 #include "force.h"
 #include "group.h"
+#include "modify.h"
 #include "pair.h"
 
 #include <algorithm>
@@ -46,9 +48,9 @@ std::string setup_text(bool angles)
     s += "create_atoms 1 single " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
         std::to_string(p[2]) + " units box\n";
   s += "pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0\n"
-       "bond_style harmonic\nbond_coeff 1 50.0 1.1\n"
-       "angle_style cosine/squared\nangle_coeff 1 5.0 110.0\n"
-       "special_bonds lj 0.0 0.5 1.0\n"
+       "bond_style harmonic\nbond_coeff 1 50.0 1.1\n";
+  if (angles) s += "angle_style cosine/squared\nangle_coeff 1 5.0 110.0\n";
+  s += "special_bonds lj 0.0 0.5 1.0\n"
        "create_bonds single/bond 1 1 2\ncreate_bonds single/bond 1 2 3\n"
        "create_bonds single/bond 1 3 4\n";
   if (angles) s += "create_bonds single/angle 1 1 2 3\ncreate_bonds single/angle 1 2 3 4\n";
@@ -170,9 +172,13 @@ void check_all(HSLammps &h, HSPotential &pot, const Molecule &m, const std::vect
   const double scale4 = std::fabs(d4r) + scale3;
   EXPECT_NEAR(d4, d4r, tol.d4 * scale4) << what << " d4";
   if (getenv("HS_TEST_VERBOSE"))
-    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e)\n",
+    printf("%s: d2 %.3e (rel err %.1e) d2_mixed %.1e d3_mixed %.3e (%.1e) d4 %.3e (%.1e); "
+           "fdiff error estimates: hess %.1e third %.1e\n",
            what, d2r, (d2 - d2r) / scale2, (d2m - d2mr) / scale2, d3mr, (d3m - d3mr) / scale3,
-           d4r, (d4 - d4r) / scale4);
+           d4r, (d4 - d4r) / scale4, pot.fd_error_hess(), pot.fd_error_third());
+  // smooth potentials: the error estimates are far below the NaN threshold
+  EXPECT_LT(pot.fd_error_hess(), 1e-4) << what;
+  EXPECT_LT(pot.fd_error_third(), 1e-4) << what;
 
   // x, f and tallies exactly as found
   EXPECT_EQ(0, memcmp(xb.data(), &atom->x[0][0], 3 * nall * sizeof(double))) << what << " x";
@@ -231,4 +237,186 @@ TEST(PotentialDerivs, EvaluateMatchesVerletForces)
   EXPECT_NEAR(v, pe, 1e-12 * std::fabs(pe));
   for (size_t k = 0; k < fb.size(); k++) EXPECT_NEAR((&atom->f[0][0])[k], fb[k], 1e-12);
   EXPECT_EQ(pot.nevals(), 1.0);
+}
+
+// ---- SINGLE and AUTO paths, through compute hamiltonian/modified's
+// HSPotential (the compute supplies the neighbor list)
+
+namespace {
+HSPotential *compute_potential(HSLammps &h, const char *id)
+{
+  auto *modify = h.lmp->modify;
+  const int ic = modify->find_compute(id);
+  if (ic < 0) return nullptr;
+  auto *c = dynamic_cast<LAMMPS_NS::ComputeHamiltonianModified *>(modify->compute[ic]);
+  return c ? c->potential() : nullptr;
+}
+
+std::string with_compute(bool angles, const std::string &args)
+{
+  std::string s = setup_text(angles);
+  s.insert(s.find("thermo_style"), "velocity all create 1.5 87287 loop geom\n"
+                                   "compute hm all hamiltonian/modified " + args + "\n");
+  s.replace(s.find("thermo_style custom step pe"), 27, "thermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]");
+  return s;
+}
+}    // namespace
+
+// pair lj/cut (analytic phi'', phi''', phi'''') and bond harmonic
+// (analytic) through single(); no angles (path single refuses them)
+TEST(PotentialDerivs, SinglePairAndBond)
+{
+  HSLammps h;
+  h.lines(with_compute(false, "path single"));
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(), "pair lj/cut: single (analytic); bond harmonic: single (analytic)");
+  Molecule m = reference(false);
+  const double n0 = pot->nevals();
+  check_all(h, *pot, m, {1, 2, 3, 4, 5}, Tol{1e-12, 1e-12, 1e-12}, "single");
+  EXPECT_EQ(pot->nevals(), n0) << "the single path needs no force evaluation";
+}
+
+TEST(PotentialDerivs, SingleGroupSubset)
+{
+  HSLammps h;
+  std::string s = with_compute(false, "path single");
+  s.insert(s.find("compute hm"), "group sub id 1 3 5\n");
+  s.replace(s.find("compute hm all"), 14, "compute hm sub");
+  h.lines(s);
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  check_all(h, *pot, reference(false), {1, 3, 5}, Tol{1e-12, 1e-12, 1e-12}, "single group");
+}
+
+// r-differences of single(): the same LJ potential as lj/expand with
+// shift 0 (no analytic derivatives for that style)
+TEST(PotentialDerivs, SingleByRadialDifferences)
+{
+  HSLammps h;
+  std::string s = with_compute(false, "path single");
+  s.replace(s.find("pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0"), 43,
+            "pair_style lj/expand 3.0\npair_coeff 1 1 1.0 1.0 0.0");
+  h.lines(s);
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(),
+            "pair lj/expand: single (differences in r); bond harmonic: single (analytic)");
+  check_all(h, *pot, reference(false), {1, 2, 3, 4, 5}, Tol{1e-11, 1e-9, 1e-7}, "single fd-r");
+}
+
+// auto: pair and bond on single, angles on fdiff, summed
+TEST(PotentialDerivs, AutoMixesPaths)
+{
+  HSLammps h;
+  h.lines(with_compute(true, "path auto"));
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(), "pair lj/cut: single (analytic); bond harmonic: single (analytic); "
+                             "angle cosine/squared: fdiff");
+  check_all(h, *pot, reference(true), {1, 2, 3, 4, 5}, Tol{1e-9, 1e-7, 1e-5}, "auto");
+}
+
+// the three paths give the same compute values, and the corrections
+// [4] = dt^2/24 H2, [5] = dt^4/720 H4 agree to the accuracy of the paths
+TEST(PotentialDerivs, ComputeValuesAgreeAcrossPaths)
+{
+  double val[3][5];
+  const char *paths[3] = {"path single", "path fdiff", "path auto"};
+  for (int p = 0; p < 3; p++) {
+    HSLammps h;
+    h.lines(with_compute(false, paths[p]));
+    // the vector as thermo output of "run 0" computed it
+    auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
+    ASSERT_NE(v, nullptr);
+    for (int k = 0; k < 5; k++) val[p][k] = v[k];
+    // cost: fdiff evaluates forces 5 + 4 + 6 times for the vector, 4 for the
+    // scalar; single none
+    HSPotential *pot = compute_potential(h, "hm");
+    ASSERT_NE(pot, nullptr);
+    const double n0 = pot->nevals();
+    EXPECT_EQ(n0, p == 1 ? 15.0 : 0.0) << paths[p];
+    auto *c = h.lmp->modify->compute[h.lmp->modify->find_compute("hm")];
+    c->compute_scalar();
+    EXPECT_EQ(pot->nevals() - n0, p == 1 ? 4.0 : 0.0) << paths[p];
+  }
+  EXPECT_GT(std::fabs(val[0][3]), 1e-6 * std::fabs(val[0][0]));
+  EXPECT_GT(std::fabs(val[0][4]), 1e-9 * std::fabs(val[0][0]));
+  EXPECT_DOUBLE_EQ(val[0][1], val[0][0] + val[0][3]);
+  EXPECT_DOUBLE_EQ(val[0][2], val[0][1] + val[0][4]);
+  for (int k = 0; k < 3; k++) {
+    EXPECT_NEAR(val[1][k], val[0][k], 1e-14 * std::fabs(val[0][k])) << k;
+    EXPECT_EQ(val[2][k], val[0][k]) << k;
+  }
+  EXPECT_NEAR(val[1][3], val[0][3], 1e-10 * std::fabs(val[0][3]));
+  EXPECT_NEAR(val[1][4], val[0][4], 1e-5 * std::fabs(val[0][4]));
+  if (getenv("HS_TEST_VERBOSE"))
+    printf("dt^2/24 H2: single %.15g fdiff %.15g; dt^4/720 H4: single %.15g fdiff %.15g\n",
+           val[0][3], val[1][3], val[0][4], val[1][4]);
+}
+
+// a pair 1e-5 inside the lj/cut cutoff, moving along its axis: the force
+// jumps within the FDIFF steps, so path fdiff reports NaN for H_[2,VV] and
+// H_[4,VV]; the single path differentiates the pair term inside the cutoff
+TEST(PotentialDerivs, FdiffFlagsCutoffDiscontinuity)
+{
+  const double rc = 2.5;
+  for (const char *path : {"fdiff", "single"}) {
+    HSLammps h;
+    h.lines(std::string("units lj\natom_style atomic\nboundary p p p\n"
+                        "region box block -10 10 -10 10 -10 10\ncreate_box 1 box\n"
+                        "create_atoms 1 single 0 0 0 units box\n"
+                        "create_atoms 1 single ") +
+            std::to_string(rc - 1e-5) + " 0 0 units box\nmass 1 1.0\n"
+            "pair_style lj/cut " + std::to_string(rc) + "\npair_coeff 1 1 1.0 1.0\n"
+            "group a id 1\ngroup b id 2\n"
+            "velocity a set 0.3 0.1 0 units box\nvelocity b set -0.3 0 0 units box\n"
+            "compute hm all hamiltonian/modified path " + path + "\n"
+            "thermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]\nrun 0\n");
+    auto *v = (double *) lammps_extract_compute(h.lmp, "hm", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR);
+    ASSERT_NE(v, nullptr);
+    EXPECT_TRUE(std::isfinite(v[0])) << path;
+    if (std::string(path) == "fdiff") {
+      EXPECT_TRUE(std::isnan(v[1])) << path << " " << v[1];
+      EXPECT_TRUE(std::isnan(v[2])) << path << " " << v[2];
+    } else {
+      EXPECT_TRUE(std::isfinite(v[1]) && std::isfinite(v[2])) << path;
+    }
+  }
+}
+
+// atom_style sphere (the hard-sphere case): reverse communication carries
+// torques too; paths agree, forces and torques are left as found
+TEST(PotentialDerivs, SphereAtomStyle)
+{
+  double val[2][5];
+  const char *paths[2] = {"single", "fdiff"};
+  for (int p = 0; p < 2; p++) {
+    HSLammps h;
+    h.lines(std::string("units lj\natom_style sphere\natom_modify map array\nboundary p p p\n"
+                        "region box block -3 3 -3 3 -3 3\ncreate_box 1 box\n"
+                        "create_atoms 1 single 2.8 0 0 units box\n"
+                        "create_atoms 1 single -2.2 0.3 0 units box\n"
+                        "create_atoms 1 single 0 2.7 0.2 units box\n"
+                        "create_atoms 1 single 0.3 -2.5 0 units box\n"
+                        "set group all diameter 1.0\nset group all mass 1.0\n"
+                        "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+                        "pair_modify shift yes\n"
+                        "velocity all create 1.0 4928459 loop geom\n"
+                        "compute hm all hamiltonian/modified path ") +
+            paths[p] + "\nthermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]\nrun 0\n");
+    auto *atom = h.lmp->atom;
+    const int nall = atom->nlocal + atom->nghost;
+    std::vector<double> fb(&atom->f[0][0], &atom->f[0][0] + 3 * nall);
+    std::vector<double> tb(&atom->torque[0][0], &atom->torque[0][0] + 3 * nall);
+    auto *c = h.lmp->modify->compute[h.lmp->modify->find_compute("hm")];
+    c->compute_vector();
+    for (int k = 0; k < 5; k++) val[p][k] = c->vector[k];
+    EXPECT_EQ(0, memcmp(fb.data(), &atom->f[0][0], fb.size() * sizeof(double))) << paths[p];
+    EXPECT_EQ(0, memcmp(tb.data(), &atom->torque[0][0], tb.size() * sizeof(double))) << paths[p];
+  }
+  // the pairs cross the periodic faces (ghosts, newton on)
+  EXPECT_GT(std::fabs(val[0][3]), 0.0);
+  EXPECT_NEAR(val[1][3], val[0][3], 1e-10 * std::fabs(val[0][3]));
+  EXPECT_NEAR(val[1][4], val[0][4], 1e-5 * std::fabs(val[0][4]));
 }

@@ -236,6 +236,21 @@ TEST(Jet, RadialDifferencesAccuracy)
   }
 }
 
+// the closed form (Faa di Bruno) against the series, random directions
+TEST(Jet, ClosedFormMatchesSeries)
+{
+  Morse mo;
+  for (int t = 0; t < 20; t++) {
+    const double x[3] = {std::sin(1.1 * t) + 0.2, std::cos(0.7 * t), 0.5 * std::sin(2.3 * t + 1)};
+    const double w[3] = {std::cos(3.1 * t), std::sin(0.3 * t + 2), std::cos(1.9 * t + 0.5)};
+    double p[5], a[5], b[5];
+    mo.derivs(std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), p);
+    radial_directional(x, w, p, a);
+    radial_directional_fdb(x, w, p, b);
+    for (int k = 0; k < 5; k++) EXPECT_NEAR(a[k], b[k], 1e-12 * (1 + std::fabs(a[k]))) << t << " " << k;
+  }
+}
+
 TEST(Jet, PowerDerivs)
 {
   double p[5];
@@ -254,4 +269,66 @@ TEST(Jet, ZeroDistanceIsNaN)
   double out[5];
   radial_directional(x, W, p, out);
   for (double o : out) EXPECT_TRUE(std::isnan(o));
+}
+
+// ---- the paper's H2 and H4 (section 3) on a 1-D anharmonic potential with
+// a mass: one velocity Verlet step changes H_[4,VV] by O(h^7) (error ratio
+// 2^7 when h is halved); with any one coefficient of H4 changed by 10% the
+// change is O(h^5) (ratio 2^5), of H2 O(h^3). Long double throughout.
+
+namespace {
+// V = q^4/4 + q^3/3 + sin q, derivatives d[k] = V^(k)(q)
+void vderivs(long double q, long double d[5])
+{
+  d[0] = q * q * q * q / 4 + q * q * q / 3 + std::sin(q);
+  d[1] = q * q * q + q * q + std::cos(q);
+  d[2] = 3 * q * q + 2 * q - std::sin(q);
+  d[3] = 6 * q + 2 - std::cos(q);
+  d[4] = 6 + std::sin(q);
+}
+
+// c: coefficients of H2 = c0 v V'' v + c1 V' M^-1 V',
+// H4 = c2 V''''vvvv + c3 g V'' g + c4 (V''v) M^-1 (V''v) + c5 V'''[g,v,v]
+long double hmod(const long double c[6], long double q, long double p, long double m,
+                 long double h)
+{
+  long double d[5];
+  vderivs(q, d);
+  const long double v = p / m, g = d[1] / m;
+  const long double H = p * p / (2 * m) + d[0];
+  const long double H2 = c[0] * v * d[2] * v + c[1] * d[1] * d[1] / m;
+  const long double H4 = c[2] * d[4] * v * v * v * v + c[3] * g * d[2] * g +
+      c[4] * (d[2] * v) * (d[2] * v) / m + c[5] * d[3] * g * v * v;
+  return H + h * h / 24 * H2 + h * h * h * h / 720 * H4;
+}
+
+long double step_change(const long double c[6], long double h)
+{
+  const long double m = 1.3L, q = 0.3L, p = 0.7L;
+  long double d[5];
+  vderivs(q, d);
+  const long double ph = p - h / 2 * d[1];
+  const long double q1 = q + h * ph / m;
+  vderivs(q1, d);
+  const long double p1 = ph - h / 2 * d[1];
+  return hmod(c, q1, p1, m, h) - hmod(c, q, p, m, h);
+}
+}    // namespace
+
+TEST(Jet, PaperModifiedHamiltonianOrders)
+{
+  const long double paper[6] = {2, -1, -1, -3, 12, 6};
+  // h = 0.02: the O(h^8) term still shifts the log-ratio by about +0.1;
+  // much smaller h meets long-double round-off (1e-19)
+  const long double h = 0.02L;
+  const double r = double(step_change(paper, h) / step_change(paper, h / 2));
+  EXPECT_NEAR(std::log2(std::fabs(r)), 7.0, 0.3) << "paper's H2, H4: O(h^7) per step";
+  for (int k = 0; k < 6; k++) {
+    long double c[6];
+    for (int i = 0; i < 6; i++) c[i] = paper[i];
+    c[k] *= 1.1L;
+    const double rk = double(step_change(c, h) / step_change(c, h / 2));
+    const double expect = (k < 2) ? 3.0 : 5.0;
+    EXPECT_NEAR(std::log2(std::fabs(rk)), expect, 0.3) << "coefficient " << k << " changed";
+  }
 }
