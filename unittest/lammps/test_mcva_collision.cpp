@@ -225,3 +225,78 @@ TEST(MCVACollision, ComputeHamiltonianModifiedAgreesWithClosedForm)
            real ? "real" : "lj", worst);
   }
 }
+
+// Contacts the Verlet prescreen misses. Sphere C (ID 2) sits on a stiff
+// zero-length spring to an anchor (K = 12.5, omega = 5, dt omega = 0.5) and
+// on a soft one to sphere D (ID 5, K = 0.5: V'' couples C and D, so
+// alpha-hat differs from the elastic alpha), and moves at unit speed towards
+// the wall yhi; the free pair A-B (IDs 3, 4) collides at t = 0.05 and makes
+// step 1 a Gauss step. The flow of H~ carries C ahead of the Verlet path
+// (dq/dt = v + dt^2/6 M^-1 V'' v) by ~1e-3 at mid-step, so with the wall a
+// little beyond C's Verlet reach:
+//  - wall gap 0.0495: Verlet predicts A-B first (t = 0.05), the Gauss flow
+//    reaches the wall before that: the sub-step stops at C's crossing and
+//    drops A-B, which is collided next (advance_to_contact's path);
+//  - wall gap 0.0931: after A-B, Verlet sees no contact in the rest of the
+//    step, the Gauss flow reaches the wall before its end (finish_step's path).
+// (The windows, found by scanning the gap: 0.0490-0.0500 and 0.0925-0.0937.)
+// Either way both contacts are collided in step 1, no sphere ends in the
+// wall, and H~ (quadratic) is kept to round-off through the whole step.
+TEST(MCVACollision, ContactsMissedByThePrescreen)
+{
+  for (const double gap : {0.0495, 0.0931}) {
+    System s;
+    s.anchor = 1;
+    s.bonds = {{1, 2, 12.5}, {2, 5, 0.5}};
+    s.setup = R"(
+units lj
+atom_style bond
+atom_modify map array
+boundary f f f
+region box block -8 8 -8 8 -8 8
+create_box 5 box bond/types 2 extra/bond/per/atom 2 extra/special/per/atom 4
+create_atoms 1 single 0 0 -0.3
+create_atoms 2 single 0 0 0
+create_atoms 3 single -5 0 0
+create_atoms 4 single -3.95 0 0
+create_atoms 5 single 0 -1.2 0
+mass * 1.0
+bond_style harmonic
+bond_coeff 1 12.5 0.0
+bond_coeff 2 0.5 0.0
+create_bonds single/bond 1 1 2
+create_bonds single/bond 2 2 5
+group mobile type 2 3 4 5
+group c id 2
+group a id 3
+group d id 5
+velocity c set 0 1 0
+velocity a set 1 0 0
+velocity d set 0.3 0 0.4
+neighbor 0.5 bin
+comm_modify cutoff 3.0
+timestep 0.1
+thermo_style custom step pe ke etotal
+)";
+    HSLammps h;
+    h.lines(s.setup);
+    h.cmd("fix hs mobile hardsphere/mcva diameter 1.0 wall yhi " + std::to_string(0.5 + gap));
+    h.cmd("run 0");
+    double scale;
+    const double H0 = htilde(h, s, scale);
+    h.cmd("run 1 pre no post no");
+    const double H1 = htilde(h, s, scale);
+    EXPECT_EQ(h.fix_vector("hs", 9), 1.0) << "gap " << gap << ": one missed contact";
+    EXPECT_EQ(h.fix_vector("hs", 1), 1.0) << "gap " << gap;    // A-B
+    EXPECT_EQ(h.fix_vector("hs", 2), 1.0) << "gap " << gap;    // C-wall
+    EXPECT_EQ(h.fix_vector("hs", 3), 1.0) << "gap " << gap;    // both in step 1
+    EXPECT_LT(std::fabs(H1 - H0) / scale, 1e-13) << "gap " << gap;
+    std::vector<double> x(15);
+    lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());
+    EXPECT_LE(x[3 + 1] + 0.5, 0.5 + gap + 1e-12) << "C is inside the wall";
+    EXPECT_GE(x[9] - x[6], 1.0 - 1e-12) << "A and B overlap";
+    h.cmd("run 2 pre no post no");    // and the run goes on without an overlap
+    printf("[ mcva missed ] wall gap %g: H~ %.17g -> %.17g, |dH~|/H over the step %.2e\n", gap,
+           H0, H1, std::fabs(H1 - H0) / scale);
+  }
+}
