@@ -221,7 +221,8 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
     error->all(FLERR,
                "Fix {}: the Gauss stage equations did not converge in {} iterations on step {} "
                "(sub-step tau {}, relative change of the stage derivatives {}): use a smaller "
-               "timestep",
+               "timestep (or smooth forces: a pair style cut off without smoothing makes the "
+               "field jump at the cutoff)",
                style_name, st.iterations, update->ntimestep, h, st.residual);
   K1p = K1;
   K2p = K2;
