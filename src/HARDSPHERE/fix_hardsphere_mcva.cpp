@@ -43,9 +43,10 @@ static constexpr int NVEC_BASE = 5;
 /* ---------------------------------------------------------------------- */
 
 FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), pot(nullptr), nlists_seen(0), gauss_step(0), cancel(0), gauss_iters(0.0),
-    gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0), pot_evals_seen(0.0), hprev(0.0),
-    f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr), fhv(nullptr), ftv(nullptr), fha(nullptr)
+    FixHardSphere(lmp, narg, arg), pot(nullptr), nlists_seen(0), gauss_step(0), cancel(0),
+    gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0),
+    pot_evals_seen(0.0), hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
+    fhv(nullptr), ftv(nullptr), fha(nullptr)
 {
   size_vector = NVEC_BASE + 5;
   pot = new HSPotential(lmp, groupbit, std::string("fix ") + style_name);
@@ -199,7 +200,8 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
     field(y0.data(), f0.data());
     f0_valid = 1;
   }
-  if (hprev > 0.0) HardSphere::gauss2_guess(f0.data(), K1p.data(), K2p.data(), hprev, h, n, K1.data(), K2.data());
+  if (hprev > 0.0)
+    HardSphere::gauss2_guess(f0.data(), K1p.data(), K2p.data(), hprev, h, n, K1.data(), K2.data());
   else {
     K1 = f0;
     K2 = f0;
@@ -212,8 +214,8 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
   opt.tol = STAGE_TOL;
   opt.stag_tol = STAGE_STAG;
   opt.maxit = STAGE_MAXIT;
-  const HardSphere::GaussStatus st =
-      HardSphere::gauss2_stages(fn, reduce, y0.data(), n, 2, h, K1.data(), K2.data(), opt, work.data());
+  const HardSphere::GaussStatus st = HardSphere::gauss2_stages(
+      fn, reduce, y0.data(), n, 2, h, K1.data(), K2.data(), opt, work.data());
   gauss_iters += st.iterations;
   gauss_solves += 1.0;
   gauss_maxit = MAX(gauss_maxit, (double) st.iterations);

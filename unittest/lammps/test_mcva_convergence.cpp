@@ -73,22 +73,25 @@ void chain_energies(const std::vector<double> &q, const std::vector<double> &v, 
 Errors run_chain(const std::string &method, double dt, double T)
 {
   Errors e;
-  std::string input = slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
+  std::string input =
+      slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
   EXPECT_FALSE(input.empty());
   const std::string dump = "mcva_conv_" + method + "_" + std::to_string(dt) + ".dump";
   const std::string anchor = "fix         dEout all ave/time 1 1 1 v_dE file ${out}\n";
   const size_t at = input.find(anchor);
   EXPECT_NE(at, std::string::npos) << "the example changed: no '" << anchor << "'";
   if (at == std::string::npos) return e;
-  input.insert(at + anchor.size(), "dump hsd all custom 1 " + dump +
-                                       " id x y z vx vy vz\ndump_modify hsd sort id format float %.17g\n");
+  input.insert(at + anchor.size(),
+               "dump hsd all custom 1 " + dump +
+                   " id x y z vx vy vz\ndump_modify hsd sort id format float %.17g\n");
   // f_hs[7]: Gauss sub-steps (hardsphere/mcva only)
   input += std::string("print \"MCVATEST $(f_hs[1]) $(f_hs[2]) $(f_hs[3]) ") +
       (method == "mcva" ? "$(f_hs[7])" : "0") + "\"\n";
   char dts[32];
   snprintf(dts, sizeof(dts), "%.17g", dt);
-  RunResult res = run_lmp(input, {"-var", "method", method, "-var", "dt", dts, "-var", "T",
-                                  std::to_string(T), "-var", "seed", "1", "-var", "every", "1000000"});
+  RunResult res =
+      run_lmp(input, {"-var", "method", method, "-var", "dt", dts, "-var", "T", std::to_string(T),
+                      "-var", "seed", "1", "-var", "every", "1000000"});
   EXPECT_EQ(res.exit_code, 0) << res.output;
   std::smatch m;
   std::regex re(R"((?:^|\n)MCVATEST ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+))");
@@ -183,7 +186,8 @@ TEST(MCVAConvergence, PendulumChainModifiedHamiltonianFourthOrder)
 // V''a from the derivative layer), force evaluations per collision.
 TEST(MCVAConvergence, PendulumChainCostPerCollision)
 {
-  std::string input = slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
+  std::string input =
+      slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
   input += "print \"MCVACOST $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) "
            "$(f_hs[10])\"\n";
   RunResult res = run_lmp(input, {"-var", "method", "mcva", "-var", "dt", "0.02", "-var", "T",

@@ -52,8 +52,10 @@ void expect_identical(const State &a, const State &b)
   ASSERT_EQ(a.x.size(), b.x.size());
   int nx = 0, nv = 0, ni = 0;
   for (size_t k = 0; k < a.x.size(); k++) {
-    if (a.x[k] != b.x[k] && nx++ < 5) ADD_FAILURE() << "x differs at " << k << ": " << a.x[k] << " vs " << b.x[k];
-    if (a.v[k] != b.v[k] && nv++ < 5) ADD_FAILURE() << "v differs at " << k << ": " << a.v[k] << " vs " << b.v[k];
+    if (a.x[k] != b.x[k] && nx++ < 5)
+      ADD_FAILURE() << "x differs at " << k << ": " << a.x[k] << " vs " << b.x[k];
+    if (a.v[k] != b.v[k] && nv++ < 5)
+      ADD_FAILURE() << "v differs at " << k << ": " << a.v[k] << " vs " << b.v[k];
   }
   for (size_t k = 0; k < a.img.size(); k++)
     if (a.img[k] != b.img[k] && ni++ < 5) ADD_FAILURE() << "image differs at " << k;
@@ -206,7 +208,8 @@ void check_two_body(Body a, Body b, double dt, int nsteps, bool sphere_style, bo
   s += sphere_style ? "atom_style sphere\n" : "atom_style atomic\n";
   s += periodic ? "boundary p p p\n" : "boundary f f f\n";
   s += "atom_modify map array\n";
-  s += "region box block " + lo + " " + hi + " " + lo + " " + hi + " " + lo + " " + hi + " units box\n";
+  s += "region box block " + lo + " " + hi + " " + lo + " " + hi + " " + lo + " " + hi +
+       " units box\n";
   s += "create_box 2 box\n";
   s += "create_atoms 1 single " + vec(a.x) + " units box\n";
   s += "create_atoms 2 single " + vec(b.x) + " units box\n";

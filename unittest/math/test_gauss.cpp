@@ -213,8 +213,8 @@ TEST(Gauss, ReportsFailureWhenIterationDiverges)
   // |h lambda| = 5 > 1: the fixed point iteration diverges
   Field f = [](const double *y, double *k) { k[0] = -50.0 * y[0]; };
   std::vector<double> y = {1.0}, K1 = {-50.0}, K2 = {-50.0}, work(3);
-  GaussStatus st =
-      gauss2_stages(f, no_reduce, y.data(), 1, 1, 0.1, K1.data(), K2.data(), GaussOptions(), work.data());
+  GaussStatus st = gauss2_stages(f, no_reduce, y.data(), 1, 1, 0.1, K1.data(), K2.data(),
+                                 GaussOptions(), work.data());
   EXPECT_FALSE(st.converged);
   EXPECT_LT(st.iterations, 10);    // stopped as soon as it grew above 1
   EXPECT_GT(st.residual, 1.0);
@@ -238,8 +238,8 @@ TEST(Gauss, StagnationAtNoiseFloorCountsAsConverged)
     k[0] = -y[0] * (1.0 + noise);
   };
   std::vector<double> y = {1.0}, K1 = {-1.0}, K2 = {-1.0}, work(3);
-  GaussStatus st =
-      gauss2_stages(f, no_reduce, y.data(), 1, 1, 0.3, K1.data(), K2.data(), GaussOptions(), work.data());
+  GaussStatus st = gauss2_stages(f, no_reduce, y.data(), 1, 1, 0.3, K1.data(), K2.data(),
+                                 GaussOptions(), work.data());
   EXPECT_TRUE(st.converged);
   EXPECT_LT(st.iterations, 40);
   EXPECT_LE(st.residual, GaussOptions().stag_tol);

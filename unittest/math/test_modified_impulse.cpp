@@ -199,8 +199,14 @@ TEST(ContactRoot, LinearAndSmoothWithExactDerivative)
   expect_contact(r, g, 0.3);
   EXPECT_LE(r.nevals, 4);
   // squared-distance gap of two spheres in free flight: |q + t v|^2 - s^2
-  Fn g2 = [](double t) { const double x = 2.0 - 3.0 * t, y = 0.5 + 0.2 * t; return x * x + y * y - 1.0; };
-  Fn d2 = [](double t) { const double x = 2.0 - 3.0 * t, y = 0.5 + 0.2 * t; return -6.0 * x + 0.4 * y; };
+  Fn g2 = [](double t) {
+    const double x = 2.0 - 3.0 * t, y = 0.5 + 0.2 * t;
+    return x * x + y * y - 1.0;
+  };
+  Fn d2 = [](double t) {
+    const double x = 2.0 - 3.0 * t, y = 0.5 + 0.2 * t;
+    return -6.0 * x + 0.4 * y;
+  };
   // roots of 9.04 t^2 - 11.8 t + 3.25 = 0
   const double A = 9.04, B = -11.8, C = 3.25;
   const double t1 = (-B - std::sqrt(B * B - 4 * A * C)) / (2 * A);
