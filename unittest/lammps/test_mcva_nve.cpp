@@ -272,3 +272,26 @@ TEST(MCVAFreeFlight, PerAtomRadiusMassAcrossPeriodicBoundary)
   check_two_body({{19.2, 5.0, 5.1}, {0.8, 0.1, 0.0}, 2.0, 0.4},
                  {{1.0, 5.2, 5.0}, {-0.6, 0.0, 0.05}, 0.7, 0.6}, 0.01, 120, true, true);
 }
+
+TEST(MCVARestart, CountersContinue)
+{
+  // the 10 counters go into the restart file and come back with the fix
+  const std::string chain =
+      std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain";
+  std::vector<double> before(10);
+  {
+    HSLammps h({"-var", "method", "mcva", "-var", "T", "20", "-var", "every", "100000"});
+    h.file(chain);
+    for (int k = 0; k < 10; k++) before[k] = h.fix_vector("hs", k);
+    h.cmd("write_restart mcva_restart.bin");
+  }
+  ASSERT_GT(before[0], 0.0);
+  ASSERT_GT(before[5], 0.0);
+  HSLammps h;
+  h.cmd("read_restart mcva_restart.bin");
+  h.cmd("fix hs chain hardsphere/mcva diameter 0.9 wall xlo 0.0");
+  h.cmd("fix 2d all enforce2d");
+  h.cmd("run 0");
+  for (int k = 0; k < 10; k++) EXPECT_EQ(h.fix_vector("hs", k), before[k]) << "entry " << k + 1;
+  std::remove("mcva_restart.bin");
+}
