@@ -219,6 +219,12 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
   gauss_iters += st.iterations;
   gauss_solves += 1.0;
   gauss_maxit = MAX(gauss_maxit, (double) st.iterations);
+  if (!st.converged && !std::isfinite(st.residual))
+    error->all(FLERR,
+               "Fix {}: the vector field of the modified Hamiltonian is not finite (NaN or inf "
+               "in the forces or their derivatives) at a Gauss stage on step {} (sub-step tau "
+               "{}, iteration {})",
+               style_name, update->ntimestep, h, st.iterations);
   if (!st.converged)
     error->all(FLERR,
                "Fix {}: the Gauss stage equations did not converge in {} iterations on step {} "

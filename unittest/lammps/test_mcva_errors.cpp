@@ -89,3 +89,19 @@ TEST(MCVAErrors, ModifiedHamiltonianNotConvexAlongNormal)
                {"not convex in the momenta", "atoms 2 and 3", "u^T A u = -0.1333",
                 "timestep 0.4"});
 }
+
+TEST(MCVAErrors, FieldNotFinite)
+{
+  // fix addforce with a force that is 0 where atom 1 starts and NaN once it
+  // moved 0.01 away (pow of a negative base: NaN without a LAMMPS error);
+  // the first Gauss stage (c1 h = 0.0106) is there
+  expect_error("units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
+               "region box block -8 8 -8 8 -8 8\ncreate_box 1 box\n"
+               "create_atoms 1 single -5 0 0\ncreate_atoms 1 single -3.95 0 0\nmass * 1.0\n"
+               "group a id 1\nvelocity a set 1 0 0\n"
+               "variable fx atom 0.0*((0.0001-(x+5.0)^2)^0.5)\n"
+               "fix nan a addforce v_fx 0.0 0.0\nneighbor 0.5 bin\ncomm_modify cutoff 3.0\n"
+               "fix hs all hardsphere/mcva diameter 1.0\ntimestep 0.1\nrun 2\n",
+               {"vector field of the modified Hamiltonian is not finite", "step 1",
+                "iteration 1"});
+}
