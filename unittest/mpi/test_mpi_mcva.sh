@@ -117,8 +117,8 @@ check_system() {
 
 echo "pendulum chain (mcva, dt 0.02, T 40) on 1, 2, 4 ranks:"
 check_system chain in.mcva_chain "2 4" -var method mcva -var dt 0.02 -var T 40 -var seed 1 -var every 1000
-echo "periodic hard-sphere + LJ fluid (108 atoms, 60 steps) on 1, 2 ranks:"
-check_system fluid in.mcva_fluid "2" -var nsteps 60
+echo "periodic hard-sphere + LJ fluid (108 atoms, 40 steps) on 1, 2 ranks:"
+check_system fluid in.mcva_fluid "2" -var nsteps 40
 
 if [ $fail -ne 0 ]; then
   echo "test_mpi_mcva: FAILED"
