@@ -163,6 +163,9 @@ struct HSPotential::Impl : protected Pointers {
       if (atom->torque_flag) memcpy(&t0[0][0], &atom->torque[0][0], n);
     }
     save_tallies();
+    // ghosts at the owners' current x for both paths (a caller may have
+    // moved owned atoms since the last forward communication)
+    comm->forward_comm();
   }
 
   // back to the saved state; fixes in efix recompute their energy at the
@@ -797,7 +800,6 @@ double HSPotential::energy()
 {
   Impl &m = *impl;
   m.save();
-  comm->forward_comm();
   m.force_clear();
   if (force->pair && force->pair->compute_flag) force->pair->compute(1, 0);
   if (atom->molecular != Atom::ATOMIC) {

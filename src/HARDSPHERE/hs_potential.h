@@ -58,8 +58,8 @@ class HSPotential : protected Pointers {
 
   // relative error estimates of the FDIFF parts since the last reset:
   // |O(s^4) - O(s^2)| difference values over the natural scales |F| w/L
-  // (V''w, d2) and |F| w^2/L^2 (V'''[w,w,.], d3, d4). Small (< 1e-5) for
-  // smooth potentials; of order one or more when a force is discontinuous
+  // (V''w, d2) and |F| w^2/L^2 (V'''[w,w,.], d3, d4). 1e-8 .. 1e-5 for the
+  // smooth potentials of the tests; of order one or more when a force is discontinuous
   // within the steps (e.g. a pair crossing an unsmoothed cutoff), where the
   // differences are meaningless. 0 without FDIFF parts.
   void reset_fd_error();
@@ -89,10 +89,12 @@ class HSPotential : protected Pointers {
   double d3_mixed(double **a, double **w);         // V'''[a,w,w] (global)
   // V''''[w,w,w,w] (global); NaN when the FDIFF differences show that V is
   // not smooth enough at the step size (their error estimate exceeds 1e-3
-  // of the natural scale), e.g. for grid-based kspace forces
+  // of the natural scale), e.g. a pair within the steps of a cutoff at which
+  // its force jumps
   double d4(double **w);
 
-  // number of full force evaluations done so far (for the owners' counters)
+  // number of force evaluations done so far: evaluate(), energy() and those
+  // of the FDIFF differences (for the owners' counters)
   double nevals() const { return nevals_; }
 
  protected:

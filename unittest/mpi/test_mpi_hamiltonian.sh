@@ -145,7 +145,7 @@ check() {
 
 for newton in on off; do
   for grp in all half; do
-    # 4 ranks (2 x 2 x 1, ghosts beyond the neighbouring subdomain) once
+    # 4 ranks once (ghost cutoff 7 reaches beyond the neighbouring subdomains)
     if [ $newton = on ] && [ $grp = all ]; then NPS="2 4"; else NPS="2"; fi
     check lj auto $newton $grp
     check gauss auto $newton $grp
