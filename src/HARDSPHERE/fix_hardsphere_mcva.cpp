@@ -442,7 +442,9 @@ bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
 {
   bool moved = false;
   Impulse c;
-  for (int it = 0; find_overlap(c, ev, rank); it++) {
+  Event cev;
+  int crank = 0;
+  for (int it = 0; find_overlap(c, cev, crank); it++) {
     if (it > 100)
       error->all(FLERR, "Fix {}: no first contact found on the Gauss flow on step {}",
                  style_name, update->ntimestep);
@@ -466,6 +468,8 @@ bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
     // g0 <= 0: touching at the start already: a contact now (tau = 0, state y0)
     T = tau;
     moved = true;
+    ev = cev;    // the contact at the (new) T
+    rank = crank;
     if (tau == 0.0) break;
   }
   return moved;
