@@ -73,6 +73,18 @@ class FixHardSphere : public Fix {
 
   std::string style_name;    // e.g. "hardsphere/cva", for messages
 
+  // force evaluations, and derivatives of V for the methods that need them
+  // (pcva, mcva, vci set derivs_needed in their constructors)
+  class HSPotential *pot;
+  int derivs_needed = 0;
+  std::string path_told;    // the derivative paths last reported
+  enum { CONTACT_LIST_ID = 0, POT_LIST_ID = 1 };
+  // all full force evaluations so far (output vector [5]; restart offset
+  // in nforce_evals)
+  double force_evals() const;
+  // a method's own counters, written to restart files after the base's
+  virtual std::vector<double *> extra_counters() { return {}; }
+
   // keywords
   double diameter;
   int diameter_flag;
@@ -128,7 +140,6 @@ class FixHardSphere : public Fix {
   int moved_half_skin();
   void request_rebuild();
   void recompute_forces();
-  void force_clear();
 
   // screening, prediction, bookkeeping
   int screen(double tleft);
