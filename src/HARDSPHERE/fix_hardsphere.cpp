@@ -36,18 +36,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 using HardSphere::Contact;
 
-static constexpr double BIG = 1.0e300;
-// |g(0)| below this (relative to sigma^2, resp. the diameter) counts as
-// touching; below minus this it is an overlap (a missed collision). Far above
-// round-off in positions, far below any physical overlap.
-static constexpr double TOUCH_TOL = 1.0e-9;
-// consecutive zero-length sub-steps without an impulse before we call it a
-// resting contact, which the impulsive hard-sphere model cannot resolve
-static constexpr int MAX_STUCK = 100;
-// collisions in one step beyond which something is wrong (a runaway loop)
-static constexpr bigint MAX_SUBSTEPS = 100000000;
-// screen() results
-static constexpr int ACTIVE = 1, FAR = 2;
 
 /* ---------------------------------------------------------------------- */
 
