@@ -243,6 +243,25 @@ void FixHardSphere::init_list(int id, NeighList *ptr)
   else list = ptr;
 }
 
+// "atoms I and J" or "atom I and wall F", for messages
+std::string FixHardSphere::contact_name(const Impulse &imp) const
+{
+  if (imp.type == WALL_EVENT) {
+    std::string name;
+    wall_name(walls[imp.wall], name);
+    return fmt::format("atom {} and wall {}", imp.itag, name);
+  }
+  return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
+}
+
+void FixHardSphere::resting_contact_error(const Impulse &imp)
+{
+  error->all(FLERR,
+             "Fix {}: {} stay in contact with no normal velocity on step {} "
+             "(a resting contact), which impulsive hard spheres cannot resolve",
+             style_name, contact_name(imp), update->ntimestep);
+}
+
 double FixHardSphere::force_evals() const
 {
   return nforce_evals + pot->nevals();
@@ -939,15 +958,7 @@ void FixHardSphere::initial_integrate(int)
       else ncoll_wall += 1.0;
       step_collided = 1;
     } else if (tau == 0.0 && ++stuck > MAX_STUCK) {
-      std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-      if (imp.type == WALL_EVENT) {
-        wall_name(walls[imp.wall], who);
-        who = fmt::format("atom {} and wall {}", imp.itag, who);
-      }
-      error->all(FLERR,
-                 "Fix {}: {} stay in contact with no normal velocity on step {} "
-                 "(a resting contact), which impulsive hard spheres cannot resolve",
-                 style_name, who, update->ntimestep);
+      resting_contact_error(imp);
     }
     if (tau > 0.0) stuck = 0;
     end_substep(tau);    // hook: after each collisional sub-step

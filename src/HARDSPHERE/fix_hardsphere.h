@@ -96,6 +96,8 @@ class FixHardSphere : public Fix {
   // all full force evaluations so far (output vector [5]; restart offset
   // in nforce_evals)
   double force_evals() const;
+  std::string contact_name(const Impulse &) const;
+  void resting_contact_error(const Impulse &);
   // a method's own counters, written to restart files after the base's
   virtual std::vector<double *> extra_counters() { return {}; }
 

@@ -323,15 +323,10 @@ int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax
       HardSphere::contact_root(phi, guess, tmax, ROOT_TTOL * dtv, ROOT_MAXEVAL);
 
   if (r.status == HardSphere::ROOT_FAILED) {
-    std::string who = fmt::format("atoms {} and {}", c.itag, c.jtag);
-    if (c.type == WALL_EVENT) {
-      wall_name(walls[c.wall], who);
-      who = fmt::format("atom {} and wall {}", c.itag, who);
-    }
     error->all(FLERR,
                "Fix {}: no contact time of {} found on the Gauss flow on step {} ({} Gauss "
                "solves, last tau {}, gap {})",
-               style_name, who, update->ntimestep, r.nevals, r.t, r.g);
+               style_name, contact_name(c), update->ntimestep, r.nevals, r.t, r.g);
   }
   if (r.status == HardSphere::ROOT_NONE) {
     if (r.t != tmax) gauss_solve(tmax, y1);    // else y1 holds the last solve, at tmax

@@ -472,15 +472,7 @@ void FixHardSpherePSA::initial_integrate(int)
       else ncoll_wall += 1.0;
       collided = true;
     } else if (++stuck > MAX_STUCK) {
-      std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-      if (imp.type == WALL_EVENT) {
-        wall_name(walls[imp.wall], who);
-        who = fmt::format("atom {} and wall {}", imp.itag, who);
-      }
-      error->all(FLERR,
-                 "Fix {}: {} stay in contact with no normal velocity on step {} "
-                 "(a resting contact), which impulsive hard spheres cannot resolve",
-                 style_name, who, update->ntimestep);
+      resting_contact_error(imp);
     }
     if (++nevents > MAX_SUBSTEPS)
       error->all(FLERR,

@@ -73,16 +73,6 @@ double FixHardSphereVCI::potential_at_new_x()
   return pot->energy();
 }
 
-std::string FixHardSphereVCI::who(const Impulse &imp) const
-{
-  if (imp.type == WALL_EVENT) {
-    std::string name;
-    wall_name(walls[imp.wall], name);
-    return fmt::format("atom {} with wall {}", imp.itag, name);
-  }
-  return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-}
-
 void FixHardSphereVCI::check_pending(double Ed)
 {
   if (!pending) return;
@@ -250,7 +240,7 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
                "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
                "step {} did not converge in {} evaluations (impulse strength in [{}, {}] "
                "times the elastic one, residual {})",
-               style_name, who(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
+               style_name, contact_name(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
   if (r.status != HardSphere::VCI_CONVERGED) {
     nnoroot += 1.0;
     if (!warned && comm->me == 0)
@@ -259,7 +249,7 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
                      "matches the discrete energy across the collision of {} on step {} ({}, "
                      "E_d- {}, E_d+ - E_d- {} for the elastic impulse); the elastic impulse is "
                      "used. Such collisions are counted in f_{}[7]; this warning is printed once",
-                     style_name, SMIN, SMAX, who(imp), update->ntimestep,
+                     style_name, SMIN, SMAX, contact_name(imp), update->ntimestep,
                      r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
                      Etarget, f1, id);
     warned = 1;

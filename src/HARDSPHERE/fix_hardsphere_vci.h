@@ -59,7 +59,6 @@ class FixHardSphereVCI : public FixHardSphere {
   double potential_at_new_x();
   double trial(const Impulse &, double s, double &scale, double &tau2);
   void check_pending(double Ed);
-  std::string who(const Impulse &) const;
 };
 
 }    // namespace LAMMPS_NS
