@@ -11,8 +11,9 @@
 # a line "BLK step <P> <T> <sphere-sphere collisions so far>" is printed:
 # <P>, <T> = pressure and temperature averaged over every step of the block
 # (the impulse virial of a step holds that step's collisions only, see
-# doc/fix_hardsphere.rst, Pressure). The production run's "Loop time" and
-# "% CPU use" give the CPU time.
+# doc/fix_hardsphere.rst, Pressure). With -var write 1 the states after
+# equilibration and production go to ${out}.equil and ${out}. The
+# production run's "Loop time" and "% CPU use" give the CPU time.
 
 variable model   index psa
 variable data    index start.data
@@ -67,6 +68,7 @@ thermo_style custom step temp press pe
 thermo      $(round(v_equil/v_dt/5))
 run         $(round(v_equil/v_dt))
 if "${model} == mie" then "unfix trs"
+if "${write} == 1" then "write_data ${out}.equil nocoeff"
 
 variable    nb0 equal round(v_prod/v_dt/v_nblocks)
 variable    nb equal v_nb0*(v_nb0>=1)+(v_nb0<1)
