@@ -6,7 +6,7 @@
 # same N and density; throughput of each in the same run. Writes
 # examples/hard-spheres/results.md (logs in scratch/, git-ignored).
 #
-#   bash examples/hard-spheres/run.sh             # full run (~10 min on 2 busy cores)
+#   bash examples/hard-spheres/run.sh             # full run (~13 min on 2 busy cores)
 #   QUICK=1 bash examples/hard-spheres/run.sh     # short smoke test
 #   FORCE=1 ...                                   # redo finished runs too
 #
