@@ -1,14 +1,16 @@
-// fix hardsphere/pcva: the keywords and errors are hardsphere/cva's (shared
-// base), named with the pcva style; a sub-step where no momentum scaling can
+// fix hardsphere/pcva: the keywords and errors are the base's (tested for
+// every method in test_shared_errors.cpp); a sub-step where no momentum scaling can
 // restore H_[2,VV] (section 3.2: alpha^2 = (H~0 - U)/K~ has no positive
 // root) is left unprojected with a one-time warning and counted in f_ID[7].
 // LAMMPS here is built without exceptions: each case runs in its own lmp
 // process (run_lmp).
 
-#include "hs_test_main.h"
+#include "hs_errors.h"
 
 #include <regex>
 #include <string>
+
+using hs_errors::expect_error;
 
 namespace {
 
@@ -21,15 +23,6 @@ std::string two_atoms(const std::string &fix)
       fix + "\nthermo_style custom step f_hs[1] f_hs[6] f_hs[7]\nrun 100\n";
 }
 
-void expect_error(const std::string &input, const std::vector<std::string> &needles)
-{
-  RunResult r = run_lmp(input);
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
-  for (const auto &n : needles)
-    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
-}
-
 }    // namespace
 
 TEST(PCVAErrors, ValidBaselineRuns)
@@ -38,20 +31,6 @@ TEST(PCVAErrors, ValidBaselineRuns)
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("WARNING: Fix hardsphere/pcva"), std::string::npos) << r.output;
-}
-
-TEST(PCVAErrors, SharedKeywordErrorsNamePCVA)
-{
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0 bogus 1"),
-               {"Unknown fix hardsphere/pcva keyword: bogus"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter -1"),
-               {"Fix hardsphere/pcva diameter must be > 0"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva"),
-               {"Fix hardsphere/pcva needs the diameter keyword"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0 wall xlo -4.0 wall xlo 3"),
-               {"Fix hardsphere/pcva wall xlo given twice"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0\nfix 2 all nve"),
-               {"both time-integrate atoms"});
 }
 
 TEST(PCVAErrors, NoRealScalingIsCountedAndWarnedOnce)
