@@ -4,7 +4,8 @@
 // to the root of |dq + t dv| = sigma, elastic impulse, free flight;
 // hs_two_body.h) to round-off, also across periodic boundaries and with
 // per-atom radius and mass. (The no-collision run that must be fix nve bit for
-// bit is in test_nve_bitwise.cpp.)
+// bit is in test_nve_bitwise.cpp, the restart of the counters in
+// test_restart_counters.cpp.)
 
 #include "hs_two_body.h"
 
@@ -29,40 +30,17 @@ void check_mcva(Body a, Body b, double dt, int nsteps, bool sphere_style, bool p
 TEST(MCVAFreeFlight, HeadOnUnequalMasses)
 {
   check_mcva({{-1.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, 1.0, 0.5},
-                 {{1.0, 0.0, 0.0}, {-0.5, 0.0, 0.0}, 3.0, 0.5}, 0.01, 150, false, false);
+             {{1.0, 0.0, 0.0}, {-0.5, 0.0, 0.0}, 3.0, 0.5}, 0.01, 150, false, false);
 }
 
 TEST(MCVAFreeFlight, Oblique3DStepNotMultiple)
 {
   check_mcva({{-1.0, 0.1, -0.2}, {0.9, 0.05, 0.1}, 1.0, 0.5},
-                 {{1.1, -0.2, 0.1}, {-0.7, 0.1, -0.05}, 1.0, 0.5}, 0.0137, 111, false, false);
+             {{1.1, -0.2, 0.1}, {-0.7, 0.1, -0.05}, 1.0, 0.5}, 0.0137, 111, false, false);
 }
 
 TEST(MCVAFreeFlight, PerAtomRadiusMassAcrossPeriodicBoundary)
 {
   check_mcva({{19.2, 5.0, 5.1}, {0.8, 0.1, 0.0}, 2.0, 0.4},
-                 {{1.0, 5.2, 5.0}, {-0.6, 0.0, 0.05}, 0.7, 0.6}, 0.01, 120, true, true);
-}
-
-TEST(MCVARestart, CountersContinue)
-{
-  // the 10 counters go into the restart file and come back with the fix
-  const std::string chain =
-      std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain";
-  std::vector<double> before(10);
-  {
-    HSLammps h({"-var", "method", "mcva", "-var", "T", "20", "-var", "every", "100000"});
-    h.file(chain);
-    for (int k = 0; k < 10; k++) before[k] = h.fix_vector("hs", k);
-    h.cmd("write_restart mcva_restart.bin");
-  }
-  ASSERT_GT(before[0], 0.0);
-  ASSERT_GT(before[5], 0.0);
-  HSLammps h;
-  h.cmd("read_restart mcva_restart.bin");
-  h.cmd("fix hs chain hardsphere/mcva diameter 0.9 wall xlo 0.0");
-  h.cmd("fix 2d all enforce2d");
-  h.cmd("run 0");
-  for (int k = 0; k < 10; k++) EXPECT_EQ(h.fix_vector("hs", k), before[k]) << "entry " << k + 1;
-  std::remove("mcva_restart.bin");
+             {{1.0, 5.2, 5.0}, {-0.6, 0.0, 0.05}, 0.7, 0.6}, 0.01, 120, true, true);
 }

@@ -77,29 +77,3 @@ print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
   ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
   EXPECT_GE(std::stod(m[1]), 1.0);
 }
-
-TEST(PCVAErrors, CountersSurviveRestart)
-{
-  // the 8 counters go to the restart file and come back with the fix ID
-  const std::string chain = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
-  RunResult a = run_lmp("include " + chain +
-                            "\nprint \"BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[8]:%.17g)\"\n"
-                            "write_restart pcva.restart\n",
-                        {"-var", "method", "pcva", "-var", "T", "20"});
-  ASSERT_EQ(a.exit_code, 0) << a.output;
-  RunResult b = run_lmp(R"IN(read_restart pcva.restart
-comm_modify cutoff 2.0
-fix hs chain hardsphere/pcva diameter 0.9 wall xlo 0.0
-fix 2d all enforce2d
-run 0
-print "BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[8]:%.17g)"
-)IN");
-  std::remove("pcva.restart");
-  ASSERT_EQ(b.exit_code, 0) << b.output;
-  std::smatch ma, mb;
-  const std::regex re(R"((?:^|\n)(BEFORE [^\n]*))");
-  ASSERT_TRUE(std::regex_search(a.output, ma, re)) << a.output;
-  ASSERT_TRUE(std::regex_search(b.output, mb, re)) << b.output;
-  EXPECT_EQ(ma[1].str(), mb[1].str());
-  EXPECT_NE(ma[1].str(), "BEFORE 0 0 0 0");
-}

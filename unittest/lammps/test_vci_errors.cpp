@@ -123,25 +123,3 @@ print "COUNTS $(f_hs[1]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(abs(ke-v_k0):%.3e)"
   EXPECT_EQ(std::stod(m[2]) + std::stod(m[3]) + std::stod(m[4]), std::stod(m[1]));
   EXPECT_LT(std::stod(m[5]), 1e-14);
 }
-
-TEST(VCIErrors, CountersSurviveRestart)
-{
-  // the 11 counters go to the restart file and come back with the fix ID
-  const std::string chain = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
-  const std::string show =
-      "print \"BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) "
-      "$(f_hs[10]) $(f_hs[11]:%.17g)\"\n";
-  RunResult a = run_lmp("include " + chain + "\n" + show + "write_restart vci.restart\n",
-                        {"-var", "method", "vci", "-var", "T", "20"});
-  ASSERT_EQ(a.exit_code, 0) << a.output;
-  RunResult b = run_lmp("read_restart vci.restart\ncomm_modify cutoff 2.0\n"
-                        "fix hs chain hardsphere/vci diameter 0.9 wall xlo 0.0\n"
-                        "fix 2d all enforce2d\nrun 0\n" + show);
-  std::remove("vci.restart");
-  ASSERT_EQ(b.exit_code, 0) << b.output;
-  std::smatch ma, mb;
-  const std::regex re(R"((?:^|\n)(BEFORE [^\n]*))");
-  ASSERT_TRUE(std::regex_search(a.output, ma, re)) << a.output;
-  ASSERT_TRUE(std::regex_search(b.output, mb, re)) << b.output;
-  EXPECT_EQ(ma[1].str(), mb[1].str());
-}
