@@ -20,10 +20,7 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_mcva "$@"
 
-cat > in.mcva_chain <<EOF
-include ${SRC}/examples/pendulum-chain/in.pendulum-chain
-print "RESULT \$(etotal:%.17g) \$(ke:%.17g) \$(f_hs[1]) \$(f_hs[2]) \$(f_hs[3]) \$(f_hs[4]) \$(f_hs[7])"
-EOF
+chain_input 7 > in.mcva_chain
 
 cat > in.mcva_fluid <<'EOF'
 units       lj

@@ -17,32 +17,8 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_pcva "$@"
 
-cat > in.pcva_chain <<EOF
-include ${SRC}/examples/pendulum-chain/in.pendulum-chain
-print "RESULT \$(etotal:%.17g) \$(ke:%.17g) \$(f_hs[1]) \$(f_hs[2]) \$(f_hs[3]) \$(f_hs[4]) \$(f_hs[6]) \$(f_hs[7])"
-EOF
-
-cat > in.pcva_fluid <<'EOF'
-units       lj
-atom_style  atomic
-lattice     fcc 0.6
-region      box block 0 5 0 5 0 5
-create_box  1 box
-create_atoms 1 box
-mass        1 1.0
-velocity    all create 1.5 87287 mom yes rot yes dist gaussian loop geom
-pair_style  lj/cut 2.5
-pair_coeff  1 1 1.0 1.0 2.5
-neighbor    0.3 bin
-neigh_modify every 1 delay 0 check yes
-fix         hs all hardsphere/pcva diameter 1.0
-timestep    0.005
-thermo_style custom step pe ke etotal press f_hs[1]
-thermo_modify norm no
-thermo      50
-run         ${nsteps}
-print "RESULT $(etotal:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[2]) $(f_hs[3]) $(f_hs[4]) $(f_hs[6]) $(f_hs[7])"
-EOF
+chain_input 6 7 > in.pcva_chain
+lj_fluid_input pcva 6 7 > in.pcva_fluid
 
 # the RESULT fields: the first two to RTOL relative, the counters exactly
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped")

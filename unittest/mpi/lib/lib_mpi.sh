@@ -17,6 +17,53 @@ mpi_init() {
   fail=0
 }
 
+# result_line <k...>: the print command of the RESULT line: etotal, ke, the
+# base counters f_hs[1..4] (collisions, pair, wall, steps with a collision),
+# then f_hs[k] for each k given
+result_line() {
+  local s='print "RESULT $(etotal:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[2]) $(f_hs[3]) $(f_hs[4])'
+  local k
+  for k in "$@"; do s+=" \$(f_hs[$k])"; done
+  echo "$s\""
+}
+
+# chain_input <k...>: the pendulum chain example (method, dt, T, seed given
+# as -var) and the RESULT line with f_hs[k] for each k given
+chain_input() {
+  echo "include ${SRC}/examples/pendulum-chain/in.pendulum-chain"
+  result_line "$@"
+}
+
+# lj_fluid_input <method> <k...>: a periodic 3-D fluid of hard spheres
+# (diameter 1) with LJ attraction (lj/cut 2.5) at density 0.6, 500 atoms,
+# ${nsteps} steps (-var nsteps), and the RESULT line. Velocities use "loop
+# geom" so the initial state does not depend on the rank count.
+lj_fluid_input() {
+  local method=$1
+  shift
+  cat <<EOF
+units       lj
+atom_style  atomic
+lattice     fcc 0.6
+region      box block 0 5 0 5 0 5
+create_box  1 box
+create_atoms 1 box
+mass        1 1.0
+velocity    all create 1.5 87287 mom yes rot yes dist gaussian loop geom
+pair_style  lj/cut 2.5
+pair_coeff  1 1 1.0 1.0 2.5
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         hs all hardsphere/$method diameter 1.0
+timestep    0.005
+thermo_style custom step pe ke etotal press f_hs[1]
+thermo_modify norm no
+thermo      50
+run         \${nsteps}
+EOF
+  result_line "$@"
+}
+
 # run <name> <np> <input> <vars...>: prints the RESULT line's fields (output
 # in out.<name>.<np>); on a failed run or no RESULT line prints NORESULT and
 # returns 1
