@@ -254,6 +254,36 @@ std::string FixHardSphere::contact_name(const Impulse &imp) const
   return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
 }
 
+// impulse virial, averaged over the step: r (x) J / (dt ftm2v); tallied by
+// the one rank that built the impulse
+void FixHardSphere::add_impulse_virial(const Impulse &imp)
+{
+  const double s = 1.0 / (dtv * force->ftm2v);
+  virial[0] += s * imp.dq[0] * imp.J[0];
+  virial[1] += s * imp.dq[1] * imp.J[1];
+  virial[2] += s * imp.dq[2] * imp.J[2];
+  virial[3] += s * imp.dq[0] * imp.J[1];
+  virial[4] += s * imp.dq[0] * imp.J[2];
+  virial[5] += s * imp.dq[1] * imp.J[2];
+}
+
+void FixHardSphere::pair_overlap_error(int i, int j, double r, double sigma)
+{
+  error->one(FLERR,
+             "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+             "on step {}: a collision was missed",
+             style_name, atom->tag[i], atom->tag[j], sigma - r, r, sigma, update->ntimestep);
+}
+
+void FixHardSphere::check_runaway(bigint ncollisions)
+{
+  if (ncollisions > MAX_SUBSTEPS)
+    error->all(FLERR,
+               "Fix {}: more than {} collisions in step {}: the timestep is far too large "
+               "for this system",
+               style_name, MAX_SUBSTEPS, update->ntimestep);
+}
+
 void FixHardSphere::resting_contact_error(const Impulse &imp)
 {
   error->all(FLERR,
@@ -650,11 +680,7 @@ double FixHardSphere::predict(double tleft, Event &ev)
     HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
     const Contact ct = HardSphere::first_contact(c, 4, tleft, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::OVERLAP) {
-      const double r = sqrt(r2);
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {}: a collision was missed",
-                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep);
+      pair_overlap_error(i, j, sqrt(r2), sigma);
     }
     if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
       tbest = ct.t;
@@ -896,7 +922,6 @@ void FixHardSphere::initial_integrate(int)
     return;
   }
 
-  const double ftm2v = force->ftm2v;
   int stuck = 0;
   bigint nsub = 0;
   bool contact_seen = false;
@@ -942,16 +967,7 @@ void FixHardSphere::initial_integrate(int)
     }
     MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, first.rank, world);
     if (imp.apply) modify_impulse(imp);    // hook: another collision operator
-    if (imp.apply && comm->me == first.rank) {
-      // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
-      const double s = 1.0 / (dtv * ftm2v);
-      virial[0] += s * imp.dq[0] * imp.J[0];
-      virial[1] += s * imp.dq[1] * imp.J[1];
-      virial[2] += s * imp.dq[2] * imp.J[2];
-      virial[3] += s * imp.dq[0] * imp.J[1];
-      virial[4] += s * imp.dq[0] * imp.J[2];
-      virial[5] += s * imp.dq[1] * imp.J[2];
-    }
+    if (imp.apply && comm->me == first.rank) add_impulse_virial(imp);
     apply_impulse(imp);
     if (imp.apply) {
       if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
@@ -965,11 +981,7 @@ void FixHardSphere::initial_integrate(int)
 
     tleft -= tau;
     screen(tleft);
-    if (++nsub > MAX_SUBSTEPS)
-      error->all(FLERR,
-                 "Fix {}: more than {} collisions in step {}: the timestep is far too large "
-                 "for this system",
-                 style_name, MAX_SUBSTEPS, update->ntimestep);
+    check_runaway(++nsub);
   }
   if (step_collided) ncoll_steps += 1.0;
   step_substeps = contact_seen;

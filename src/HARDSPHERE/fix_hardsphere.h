@@ -98,6 +98,9 @@ class FixHardSphere : public Fix {
   double force_evals() const;
   std::string contact_name(const Impulse &) const;
   void resting_contact_error(const Impulse &);
+  void pair_overlap_error(int i, int j, double r, double sigma);
+  void check_runaway(bigint ncollisions);
+  void add_impulse_virial(const Impulse &);
   // a method's own counters, written to restart files after the base's
   virtual std::vector<double *> extra_counters() { return {}; }
 

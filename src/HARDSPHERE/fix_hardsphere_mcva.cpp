@@ -472,15 +472,7 @@ void FixHardSphereMCVA::collide_missed(const Event &ev, int rank)
                "approaching: cannot resolve the contact",
                style_name, imp.itag, imp.jtag, update->ntimestep);
   modify_impulse(imp);
-  if (comm->me == rank) {
-    const double s = 1.0 / (dtv * force->ftm2v);
-    virial[0] += s * imp.dq[0] * imp.J[0];
-    virial[1] += s * imp.dq[1] * imp.J[1];
-    virial[2] += s * imp.dq[2] * imp.J[2];
-    virial[3] += s * imp.dq[0] * imp.J[1];
-    virial[4] += s * imp.dq[0] * imp.J[2];
-    virial[5] += s * imp.dq[1] * imp.J[2];
-  }
+  if (comm->me == rank) add_impulse_virial(imp);
   apply_impulse(imp);
   if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
   else ncoll_wall += 1.0;

@@ -171,11 +171,7 @@ void FixHardSpherePSA::predict_all()
         HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::NO_CONTACT) continue;
     if (ct.status == HardSphere::OVERLAP) {
-      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {}: a collision was missed",
-                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep);
+      pair_overlap_error(i, j, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
     }
     if (ai && ct.t < tfirst[i]) {
       tfirst[i] = ct.t;
@@ -247,11 +243,7 @@ void FixHardSpherePSA::predict_atom(int k)
         HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv - t0, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::NO_CONTACT) continue;
     if (ct.status == HardSphere::OVERLAP) {
-      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {}: a collision was missed",
-                 style_name, tag[k], tag[p], sigma - r, r, sigma, update->ntimestep);
+      pair_overlap_error(k, p, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
     }
     const double te = t0 + ct.t;
     if (te < tbest) {
@@ -405,7 +397,6 @@ void FixHardSpherePSA::initial_integrate(int)
   const int nall = nlocal + atom->nghost;
   const int *mask = atom->mask;
   const int nprocs = comm->nprocs, me = comm->me;
-  const double ftm2v = force->ftm2v;
 
   tloc.assign(nall, 0.0);
   ncol.assign(nall, 0);
@@ -443,17 +434,7 @@ void FixHardSpherePSA::initial_integrate(int)
     const double te = first.t;
     const FlightImpulse &fi = first;
 
-    if (me == first.rank && fi.imp.apply) {
-      // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
-      const double s = 1.0 / (dtv * ftm2v);
-      const Impulse &imp = fi.imp;
-      virial[0] += s * imp.dq[0] * imp.J[0];
-      virial[1] += s * imp.dq[1] * imp.J[1];
-      virial[2] += s * imp.dq[2] * imp.J[2];
-      virial[3] += s * imp.dq[0] * imp.J[1];
-      virial[4] += s * imp.dq[0] * imp.J[2];
-      virial[5] += s * imp.dq[1] * imp.J[2];
-    }
+    if (me == first.rank && fi.imp.apply) add_impulse_virial(fi.imp);
 
     // every rank: its copies of the atoms to the contact, the impulse, new
     // predictions for them (a grazing contact gets no impulse, but its
@@ -474,11 +455,7 @@ void FixHardSpherePSA::initial_integrate(int)
     } else if (++stuck > MAX_STUCK) {
       resting_contact_error(imp);
     }
-    if (++nevents > MAX_SUBSTEPS)
-      error->all(FLERR,
-                 "Fix {}: more than {} collisions in step {}: the timestep is far too large "
-                 "for this system",
-                 style_name, MAX_SUBSTEPS, update->ntimestep);
+    check_runaway(++nevents);
   }
 
   // free flight of every sphere to the end of the step (fix nve's drift
