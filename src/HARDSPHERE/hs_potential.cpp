@@ -690,7 +690,6 @@ void HSPotential::init(Mode mode)
     }
   if (!(len > 0.0)) len = (neighbor->skin > 0.0) ? 10.0 * neighbor->skin : 10.0;
   m.length = 0.1 * len;
-  m.list = nullptr;
   m.initialized = 1;
 }
 
