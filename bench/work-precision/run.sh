@@ -10,10 +10,11 @@
 #
 #   bash bench/work-precision/run.sh            # the full run
 #   RESUME=1 bash bench/work-precision/run.sh   # keep logs that already have a BENCH line
+#   KEEP_DATA=1 bash ...: keep the fluid start states of an earlier run
 #   PARSE_ONLY=1 bash bench/work-precision/run.sh
 #
 # Observables (see results.md for why):
-#   chain: mean kinetic energy over the first 50 time units (first block of
+#   chain: mean kinetic energy over the first 10 time units (first block of
 #          the KE block file), from the same initial state for every run;
 #   fluid: mean pressure over the T = 0.4 window from each model's own
 #          equilibrated start state; model error from T = 20 runs.
@@ -36,7 +37,8 @@ mkdir -p "$LOGS"
 cd "$HERE"   # the inputs include pair.fluid by a relative path
 
 if [ "$PARSE_ONLY" != 1 ]; then
-  [ "$RESUME" = 1 ] || rm -f "$LOGS"/* "$SCR"/*.data "$SCR"/blk.*
+  [ "$RESUME" = 1 ] || rm -f "$LOGS"/* "$SCR"/blk.*
+  [ "$RESUME" = 1 ] || [ "${KEEP_DATA:-0}" = 1 ] || rm -f "$SCR"/*.data
   {
     echo "start $(date -u '+%Y-%m-%d %H:%M UTC')"
     echo "nproc $(nproc)"
@@ -53,12 +55,12 @@ if [ "$PARSE_ONLY" != 1 ]; then
     echo "[$(date -u +%T)] $sys $m dt $dt T $T ($tag)"
     local bfile="$SCR/blk.$sys.$m.$dt.$tag"
     if [ "$sys" = chain ]; then
-      "$LMP" -in in.chain -var method "$m" -var dt "$dt" -var T "$T" -var kfile "$bfile" \
+      "$LMP" -in in.chain -var method "$m" -var dt "$dt" -var T "$T" -var kfile "$bfile" -var efile "$bfile.ends" \
         "$@" -log "$log" -screen none
     else
       local d=hs; case $m in wca|mie) d=$m ;; esac
       "$LMP" -in in.fluid -var method "$m" -var dt "$dt" -var T "$T" \
-        -var data "$SCR/fluid.$d.data" -var pfile "$bfile" "$@" -log "$log" -screen none
+        -var data "$SCR/fluid.$d.data" -var pfile "$bfile" -var efile "$bfile.ends" "$@" -log "$log" -screen none
     fi
     grep -E '^BENCH|^ERROR' "$log" | tail -1 | cut -c1-200
   }
@@ -74,7 +76,7 @@ if [ "$PARSE_ONLY" != 1 ]; then
       -var in "$SCR/fluid.hs.data" -var out "$SCR/fluid.$m.data" -log "$LOGS/make.$m" -screen none
   done
 
-  # ---- pendulum chain: T_CHAIN for every point, references over the 50-unit window
+  # ---- pendulum chain: T_CHAIN for every point, references over the 10-unit window
   CH_HS="0.1 0.05 0.02 0.01 0.005 0.002"
   CH_WCA="0.02 0.01 0.005 0.002 0.001 0.0005"
   CH_MIE="0.01 0.005 0.002 0.001 0.0005"
@@ -85,10 +87,10 @@ if [ "$PARSE_ONLY" != 1 ]; then
     dt=$(echo $CH_WCA | cut -d' ' -f$i); [ -n "$dt" ] && one chain wca $dt $T_CHAIN run
     dt=$(echo $CH_MIE | cut -d' ' -f$i); [ -n "$dt" ] && one chain mie $dt $T_CHAIN run
   done
-  one chain cva 0.0002 50 ref
-  one chain psa 0.0002 50 ref
-  one chain wca 0.00005 50 ref
-  one chain mie 0.00002 50 ref
+  one chain cva 0.00005 10 ref
+  one chain psa 0.0001 10 ref
+  one chain wca 0.00002 10 ref
+  one chain mie 0.00001 10 ref
 
   # ---- fluid: T_FLUID windows from the same start state per model
   FL_PSA="0.02 0.01 0.005 0.0025 0.001"
