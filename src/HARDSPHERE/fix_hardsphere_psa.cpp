@@ -24,13 +24,6 @@
 using namespace LAMMPS_NS;
 using HardSphere::Contact;
 
-static constexpr double BIG = 1.0e300;
-// the base's conventions (fix_hardsphere.cpp): touching tolerance relative to
-// sigma^2 (pairs) or the diameter (walls), screening flags, loop limits
-static constexpr double TOUCH_TOL = 1.0e-9;
-static constexpr int ACTIVE = 1, FAR = 2;
-static constexpr int MAX_STUCK = 100;
-static constexpr bigint MAX_EVENTS = 100000000;
 
 /* ---------------------------------------------------------------------- */
 
@@ -479,21 +472,13 @@ void FixHardSpherePSA::initial_integrate(int)
       else ncoll_wall += 1.0;
       collided = true;
     } else if (++stuck > MAX_STUCK) {
-      std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-      if (imp.type == WALL_EVENT) {
-        wall_name(walls[imp.wall], who);
-        who = fmt::format("atom {} and wall {}", imp.itag, who);
-      }
-      error->all(FLERR,
-                 "Fix {}: {} stay in contact with no normal velocity on step {} "
-                 "(a resting contact), which impulsive hard spheres cannot resolve",
-                 style_name, who, update->ntimestep);
+      resting_contact_error(imp);
     }
-    if (++nevents > MAX_EVENTS)
+    if (++nevents > MAX_SUBSTEPS)
       error->all(FLERR,
                  "Fix {}: more than {} collisions in step {}: the timestep is far too large "
                  "for this system",
-                 style_name, MAX_EVENTS, update->ntimestep);
+                 style_name, MAX_SUBSTEPS, update->ntimestep);
   }
 
   // free flight of every sphere to the end of the step (fix nve's drift

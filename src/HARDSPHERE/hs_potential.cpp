@@ -720,9 +720,9 @@ double HSPotential::fd_error_third() const
   return impl->err_third;
 }
 
-void HSPotential::request_list(Fix *fix, int instance)
+void HSPotential::request_list(Fix *fix, int instance, int id)
 {
-  if (impl->pair_single) HSCompat::request_half_list(neighbor, fix, instance, 0.0);
+  if (impl->pair_single) HSCompat::request_half_list(neighbor, fix, instance, 0.0, id);
 }
 
 void HSPotential::request_list(Compute *compute, int instance)
