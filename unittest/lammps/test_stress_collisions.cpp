@@ -9,7 +9,7 @@
 //   force on every sphere) the relative motion is the force-free one and
 //   every sphere's position gains g t^2/2 (equivalence principle); velocity
 //   Verlet and the kick-flight-kick of psa are exact for a constant force,
-//   so psa, cva and pcva must reproduce it to round-off.  vci changes the
+//   so psa, cva, pcva and mcva must reproduce it to round-off.  vci changes the
 //   impulse strength to match a discrete energy which depends on the
 //   sub-step lengths (doc/fix_hardsphere_vci.rst), an O(dt^2) change.
 // - grazing contacts: free flight and one elastic impulse at the analytic
@@ -44,7 +44,7 @@ std::string fmtd(double v)
 
 std::vector<std::string> methods()
 {
-  return {"psa", "cva", "pcva", "vci"};
+  return {"psa", "cva", "pcva", "mcva", "vci"};
 }
 
 struct State {
@@ -145,11 +145,11 @@ comm_modify cutoff 3.0
   }
   // H = 1/2 + V, V = -g sum x: conserved exactly by the flow
   EXPECT_NEAR(st.etotal, st.e0, exact ? 1e-12 : 2.0 * p.g * p.g * p.dt * p.dt);
-  // five collisions in theory.  pcva and vci (with g != 0) count extra
+  // five collisions in theory.  pcva, mcva and vci (with g != 0) count extra
   // contacts between spheres left touching with relative speeds of
   // round-off size (recorded in examples/stress/README.md); they carry no
   // momentum, as the state above shows
-  if (p.method == "pcva" || p.method == "vci") {
+  if (p.method == "pcva" || p.method == "mcva" || p.method == "vci") {
     EXPECT_GE(st.npair, 5.0);
     EXPECT_LE(st.npair, 20.0);
   } else {
