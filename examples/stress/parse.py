@@ -53,7 +53,8 @@ for prefix, skin in (("scan", "0.3 (default)"), ("scanskin", "2.0")):
     out.append("Each cell: max over the 3 seeds of max_t |H(t) - H(0)| (H(0) = 1), and in brackets "
                "the errors that stopped runs (skin: a sphere moved farther than the neighbour skin "
                "in a step; Gauss: mcva's stage iteration did not converge; lost atom: a sphere left "
-               "the box). A run is *stable* when it completes with max|dH| < 1 (100 %, the paper's "
+               "the box; runaway: more than 10^8 collisions in one step; timeout: stopped after "
+               "60 s, stuck in such a loop). A run is *stable* when it completes with max|dH| < 1 (100 %, the paper's "
                "mark for an unstable run). Limit = largest dt up to which every run (all smaller "
                "dt, all seeds) is stable.\n")
     out.append("| method | " + " | ".join(DTS) + " | limit |")
@@ -73,7 +74,8 @@ for prefix, skin in (("scan", "0.3 (default)"), ("scanskin", "2.0")):
                     e = err(r)
                     msgs.append("skin" if "skin" in e else ("lost atom" if ("missing" in e or "Lost" in e)
                                 else ("overlap" if "overlap" in e else ("Gauss" if "Gauss" in e
-                                      else e[:60]))))
+                                      else ("runaway" if "collisions in step" in e
+                                            else ("timeout" if "timeout" in e else e[:60]))))))
                     continue
                 v = float(r[6])
                 vals.append(v)

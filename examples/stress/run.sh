@@ -17,6 +17,9 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
 LMP=$ROOT/build/lmp
 NP=${NP:-2}
+TIMEOUT=${TIMEOUT:-3000}            # seconds per run (long part)
+TIMEOUT_SCAN=${TIMEOUT_SCAN:-60}    # per run of the other parts: a run stuck in a
+                                    # runaway collision loop is recorded as "timeout"
 PARTS=${PARTS:-"long scan dimer rest"}
 METHODS=${METHODS:-"psa cva pcva mcva vci"}
 SCR=$HERE/scratch
@@ -77,20 +80,28 @@ runone() {
   local name=$1 np=$2 input=$3
   shift 3
   local log=$SCR/out/$name.log
+  local tmo=$TIMEOUT_SCAN
+  case $name in long.*) tmo=$TIMEOUT ;; esac
   if [ "$np" -gt 1 ]; then
-    (cd "$HERE" && timeout 3000 mpirun -np "$np" --oversubscribe "$LMP" -in "$input" -log none -echo none "$@" > "$log" 2>&1)
+    (cd "$HERE" && timeout "$tmo" mpirun -np "$np" --oversubscribe "$LMP" -in "$input" -log none -echo none "$@" > "$log" 2>&1)
   else
-    (cd "$HERE" && timeout 3000 "$LMP" -in "$input" -log none -echo none "$@" > "$log" 2>&1)
+    (cd "$HERE" && timeout "$tmo" "$LMP" -in "$input" -log none -echo none "$@" > "$log" 2>&1)
   fi
   local rc=$?
   local res
   res=$(grep -m1 -E '^STRESS' "$log")
-  [ -z "$res" ] && res="ERROR rc=$rc $(grep -m1 -E 'ERROR' "$log" | cut -c1-300)"
+  if [ -z "$res" ]; then
+    if [ $rc -eq 124 ]; then
+      res="ERROR rc=124 timeout after ${tmo} s"
+    else
+      res="ERROR rc=$rc $(grep -m1 -E 'ERROR' "$log" | cut -c1-300)"
+    fi
+  fi
   echo "$name $res" > "$SCR/out/$name.txt"
   echo "[$(date +%T)] $name: $res"
 }
 export -f runone
-export HERE LMP SCR
+export HERE LMP SCR TIMEOUT TIMEOUT_SCAN
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2), load $(cut -d' ' -f1-3 /proc/loadavg)" | tee "$SCR/machine.txt"
 echo "$(wc -l < "$jobs") runs to do, $NP at a time"
 # long runs first (they take longest)
