@@ -1,0 +1,717 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: fix hardsphere/mcva (Bond & Leimkuhler 2007,
+   section 3.1). See fix_hardsphere_mcva.h and doc/fix_hardsphere_mcva.rst.
+------------------------------------------------------------------------- */
+
+#include "fix_hardsphere_mcva.h"
+
+#include "hs_gauss.h"
+#include "hs_modified.h"
+#include "hs_potential.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+
+// relative change of the stage derivatives at which the fixed-point
+// iteration stops, or at which it may stop once it no longer decreases
+// (the noise floor of the derivatives: ~1e-11 for differences in r, more for
+// differences of force evaluations); at most STAGE_MAXIT sweeps
+static constexpr double STAGE_TOL = 1.0e-14;
+static constexpr double STAGE_STAG = 1.0e-8;
+static constexpr int STAGE_MAXIT = 100;
+// the contact time on the Gauss flow is resolved to ROOT_TTOL * dt, with at
+// most ROOT_MAXEVAL Gauss solves
+static constexpr double ROOT_TTOL = 1.0e-13;
+static constexpr int ROOT_MAXEVAL = 100;
+// an overlap after a Gauss solve counts as a missed contact beyond this
+// (relative to sigma^2, resp. the diameter): far above the round-off of
+// gaps across periodic images, far below the base's touching tolerance
+static constexpr double OVERLAP_TOL = 1.0e-12;
+static constexpr int NVEC_BASE = 5;
+
+/* ---------------------------------------------------------------------- */
+
+FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
+    FixHardSphere(lmp, narg, arg), pot(nullptr), nlists_seen(0), gauss_step(0), cancel(0),
+    gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0),
+    pot_evals_seen(0.0), hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
+    fhv(nullptr), ftv(nullptr), fha(nullptr)
+{
+  size_vector = NVEC_BASE + 5;
+  pot = new HSPotential(lmp, groupbit, std::string("fix ") + style_name);
+}
+
+FixHardSphereMCVA::~FixHardSphereMCVA()
+{
+  delete pot;
+  memory->destroy(fv);
+  memory->destroy(fa);
+  memory->destroy(fhv);
+  memory->destroy(ftv);
+  memory->destroy(fha);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::init()
+{
+  nlists_seen = 0;
+  FixHardSphere::init();    // requests the contact list first
+  pot->init(HSPotential::AUTO);
+  pot->request_list(this, instance_me);    // a second list if its path needs one
+  const std::string path = pot->describe();
+  if (comm->me == 0 && path != path_told)
+    utils::logmesg(lmp, "fix {}: derivatives of V: {}\n", style_name, path);
+  path_told = path;
+  pot_evals_seen = pot->nevals();
+  gauss_step = 0;
+}
+
+// both requests carry id 0: LAMMPS calls back in request order
+void FixHardSphereMCVA::init_list(int id, NeighList *ptr)
+{
+  if (nlists_seen++ == 0) FixHardSphere::init_list(id, ptr);
+  else pot->init_list(ptr);
+}
+
+void FixHardSphereMCVA::sync_evals()
+{
+  nforce_evals += pot->nevals() - pot_evals_seen;
+  pot_evals_seen = pot->nevals();
+}
+
+void FixHardSphereMCVA::grow_fields()
+{
+  if (atom->nmax <= nmax_f) return;
+  nmax_f = atom->nmax;
+  memory->destroy(fv);
+  memory->destroy(fa);
+  memory->destroy(fhv);
+  memory->destroy(ftv);
+  memory->destroy(fha);
+  memory->create(fv, nmax_f, 3, "hardsphere/mcva:fv");
+  memory->create(fa, nmax_f, 3, "hardsphere/mcva:fa");
+  memory->create(fhv, nmax_f, 3, "hardsphere/mcva:fhv");
+  memory->create(ftv, nmax_f, 3, "hardsphere/mcva:ftv");
+  memory->create(fha, nmax_f, 3, "hardsphere/mcva:fha");
+}
+
+/* ----------------------------------------------------------------------
+   the state of the owned group atoms at a sub-step's start
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::save_start()
+{
+  grow_fields();
+  idx.clear();
+  const int *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (mask[i] & groupbit) idx.push_back(i);
+  const int ng = (int) idx.size(), n = 6 * ng;
+  y0.resize(n);
+  double **x = atom->x, **v = atom->v;
+  for (int k = 0; k < ng; k++)
+    for (int d = 0; d < 3; d++) {
+      y0[3 * k + d] = x[idx[k]][d];
+      y0[3 * ng + 3 * k + d] = v[idx[k]][d];
+    }
+  f0.resize(n);
+  K1.resize(n);
+  K2.resize(n);
+  K1p.resize(n);
+  K2p.resize(n);
+  y1.resize(n);
+  work.resize(3 * n);
+  hprev = 0.0;
+  f0_valid = 0;
+}
+
+void FixHardSphereMCVA::set_state(const std::vector<double> &y)
+{
+  const int ng = (int) idx.size();
+  double **x = atom->x, **v = atom->v;
+  for (int k = 0; k < ng; k++)
+    for (int d = 0; d < 3; d++) {
+      x[idx[k]][d] = y[3 * k + d];
+      v[idx[k]][d] = y[3 * ng + 3 * k + d];
+    }
+}
+
+/* ----------------------------------------------------------------------
+   the vector field of H~ = H_[2,VV] (section 3, with v = M^-1 p):
+     dq/dt = v + dt^2/6 M^-1 V'' v
+     dv/dt = M^-1 (F - dt^2/12 V'''[v,v,.] - dt^2/12 V'' a),  a = M^-1 F, F = -grad V
+   (M^-1 F in LAMMPS units is ftm2v F / m). Collective.
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::field(const double *y, double *kout)
+{
+  const int ng = (int) idx.size();
+  const double dt = update->dt, ftm2v = force->ftm2v;
+  const double c6 = dt * dt / 6.0, c12 = dt * dt / 12.0;
+  double **x = atom->x, **f = atom->f;
+  const int nlocal = atom->nlocal;
+
+  for (int i = 0; i < nlocal; i++)
+    for (int d = 0; d < 3; d++) fv[i][d] = fa[i][d] = 0.0;
+  for (int k = 0; k < ng; k++)
+    for (int d = 0; d < 3; d++) {
+      x[idx[k]][d] = y[3 * k + d];
+      fv[idx[k]][d] = y[3 * ng + 3 * k + d];
+    }
+  pot->evaluate(0);    // F at the stage positions (ghosts forwarded)
+  for (int k = 0; k < ng; k++) {
+    const int i = idx[k];
+    const double im = ftm2v / mass_of(i);
+    for (int d = 0; d < 3; d++) fa[i][d] = im * f[i][d];
+  }
+  pot->hess_third(fv, fhv, ftv);    // V'' v, V'''[v,v,.]
+  pot->hess_vec(fa, fha);           // V'' a
+  for (int k = 0; k < ng; k++) {
+    const int i = idx[k];
+    const double im = ftm2v / mass_of(i);
+    for (int d = 0; d < 3; d++) {
+      kout[3 * k + d] = fv[i][d] + c6 * im * fhv[i][d];
+      kout[3 * ng + 3 * k + d] = im * (f[i][d] - c12 * ftv[i][d] - c12 * fha[i][d]);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   one Gauss-Legendre step of length h from the saved start y0 into out;
+   stage guesses from the previous solve from y0 (if any)
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
+{
+  const int n = (int) y0.size();
+  if (!f0_valid) {
+    field(y0.data(), f0.data());
+    f0_valid = 1;
+  }
+  if (hprev > 0.0)
+    HardSphere::gauss2_guess(f0.data(), K1p.data(), K2p.data(), hprev, h, n, K1.data(), K2.data());
+  else {
+    K1 = f0;
+    K2 = f0;
+  }
+  auto fn = [this](const double *y, double *k) { field(y, k); };
+  auto reduce = [this](double *buf, int m) {
+    MPI_Allreduce(MPI_IN_PLACE, buf, m, MPI_DOUBLE, MPI_SUM, world);
+  };
+  HardSphere::GaussOptions opt;
+  opt.tol = STAGE_TOL;
+  opt.stag_tol = STAGE_STAG;
+  opt.maxit = STAGE_MAXIT;
+  const HardSphere::GaussStatus st = HardSphere::gauss2_stages(
+      fn, reduce, y0.data(), n, 2, h, K1.data(), K2.data(), opt, work.data());
+  gauss_iters += st.iterations;
+  gauss_solves += 1.0;
+  gauss_maxit = MAX(gauss_maxit, (double) st.iterations);
+  if (!st.converged && !std::isfinite(st.residual))
+    error->all(FLERR,
+               "Fix {}: the vector field of the modified Hamiltonian is not finite (NaN or inf "
+               "in the forces or their derivatives) at a Gauss stage on step {} (sub-step tau "
+               "{}, iteration {})",
+               style_name, update->ntimestep, h, st.iterations);
+  if (!st.converged)
+    error->all(FLERR,
+               "Fix {}: the Gauss stage equations did not converge in {} iterations on step {} "
+               "(sub-step tau {}, relative change of the stage derivatives {}): use a smaller "
+               "timestep (or smooth forces: a pair style cut off without smoothing makes the "
+               "field jump at the cutoff)",
+               style_name, st.iterations, update->ntimestep, h, st.residual);
+  K1p = K1;
+  K2p = K2;
+  hprev = h;
+  HardSphere::gauss2_update(y0.data(), n, h, K1.data(), K2.data(), out.data());
+}
+
+/* ----------------------------------------------------------------------
+   a Gauss sub-step of length h from the current state, no contact: x and v
+   hold the result; forces are NOT re-evaluated (callers do when needed)
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::gauss_substep(double h)
+{
+  save_start();
+  if (h > 0.0) {
+    gauss_solve(h, y1);
+    set_state(y1);
+  }
+  gauss_substeps += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   local index of the owned atom with tag t, -1 if another rank owns it
+   (a scan when the atom style keeps no map)
+------------------------------------------------------------------------- */
+
+static int owned_index(Atom *atom, tagint t)
+{
+  const int nlocal = atom->nlocal;
+  if (atom->map_style != Atom::MAP_NONE) {
+    const int k = atom->map(t);
+    return (k >= 0 && k < nlocal) ? k : -1;
+  }
+  const tagint *tag = atom->tag;
+  for (int i = 0; i < nlocal; i++)
+    if (tag[i] == t) return i;
+  return -1;
+}
+
+/* ----------------------------------------------------------------------
+   gap of the contact imp (pair: |q_i - q_j|^2 - sigma^2; wall: distance of
+   the surface from the plane) at the current x, and an estimate of its
+   time derivative from the current v (the flow's dq/dt differs from v by
+   O(dt^2), which only steers the root finder). Collective.
+------------------------------------------------------------------------- */
+
+double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
+{
+  double buf[14] = {0.0};
+  double **x = atom->x, **v = atom->v;
+  const int nlocal = atom->nlocal;
+  auto put = [&](tagint t, double *b) {
+    const int k = owned_index(atom, t);
+    if (k >= 0) {
+      for (int d = 0; d < 3; d++) {
+        b[d] = x[k][d];
+        b[3 + d] = v[k][d];
+      }
+      b[12] += radius_of(k);
+    }
+  };
+  // buf: x_i v_i | x_j v_j | r_i + r_j
+  {
+    double bi[13] = {0.0}, bj[13] = {0.0};
+    put(imp.itag, bi);
+    if (imp.type == PAIR_EVENT) put(imp.jtag, bj);
+    for (int d = 0; d < 6; d++) {
+      buf[d] = bi[d];
+      buf[6 + d] = bj[d];
+    }
+    buf[12] = bi[12] + bj[12];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, buf, 13, MPI_DOUBLE, MPI_SUM, world);
+  if (imp.type == PAIR_EVENT) {
+    double dq[3] = {buf[0] - buf[6], buf[1] - buf[7], buf[2] - buf[8]};
+    domain->minimum_image(dq);
+    const double dv[3] = {buf[3] - buf[9], buf[4] - buf[10], buf[5] - buf[11]};
+    const double sigma = buf[12];
+    dg = 2.0 * (dq[0] * dv[0] + dq[1] * dv[1] + dq[2] * dv[2]);
+    return dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2] - sigma * sigma;
+  }
+  const Wall &w = walls[imp.wall];
+  dg = (w.side < 0) ? buf[3 + w.dim] : -buf[3 + w.dim];
+  return wall_gap(w, buf, buf[12]);
+}
+
+/* ----------------------------------------------------------------------
+   the contact time of c on the Gauss flow from the saved start, within
+   (0, tmax], from a guess. Returns 1 with tau and the state (x, v, ghosts'
+   x) at the contact on the allowed side; 0 with the state at tmax if the
+   flow has no contact there. Collective.
+------------------------------------------------------------------------- */
+
+int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax, double &tau)
+{
+  // phi(t): gap on the Gauss flow after t; the solution at the latest t
+  // with a nonnegative gap is kept
+  std::vector<double> ylo(y0.size());
+  double tlo = -1.0;
+  auto phi = [&](double t, double &g, double &dg) {
+    gauss_solve(t, y1);
+    set_state(y1);
+    comm->forward_comm();
+    g = gap_of(c, dg);
+    if (g >= 0.0 && t > tlo) {
+      tlo = t;
+      ylo = y1;
+    }
+  };
+  const HardSphere::RootResult r =
+      HardSphere::contact_root(phi, guess, tmax, ROOT_TTOL * dtv, ROOT_MAXEVAL);
+
+  if (r.status == HardSphere::ROOT_FAILED) {
+    std::string who = fmt::format("atoms {} and {}", c.itag, c.jtag);
+    if (c.type == WALL_EVENT) {
+      wall_name(walls[c.wall], who);
+      who = fmt::format("atom {} and wall {}", c.itag, who);
+    }
+    error->all(FLERR,
+               "Fix {}: no contact time of {} found on the Gauss flow on step {} ({} Gauss "
+               "solves, last tau {}, gap {})",
+               style_name, who, update->ntimestep, r.nevals, r.t, r.g);
+  }
+  if (r.status == HardSphere::ROOT_NONE) {
+    if (r.t != tmax) gauss_solve(tmax, y1);    // else y1 holds the last solve, at tmax
+    set_state(y1);
+    comm->forward_comm();
+    tau = tmax;
+    return 0;
+  }
+  tau = r.t;
+  if (tau == 0.0) set_state(y0);
+  else {
+    if (tlo != tau) {
+      gauss_solve(tau, y1);
+      ylo = y1;
+    }
+    set_state(ylo);
+  }
+  comm->forward_comm();
+  return 1;
+}
+
+/* ----------------------------------------------------------------------
+   the Verlet prescreen can miss a contact of the Gauss flow (their paths
+   differ by O(tau dt^2)): the contact with the deepest overlap at the
+   current x, if any (pair gap |q_i - q_j|^2 - sigma^2 relative to sigma^2,
+   wall gap relative to the diameter). c gets its tags (all ranks), ev its
+   local indices on 'rank'. Collective.
+------------------------------------------------------------------------- */
+
+bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double worst = -OVERLAP_TOL;
+  Event mine{PAIR_EVENT, -1, -1, -1};
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    for (int w = 0; w < (int) walls.size(); w++) {
+      const double r = radius_of(i);
+      const double g = wall_gap(walls[w], x[i], r) / (2.0 * r);
+      if (g < worst) {
+        worst = g;
+        mine = {WALL_EVENT, i, -1, w};
+      }
+    }
+  }
+  const int ncand = (int) cand.size();
+  for (int k = 0; k < ncand; k += 2) {
+    const int i = cand[k], j = cand[k + 1];
+    const double sigma = radius_of(i) + radius_of(j);
+    const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+    const double g = (dx * dx + dy * dy + dz * dz - sigma * sigma) / (sigma * sigma);
+    if (g < worst) {
+      worst = g;
+      mine = {PAIR_EVENT, i, j, -1};
+    }
+  }
+  struct {
+    double g;
+    int rank;
+  } in{worst, comm->me}, out;
+  MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
+  if (!(out.g < -OVERLAP_TOL)) return false;
+  rank = out.rank;
+  memset(&c, 0, sizeof(c));
+  if (comm->me == rank) {
+    ev = mine;
+    c.type = mine.type;
+    c.itag = atom->tag[mine.i];
+    c.jtag = (mine.type == PAIR_EVENT) ? atom->tag[mine.j] : 0;
+    c.wall = mine.wall;
+  }
+  MPI_Bcast(&c, sizeof(Impulse), MPI_BYTE, rank, world);
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   with the state at the Gauss solution at T from the saved start: if some
+   contact overlaps there, its crossing is earlier: find it on the flow and
+   move there (T shrinks), until no contact overlaps at T. Returns true if
+   T moved (the contact in ev on rank). Collective.
+------------------------------------------------------------------------- */
+
+bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
+{
+  bool moved = false;
+  Impulse c;
+  Event cev;
+  int crank = 0;
+  for (int it = 0; find_overlap(c, cev, crank); it++) {
+    if (it > 100)
+      error->all(FLERR, "Fix {}: no first contact found on the Gauss flow on step {}",
+                 style_name, update->ntimestep);
+    double dg;
+    const double gT = gap_of(c, dg);
+    if (!(gT < 0.0)) break;    // round-off across periodic images: no crossing
+    set_state(y0);
+    comm->forward_comm();
+    const double g0 = gap_of(c, dg);
+    double tau = 0.0;
+    if (g0 > 0.0) {
+      // guess by linear interpolation between 0 and T; the flow has a
+      // contact in (0, T] (the gap is negative at T)
+      const double guess = T * g0 / (g0 - gT);
+      if (!solve_contact(c, guess, T, tau))
+        error->all(FLERR,
+                   "Fix {}: atoms {} and {} (or a wall) overlap after a Gauss sub-step on step {} "
+                   "but no contact time was found",
+                   style_name, c.itag, c.jtag, update->ntimestep);
+    }
+    // g0 <= 0: touching at the start already: a contact now (tau = 0, state y0)
+    T = tau;
+    moved = true;
+    ev = cev;    // the contact at the (new) T
+    rank = crank;
+    if (tau == 0.0) break;
+  }
+  return moved;
+}
+
+/* ----------------------------------------------------------------------
+   a contact found by earliest_crossing() inside finish_step(), where the
+   base loop is over: the base loop's collision, done here (rare)
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::collide_missed(const Event &ev, int rank)
+{
+  Impulse imp;
+  memset(&imp, 0, sizeof(imp));
+  if (comm->me == rank) {
+    imp.type = ev.type;
+    imp.itag = atom->tag[ev.i];
+    imp.jtag = (ev.type == PAIR_EVENT) ? atom->tag[ev.j] : 0;
+    imp.wall = ev.wall;
+    if (ev.type == PAIR_EVENT) collide_pair(ev.i, ev.j, imp);
+    else collide_wall(ev.i, walls[ev.wall], imp);
+  }
+  MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, rank, world);
+  if (!imp.apply)
+    error->all(FLERR,
+               "Fix {}: atoms {} and {} (or a wall) touch on the Gauss flow on step {} without "
+               "approaching: cannot resolve the contact",
+               style_name, imp.itag, imp.jtag, update->ntimestep);
+  modify_impulse(imp);
+  if (comm->me == rank) {
+    const double s = 1.0 / (dtv * force->ftm2v);
+    virial[0] += s * imp.dq[0] * imp.J[0];
+    virial[1] += s * imp.dq[1] * imp.J[1];
+    virial[2] += s * imp.dq[2] * imp.J[2];
+    virial[3] += s * imp.dq[0] * imp.J[1];
+    virial[4] += s * imp.dq[0] * imp.J[2];
+    virial[5] += s * imp.dq[1] * imp.J[2];
+  }
+  apply_impulse(imp);
+  if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
+  else ncoll_wall += 1.0;
+  step_collided = 1;
+  nmissed += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   hooks of the base's sub-step loop
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::begin_collisional_step()
+{
+  gauss_step = 1;
+}
+
+// no contact predicted in the rest of the step: plain Verlet if the step
+// never had one (the base's fix nve step), else Gauss sub-steps to the
+// step's end, stopping at contacts the Verlet prediction missed
+void FixHardSphereMCVA::finish_step(double tleft)
+{
+  if (!gauss_step) {
+    FixHardSphere::finish_step(tleft);
+    return;
+  }
+  cancel = 0;
+  for (int guard = 0;; guard++) {
+    gauss_substep(tleft);
+    comm->forward_comm();
+    double T = tleft;
+    Event ev;
+    int rank = 0;
+    if (!earliest_crossing(T, ev, rank)) break;
+    if (guard > 1000)
+      error->all(FLERR, "Fix {}: too many contacts missed by the prediction on step {}",
+                 style_name, update->ntimestep);
+    // at the missed contact: forces there, ghosts' v, the impulse
+    pot->evaluate(0);
+    comm_vel_acc();
+    collide_missed(ev, rank);
+    tleft -= T;
+  }
+  gauss_step = 0;
+  dtf_last = 0.0;    // the sub-step is complete: final_integrate adds nothing
+  sync_evals();
+  // LAMMPS computes the forces at the step's end itself
+}
+
+// refine the contact time predicted by Verlet (tau) on the Gauss flow of H~
+bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impulse &imp)
+{
+  cancel = 0;
+  gauss_substeps += 1.0;
+  if (tau == 0.0) return true;    // touching and approaching now: no sub-step
+
+  save_start();
+  double T;
+  const int found = solve_contact(imp, tau, tleft, T);
+  // a contact the prediction missed may come first on the Gauss flow
+  Event ev;
+  int rank;
+  if (earliest_crossing(T, ev, rank)) {
+    // stop there and drop the predicted contact: the next prediction finds
+    // the earlier one touching and approaching (CONTACT_NOW) and collides it
+    tau = T;
+    cancel = 1;
+    nmissed += 1.0;
+  } else if (!found) {
+    // the Gauss flow has no contact in the rest of the step: that was its
+    // last sub-step
+    gauss_step = 0;
+    dtf_last = 0.0;
+    sync_evals();
+    return false;
+  } else
+    tau = T;
+  pot->evaluate(0);    // forces at the contact: the next prediction needs them
+  comm_vel_acc();      // ghosts' velocities at contact, for the impulse
+  sync_evals();
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   the modified collision operator R_alpha-hat of section 3.1: p -> p +
+   alpha-hat u with u the contact normal in configuration space (q_i - q_j
+   on i, -(q_i - q_j) on j; the wall normal on one atom) and
+   alpha-hat = -2 u^T A p / u^T A u, A = M^-1 + dt^2/6 M^-1 V'' M^-1,
+   the matrix of H~'s quadratic form in p. With w = M^-1 u:
+   u^T A p = u.v + dt^2/6 w^T V'' v,  u^T A u = u.w + dt^2/6 w^T V'' w.
+   Collective; imp.J (momentum added to i, -J to j) replaces the elastic one.
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::modify_impulse(Impulse &imp)
+{
+  if (cancel) {    // the sub-step stopped at an earlier contact instead
+    imp.apply = 0;
+    cancel = 0;
+    return;
+  }
+  grow_fields();
+  const double ftm2v = force->ftm2v;
+  const double dt = update->dt;
+  double **v = atom->v;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    for (int d = 0; d < 3; d++) fv[i][d] = 0.0;
+
+  // u on the owned copies of the contact's atoms; w = M^-1 u in fv
+  double u_i[3] = {0.0, 0.0, 0.0};
+  const int dim = (imp.type == WALL_EVENT) ? walls[imp.wall].dim : -1;
+  if (imp.type == PAIR_EVENT)
+    for (int d = 0; d < 3; d++) u_i[d] = imp.dq[d];
+  else
+    u_i[dim] = imp.dq[dim];
+
+  double loc[2] = {0.0, 0.0};    // u.v, u.w
+  auto put = [&](tagint t, double sgn) {
+    const int k = owned_index(atom, t);
+    if (k < 0) return;
+    const double im = ftm2v / mass_of(k);
+    for (int d = 0; d < 3; d++) {
+      const double u = sgn * u_i[d];
+      fv[k][d] = im * u;
+      loc[0] += u * v[k][d];
+      loc[1] += u * fv[k][d];
+    }
+  };
+  put(imp.itag, 1.0);
+  if (imp.type == PAIR_EVENT) put(imp.jtag, -1.0);
+
+  pot->hess_vec(fv, fhv);    // V'' w
+  const int *mask = atom->mask;
+  double sums[4] = {loc[0], loc[1], 0.0, 0.0};
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit)
+      for (int d = 0; d < 3; d++) {
+        sums[2] += fhv[i][d] * v[i][d];     // w^T V'' v
+        sums[3] += fhv[i][d] * fv[i][d];    // w^T V'' w
+      }
+  MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, world);
+  sync_evals();
+
+  double alpha = 0.0;
+  if (!HardSphere::modified_alpha(sums[0], sums[1], sums[2], sums[3], dt * dt / 6.0, alpha))
+    error->all(FLERR,
+               "Fix {}: on step {} the modified Hamiltonian is not convex in the momenta along "
+               "the contact normal of atoms {} and {} (u^T A u = {} <= 0): the timestep {} is "
+               "too large for the curvature of the potential",
+               style_name, update->ntimestep, imp.itag, imp.jtag, sums[1] + dt * dt / 6.0 * sums[3],
+               dt);
+
+  // v_i += alpha w_i = alpha ftm2v u_i / m_i, i.e. J = alpha ftm2v u_i
+  for (int d = 0; d < 3; d++) imp.J[d] = alpha * ftm2v * u_i[d];
+  imp.reflect = 0;
+}
+
+/* ----------------------------------------------------------------------
+   output: the base's 5 entries, then total Gauss stage iterations, Gauss
+   sub-steps, the most iterations in one solve, Gauss solves, contacts the
+   Verlet prediction missed (found on the Gauss flow)
+------------------------------------------------------------------------- */
+
+double FixHardSphereMCVA::compute_vector(int n)
+{
+  if (n < NVEC_BASE) return FixHardSphere::compute_vector(n);
+  switch (n - NVEC_BASE) {
+    case 0:
+      return gauss_iters;
+    case 1:
+      return gauss_substeps;
+    case 2:
+      return gauss_maxit;
+    case 3:
+      return gauss_solves;
+    case 4:
+      return nmissed;
+  }
+  return 0.0;
+}
+
+void FixHardSphereMCVA::write_restart(FILE *fp)
+{
+  if (comm->me == 0) {
+    double list_[9] = {ncoll_pair,  ncoll_wall,     ncoll_steps, nforce_evals, gauss_iters,
+                       gauss_substeps, gauss_maxit, gauss_solves, nmissed};
+    int size = sizeof(list_);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list_, sizeof(double), 9, fp);
+  }
+}
+
+void FixHardSphereMCVA::restart(char *buf)
+{
+  FixHardSphere::restart(buf);
+  const double *list_ = (const double *) buf;
+  gauss_iters = list_[4];
+  gauss_substeps = list_[5];
+  gauss_maxit = list_[6];
+  gauss_solves = list_[7];
+  nmissed = list_[8];
+}
+
+double FixHardSphereMCVA::memory_usage()
+{
+  return FixHardSphere::memory_usage() + (double) nmax_f * 15 * sizeof(double) +
+      (double) (y0.capacity() * 9 + work.capacity()) * sizeof(double);
+}

@@ -1,0 +1,85 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: fix hardsphere/mcva, the modified collision Verlet
+   algorithm (Bond & Leimkuhler 2007, section 3.1).
+
+   A step with no (Verlet-)predicted contact is plain Verlet (the base's
+   fix nve step). In a step with a predicted contact every sub-step is the
+   2-stage Gauss-Legendre method on the flow of the modified Hamiltonian
+   H~ = H_[2,VV] = 1/2 p M^-1 p + V + dt^2/12 v^T V'' v - dt^2/24 grad V^T M^-1 grad V,
+   the contact time is refined on that flow, and the impulse conserves H~
+   (alpha-hat). See doc/fix_hardsphere_mcva.rst.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(hardsphere/mcva,FixHardSphereMCVA);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_HARDSPHERE_MCVA_H
+#define LMP_FIX_HARDSPHERE_MCVA_H
+
+#include "fix_hardsphere.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixHardSphereMCVA : public FixHardSphere {
+ public:
+  FixHardSphereMCVA(class LAMMPS *, int, char **);
+  ~FixHardSphereMCVA() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  double memory_usage() override;
+
+ protected:
+  void finish_step(double tleft) override;
+  bool advance_to_contact(double &tau, double tleft, const Impulse &) override;
+  void begin_collisional_step() override;
+  void modify_impulse(Impulse &) override;
+
+ private:
+  class HSPotential *pot;
+  int nlists_seen;          // init_list() calls since init(): ours first, then pot's
+  std::string path_told;    // the derivative paths last reported
+
+  int gauss_step;    // 1 while the current step has had a predicted contact
+  int cancel;        // 1: the Verlet-predicted contact is replaced by an earlier one
+  // counters (global, identical on all ranks)
+  double gauss_iters, gauss_substeps, gauss_maxit, gauss_solves;
+  double nmissed;    // contacts of the Gauss flow the Verlet prediction missed
+  double pot_evals_seen;    // pot->nevals() already added to nforce_evals
+
+  // the state of a Gauss sub-step: owned group atoms idx[k], y = (q, v)
+  std::vector<int> idx;
+  std::vector<double> y0, f0, K1, K2, K1p, K2p, work, y1;
+  double hprev;    // step of the last solve from y0 (0: none, guess from f0)
+  int f0_valid;
+
+  // per-atom fields [nmax][3] for the derivative layer
+  int nmax_f;
+  double **fv, **fa, **fhv, **ftv, **fha;
+
+  void grow_fields();
+  void save_start();
+  void set_state(const std::vector<double> &y);
+  void field(const double *y, double *k);
+  void gauss_solve(double h, std::vector<double> &out);
+  void gauss_substep(double h);
+  double gap_of(const Impulse &, double &dg);
+  int solve_contact(const Impulse &, double guess, double tmax, double &tau);
+  bool find_overlap(Impulse &, Event &, int &rank);
+  bool earliest_crossing(double &T, Event &, int &rank);
+  void collide_missed(const Event &, int rank);
+  void sync_evals();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

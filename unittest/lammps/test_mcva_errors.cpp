@@ -1,0 +1,107 @@
+// fix hardsphere/mcva: invalid set-ups end in an ERROR naming the problem
+// (LAMMPS here exits on errors: each case runs in its own lmp process).
+// The keywords and set-up checks are the base class's (as hardsphere/cva,
+// tested in test_cva_errors.cpp); here: that they speak of hardsphere/mcva,
+// and the method's own failures.
+
+#include "hs_test_main.h"
+
+#include <string>
+
+namespace {
+
+void expect_error(const std::string &input, const std::vector<std::string> &needles)
+{
+  RunResult r = run_lmp(input);
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
+  for (const auto &n : needles)
+    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
+}
+
+std::string two_atoms(const std::string &fix)
+{
+  return "units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
+         "region box block -5 5 -5 5 -5 5 units box\ncreate_box 1 box\n"
+         "create_atoms 1 single -1 0 0 units box\ncreate_atoms 1 single 1 0 0 units box\n"
+         "mass 1 1.0\ncomm_modify cutoff 3.0\n" +
+      fix + "\nrun 10\n";
+}
+
+// sphere 2 sits on a harmonic bond to a fixed anchor (atom 1, not
+// integrated); sphere 3 comes in along x and touches sphere 2 after t0
+std::string anchored_pair(const std::string &bond_coeff, const std::string &x3,
+                          const std::string &anchor_y, const std::string &dt,
+                          const std::string &skin)
+{
+  return "units lj\natom_style bond\natom_modify map array\nboundary f f f\n"
+         "region box block -10 10 -10 10 -10 10\n"
+         "create_box 2 box bond/types 1 extra/bond/per/atom 2 extra/special/per/atom 4\n"
+         "create_atoms 1 single 0 " + anchor_y + " 0\ncreate_atoms 2 single 0 0 0\n"
+         "create_atoms 2 single " + x3 + " 0 0\nmass * 1.0\nbond_style harmonic\n"
+         "bond_coeff 1 " + bond_coeff + "\ncreate_bonds single/bond 1 1 2\n"
+         "group mobile type 2\ngroup j id 3\nvelocity j set -1 0 0\n"
+         "neighbor " + skin + " bin\ncomm_modify cutoff 5.0\n"
+         "fix hs mobile hardsphere/mcva diameter 1.0\ntimestep " + dt + "\nrun 2\n";
+}
+
+}    // namespace
+
+TEST(MCVAErrors, ValidBaselineRuns)
+{
+  RunResult r = run_lmp(two_atoms("fix hs all hardsphere/mcva diameter 1.0 wall xlo -4"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+  // the stiff anchored pair at a sane timestep runs too (the cases below
+  // differ only in the timestep or the bond)
+  r = run_lmp(anchored_pair("1250 1.0", "1.05", "-1", "0.01", "1.0"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_lmp(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.1", "2.0"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST(MCVAErrors, BaseKeywordErrorsNameTheStyle)
+{
+  expect_error(two_atoms("fix hs all hardsphere/mcva diameter 1.0 bogus 3"),
+               {"Unknown fix hardsphere/mcva keyword", "bogus"});
+  expect_error(two_atoms("fix hs all hardsphere/mcva"), {"hardsphere/mcva", "diameter"});
+  expect_error(two_atoms("fix hs all hardsphere/mcva diameter 1.0 wall xlo -4 wall xlo -3"),
+               {"wall xlo given twice"});
+}
+
+TEST(MCVAErrors, GaussStagesDoNotConverge)
+{
+  // omega = sqrt(2K/m) = 50, contact at tau = 0.05: h omega = 2.5 is far
+  // beyond the fixed-point iteration's reach (|h omega| < 1/0.289 for Gauss
+  // on a linear oscillator, less with H~'s dt^2 terms)
+  expect_error(anchored_pair("1250 1.0", "1.05", "-1", "0.1", "1.0"),
+               {"Gauss stage equations did not converge", "step 1", "sub-step tau 0.0",
+                "relative change of the stage derivatives", "smaller timestep"});
+}
+
+TEST(MCVAErrors, ModifiedHamiltonianNotConvexAlongNormal)
+{
+  // the anchor bond (K = 10, r0 = 0.5) is compressed to r = 0.1 along y: its
+  // curvature along x (the contact normal) is 2K (r - r0)/r = -80. With unit
+  // masses u = (e_x, -e_x), w = u: u^T A u = u.w + dt^2/6 w^T V'' w
+  // = 2 - 0.16/6 * 80 = -0.1333 for dt = 0.4 (0.8 > 0 for dt = 0.3)
+  expect_error(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.4", "2.0"),
+               {"not convex in the momenta", "atoms 2 and 3", "u^T A u = -0.1333",
+                "timestep 0.4"});
+}
+
+TEST(MCVAErrors, FieldNotFinite)
+{
+  // fix addforce with a force that is 0 where atom 1 starts and NaN once it
+  // moved 0.01 away (pow of a negative base: NaN without a LAMMPS error);
+  // the first Gauss stage (c1 h = 0.0106) is there
+  expect_error("units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
+               "region box block -8 8 -8 8 -8 8\ncreate_box 1 box\n"
+               "create_atoms 1 single -5 0 0\ncreate_atoms 1 single -3.95 0 0\nmass * 1.0\n"
+               "group a id 1\nvelocity a set 1 0 0\n"
+               "variable fx atom 0.0*((0.0001-(x+5.0)^2)^0.5)\n"
+               "fix nan a addforce v_fx 0.0 0.0\nneighbor 0.5 bin\ncomm_modify cutoff 3.0\n"
+               "fix hs all hardsphere/mcva diameter 1.0\ntimestep 0.1\nrun 2\n",
+               {"vector field of the modified Hamiltonian is not finite", "step 1",
+                "iteration 1"});
+}
