@@ -14,6 +14,9 @@ kind=$1 method=$2 dt=$3 seed=$4 variant=${5:-base}
 name="${kind}_${method}_${dt}_${seed}"
 [ "$kind" = count ] && name="${kind}_${variant}_${method}_${dt}_${seed}"
 [ -e "$S/runs/$name.done" ] && exit 0
+# another run_figures.sh may be running this very run
+if [ -e "$S/runs/$name.running" ] && kill -0 "$(cat "$S/runs/$name.running")" 2> /dev/null; then exit 0; fi
+echo $$ > "$S/runs/$name.running"
 # neighbor skin: a sphere may move skin/2 per step at speed <= 2 (H <= 2)
 skin=$(awk -v d="$dt" 'BEGIN { s = 6 * d; if (s < 0.3) s = 0.3; print s }')
 input="$HERE/in.pendulum-chain"
@@ -41,4 +44,5 @@ t0=$(date +%s.%N)
 rc=$?
 t1=$(date +%s.%N)
 echo "$rc $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')" > "$S/runs/$name.done"
+rm -f "$S/runs/$name.running"
 echo "$name rc $rc $(cut -d' ' -f2 "$S/runs/$name.done") s"
