@@ -7,6 +7,7 @@
 
 #include "hs_compat.h"
 #include "hs_contact.h"
+#include "hs_potential.h"
 
 #include "angle.h"
 #include "atom.h"
@@ -35,18 +36,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 using HardSphere::Contact;
 
-static constexpr double BIG = 1.0e300;
-// |g(0)| below this (relative to sigma^2, resp. the diameter) counts as
-// touching; below minus this it is an overlap (a missed collision). Far above
-// round-off in positions, far below any physical overlap.
-static constexpr double TOUCH_TOL = 1.0e-9;
-// consecutive zero-length sub-steps without an impulse before we call it a
-// resting contact, which the impulsive hard-sphere model cannot resolve
-static constexpr int MAX_STUCK = 100;
-// collisions in one step beyond which something is wrong (a runaway loop)
-static constexpr bigint MAX_SUBSTEPS = 100000000;
-// screen() results
-static constexpr int ACTIVE = 1, FAR = 2;
 
 /* ---------------------------------------------------------------------- */
 
@@ -55,6 +44,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
     nmax_hs(0), xref(nullptr), gap(nullptr), active(nullptr), acc(nullptr), ncoll_pair(0.0),
     ncoll_wall(0.0), ncoll_steps(0.0), nforce_evals(0.0)
 {
+  pot = nullptr;
   time_integrate = 1;
   vector_flag = 1;
   size_vector = 5;
@@ -125,12 +115,15 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
     if (domain->periodicity[w.dim])
       error->all(FLERR, "Fix {} wall {} is on a periodic dimension", style_name, name);
   }
+
+  pot = new HSPotential(lmp, groupbit, "fix " + style_name);
 }
 
 /* ---------------------------------------------------------------------- */
 
 FixHardSphere::~FixHardSphere()
 {
+  delete pot;
   memory->destroy(xref);
   memory->destroy(gap);
   memory->destroy(active);
@@ -189,7 +182,19 @@ void FixHardSphere::init()
   for (int a = 1; a <= ntypes && !own_list; a++)
     for (int b = 1; b <= ntypes && !own_list; b++)
       if (tall[a] && tall[b] && sqrt(force->pair->cutsq[a][b]) + skin < list_cutoff) own_list = 1;
-  HSCompat::request_half_list(neighbor, this, instance_me, own_list ? list_cutoff : 0.0);
+  HSCompat::request_half_list(neighbor, this, instance_me, own_list ? list_cutoff : 0.0,
+                              CONTACT_LIST_ID);
+
+  // the derivative layer decides its paths now, and asks for a second
+  // list if its path needs one
+  if (derivs_needed) {
+    pot->init(HSPotential::AUTO);
+    pot->request_list(this, instance_me, POT_LIST_ID);
+    const std::string path = pot->describe();
+    if (comm->me == 0 && path != path_told)
+      utils::logmesg(lmp, "fix {}: derivatives of V: {}\n", style_name, path);
+    path_told = path;
+  }
 
   // with no smooth forces at all, sub-steps need no force re-evaluation
 
@@ -232,9 +237,64 @@ void FixHardSphere::check_other_integrators()
 
 /* ---------------------------------------------------------------------- */
 
-void FixHardSphere::init_list(int, NeighList *ptr)
+void FixHardSphere::init_list(int id, NeighList *ptr)
 {
-  list = ptr;
+  if (id == POT_LIST_ID) pot->init_list(ptr);
+  else list = ptr;
+}
+
+// "atoms I and J" or "atom I and wall F", for messages
+std::string FixHardSphere::contact_name(const Impulse &imp) const
+{
+  if (imp.type == WALL_EVENT) {
+    std::string name;
+    wall_name(walls[imp.wall], name);
+    return fmt::format("atom {} and wall {}", imp.itag, name);
+  }
+  return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
+}
+
+// impulse virial, averaged over the step: r (x) J / (dt ftm2v); tallied by
+// the one rank that built the impulse
+void FixHardSphere::add_impulse_virial(const Impulse &imp)
+{
+  const double s = 1.0 / (dtv * force->ftm2v);
+  virial[0] += s * imp.dq[0] * imp.J[0];
+  virial[1] += s * imp.dq[1] * imp.J[1];
+  virial[2] += s * imp.dq[2] * imp.J[2];
+  virial[3] += s * imp.dq[0] * imp.J[1];
+  virial[4] += s * imp.dq[0] * imp.J[2];
+  virial[5] += s * imp.dq[1] * imp.J[2];
+}
+
+void FixHardSphere::pair_overlap_error(int i, int j, double r, double sigma)
+{
+  error->one(FLERR,
+             "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+             "on step {}: a collision was missed",
+             style_name, atom->tag[i], atom->tag[j], sigma - r, r, sigma, update->ntimestep);
+}
+
+void FixHardSphere::check_runaway(bigint ncollisions)
+{
+  if (ncollisions > MAX_SUBSTEPS)
+    error->all(FLERR,
+               "Fix {}: more than {} collisions in step {}: the timestep is far too large "
+               "for this system",
+               style_name, MAX_SUBSTEPS, update->ntimestep);
+}
+
+void FixHardSphere::resting_contact_error(const Impulse &imp)
+{
+  error->all(FLERR,
+             "Fix {}: {} stay in contact with no normal velocity on step {} "
+             "(a resting contact), which impulsive hard spheres cannot resolve",
+             style_name, contact_name(imp), update->ntimestep);
+}
+
+double FixHardSphere::force_evals() const
+{
+  return nforce_evals + pot->nevals();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -620,11 +680,7 @@ double FixHardSphere::predict(double tleft, Event &ev)
     HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
     const Contact ct = HardSphere::first_contact(c, 4, tleft, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::OVERLAP) {
-      const double r = sqrt(r2);
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {}: a collision was missed",
-                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep);
+      pair_overlap_error(i, j, sqrt(r2), sigma);
     }
     if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
       tbest = ct.t;
@@ -766,36 +822,10 @@ void FixHardSphere::kick_drift(double tau)
    forces at the current positions, as Verlet::run computes them
 ------------------------------------------------------------------------- */
 
-void FixHardSphere::force_clear()
-{
-  size_t nbytes = sizeof(double) * atom->nlocal;
-  if (force->newton) nbytes += sizeof(double) * atom->nghost;
-  if (nbytes) {
-    memset(&atom->f[0][0], 0, 3 * nbytes);
-    if (atom->torque_flag) memset(&atom->torque[0][0], 0, 3 * nbytes);
-    if (atom->avec->forceclearflag) atom->avec->force_clear(0, nbytes);
-  }
-}
-
 void FixHardSphere::recompute_forces()
 {
-  comm->forward_comm();    // ghost positions, needed by the prediction too
-  if (!forces_present) return;
-
-  force_clear();
-  if (modify->n_pre_force) modify->pre_force(0);
-  if (force->pair && force->pair->compute_flag) force->pair->compute(0, 0);
-  if (atom->molecular != Atom::ATOMIC) {
-    if (force->bond) force->bond->compute(0, 0);
-    if (force->angle) force->angle->compute(0, 0);
-    if (force->dihedral) force->dihedral->compute(0, 0);
-    if (force->improper) force->improper->compute(0, 0);
-  }
-  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(0, 0);
-  if (modify->n_pre_reverse) modify->pre_reverse(0, 0);
-  if (force->newton) comm->reverse_comm();
-  if (modify->n_post_force) modify->post_force(0);
-  nforce_evals += 1.0;
+  if (forces_present) pot->evaluate(0);    // forwards ghost positions first
+  else comm->forward_comm();               // ghost positions, for the prediction
 }
 
 /* ----------------------------------------------------------------------
@@ -892,7 +922,6 @@ void FixHardSphere::initial_integrate(int)
     return;
   }
 
-  const double ftm2v = force->ftm2v;
   int stuck = 0;
   bigint nsub = 0;
   bool contact_seen = false;
@@ -938,42 +967,21 @@ void FixHardSphere::initial_integrate(int)
     }
     MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, first.rank, world);
     if (imp.apply) modify_impulse(imp);    // hook: another collision operator
-    if (imp.apply && comm->me == first.rank) {
-      // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
-      const double s = 1.0 / (dtv * ftm2v);
-      virial[0] += s * imp.dq[0] * imp.J[0];
-      virial[1] += s * imp.dq[1] * imp.J[1];
-      virial[2] += s * imp.dq[2] * imp.J[2];
-      virial[3] += s * imp.dq[0] * imp.J[1];
-      virial[4] += s * imp.dq[0] * imp.J[2];
-      virial[5] += s * imp.dq[1] * imp.J[2];
-    }
+    if (imp.apply && comm->me == first.rank) add_impulse_virial(imp);
     apply_impulse(imp);
     if (imp.apply) {
       if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
       else ncoll_wall += 1.0;
       step_collided = 1;
     } else if (tau == 0.0 && ++stuck > MAX_STUCK) {
-      std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-      if (imp.type == WALL_EVENT) {
-        wall_name(walls[imp.wall], who);
-        who = fmt::format("atom {} and wall {}", imp.itag, who);
-      }
-      error->all(FLERR,
-                 "Fix {}: {} stay in contact with no normal velocity on step {} "
-                 "(a resting contact), which impulsive hard spheres cannot resolve",
-                 style_name, who, update->ntimestep);
+      resting_contact_error(imp);
     }
     if (tau > 0.0) stuck = 0;
     end_substep(tau);    // hook: after each collisional sub-step
 
     tleft -= tau;
     screen(tleft);
-    if (++nsub > MAX_SUBSTEPS)
-      error->all(FLERR,
-                 "Fix {}: more than {} collisions in step {}: the timestep is far too large "
-                 "for this system",
-                 style_name, MAX_SUBSTEPS, update->ntimestep);
+    check_runaway(++nsub);
   }
   if (step_collided) ncoll_steps += 1.0;
   step_substeps = contact_seen;
@@ -1069,7 +1077,7 @@ double FixHardSphere::compute_vector(int n)
     case 3:
       return ncoll_steps;
     case 4:
-      return nforce_evals;
+      return force_evals();
   }
   return 0.0;
 }
@@ -1079,10 +1087,11 @@ double FixHardSphere::compute_vector(int n)
 void FixHardSphere::write_restart(FILE *fp)
 {
   if (comm->me == 0) {
-    double list_[4] = {ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals};
-    int size = sizeof(list_);
+    std::vector<double> list_ = {ncoll_pair, ncoll_wall, ncoll_steps, force_evals()};
+    for (double *c : extra_counters()) list_.push_back(*c);
+    int size = list_.size() * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list_, sizeof(double), 4, fp);
+    fwrite(list_.data(), sizeof(double), list_.size(), fp);
   }
 }
 
@@ -1092,7 +1101,9 @@ void FixHardSphere::restart(char *buf)
   ncoll_pair = list_[0];
   ncoll_wall = list_[1];
   ncoll_steps = list_[2];
-  nforce_evals = list_[3];
+  nforce_evals = list_[3] - pot->nevals();
+  int k = 4;
+  for (double *c : extra_counters()) *c = list_[k++];
 }
 
 /* ---------------------------------------------------------------------- */

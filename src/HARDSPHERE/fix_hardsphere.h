@@ -46,6 +46,20 @@ class FixHardSphere : public Fix {
  protected:
   enum { PAIR_EVENT = 0, WALL_EVENT = 1 };
 
+  // conventions shared by the family
+  static constexpr double BIG = 1.0e300;
+  // |g(0)| below this (relative to sigma^2, resp. the diameter) counts as
+  // touching; below minus this it is an overlap (a missed collision). Far
+  // above round-off in positions, far below any physical overlap.
+  static constexpr double TOUCH_TOL = 1.0e-9;
+  // consecutive zero-length sub-steps without an impulse before we call it
+  // a resting contact, which the impulsive hard-sphere model cannot resolve
+  static constexpr int MAX_STUCK = 100;
+  // collisions in one step beyond which something is wrong (a runaway loop)
+  static constexpr bigint MAX_SUBSTEPS = 100000000;
+  // screen() results
+  static constexpr int ACTIVE = 1, FAR = 2;
+
   struct Wall {
     int dim;         // 0,1,2
     int side;        // -1 = lo face (allowed x >= coord + r), +1 = hi face
@@ -72,6 +86,23 @@ class FixHardSphere : public Fix {
   };
 
   std::string style_name;    // e.g. "hardsphere/cva", for messages
+
+  // force evaluations, and derivatives of V for the methods that need them
+  // (pcva, mcva, vci set derivs_needed in their constructors)
+  class HSPotential *pot;
+  int derivs_needed = 0;
+  std::string path_told;    // the derivative paths last reported
+  enum { CONTACT_LIST_ID = 0, POT_LIST_ID = 1 };
+  // all full force evaluations so far (output vector [5]; restart offset
+  // in nforce_evals)
+  double force_evals() const;
+  std::string contact_name(const Impulse &) const;
+  void resting_contact_error(const Impulse &);
+  void pair_overlap_error(int i, int j, double r, double sigma);
+  void check_runaway(bigint ncollisions);
+  void add_impulse_virial(const Impulse &);
+  // a method's own counters, written to restart files after the base's
+  virtual std::vector<double *> extra_counters() { return {}; }
 
   // keywords
   double diameter;
@@ -128,7 +159,6 @@ class FixHardSphere : public Fix {
   int moved_half_skin();
   void request_rebuild();
   void recompute_forces();
-  void force_clear();
 
   // screening, prediction, bookkeeping
   int screen(double tleft);

@@ -43,18 +43,17 @@ static constexpr int NVEC_BASE = 5;
 /* ---------------------------------------------------------------------- */
 
 FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), pot(nullptr), nlists_seen(0), gauss_step(0), cancel(0),
+    FixHardSphere(lmp, narg, arg), gauss_step(0), cancel(0),
     gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0),
-    pot_evals_seen(0.0), hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
+    hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
     fhv(nullptr), ftv(nullptr), fha(nullptr)
 {
   size_vector = NVEC_BASE + 5;
-  pot = new HSPotential(lmp, groupbit, std::string("fix ") + style_name);
+  derivs_needed = 1;
 }
 
 FixHardSphereMCVA::~FixHardSphereMCVA()
 {
-  delete pot;
   memory->destroy(fv);
   memory->destroy(fa);
   memory->destroy(fhv);
@@ -66,29 +65,8 @@ FixHardSphereMCVA::~FixHardSphereMCVA()
 
 void FixHardSphereMCVA::init()
 {
-  nlists_seen = 0;
-  FixHardSphere::init();    // requests the contact list first
-  pot->init(HSPotential::AUTO);
-  pot->request_list(this, instance_me);    // a second list if its path needs one
-  const std::string path = pot->describe();
-  if (comm->me == 0 && path != path_told)
-    utils::logmesg(lmp, "fix {}: derivatives of V: {}\n", style_name, path);
-  path_told = path;
-  pot_evals_seen = pot->nevals();
+  FixHardSphere::init();    // also sets up the derivative layer
   gauss_step = 0;
-}
-
-// both requests carry id 0: LAMMPS calls back in request order
-void FixHardSphereMCVA::init_list(int id, NeighList *ptr)
-{
-  if (nlists_seen++ == 0) FixHardSphere::init_list(id, ptr);
-  else pot->init_list(ptr);
-}
-
-void FixHardSphereMCVA::sync_evals()
-{
-  nforce_evals += pot->nevals() - pot_evals_seen;
-  pot_evals_seen = pot->nevals();
 }
 
 void FixHardSphereMCVA::grow_fields()
@@ -345,15 +323,10 @@ int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax
       HardSphere::contact_root(phi, guess, tmax, ROOT_TTOL * dtv, ROOT_MAXEVAL);
 
   if (r.status == HardSphere::ROOT_FAILED) {
-    std::string who = fmt::format("atoms {} and {}", c.itag, c.jtag);
-    if (c.type == WALL_EVENT) {
-      wall_name(walls[c.wall], who);
-      who = fmt::format("atom {} and wall {}", c.itag, who);
-    }
     error->all(FLERR,
                "Fix {}: no contact time of {} found on the Gauss flow on step {} ({} Gauss "
                "solves, last tau {}, gap {})",
-               style_name, who, update->ntimestep, r.nevals, r.t, r.g);
+               style_name, contact_name(c), update->ntimestep, r.nevals, r.t, r.g);
   }
   if (r.status == HardSphere::ROOT_NONE) {
     if (r.t != tmax) gauss_solve(tmax, y1);    // else y1 holds the last solve, at tmax
@@ -499,15 +472,7 @@ void FixHardSphereMCVA::collide_missed(const Event &ev, int rank)
                "approaching: cannot resolve the contact",
                style_name, imp.itag, imp.jtag, update->ntimestep);
   modify_impulse(imp);
-  if (comm->me == rank) {
-    const double s = 1.0 / (dtv * force->ftm2v);
-    virial[0] += s * imp.dq[0] * imp.J[0];
-    virial[1] += s * imp.dq[1] * imp.J[1];
-    virial[2] += s * imp.dq[2] * imp.J[2];
-    virial[3] += s * imp.dq[0] * imp.J[1];
-    virial[4] += s * imp.dq[0] * imp.J[2];
-    virial[5] += s * imp.dq[1] * imp.J[2];
-  }
+  if (comm->me == rank) add_impulse_virial(imp);
   apply_impulse(imp);
   if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
   else ncoll_wall += 1.0;
@@ -552,7 +517,6 @@ void FixHardSphereMCVA::finish_step(double tleft)
   }
   gauss_step = 0;
   dtf_last = 0.0;    // the sub-step is complete: final_integrate adds nothing
-  sync_evals();
   // LAMMPS computes the forces at the step's end itself
 }
 
@@ -580,13 +544,11 @@ bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impu
     // last sub-step
     gauss_step = 0;
     dtf_last = 0.0;
-    sync_evals();
-    return false;
+      return false;
   } else
     tau = T;
   pot->evaluate(0);    // forces at the contact: the next prediction needs them
   comm_vel_acc();      // ghosts' velocities at contact, for the impulse
-  sync_evals();
   return true;
 }
 
@@ -648,7 +610,6 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
         sums[3] += fhv[i][d] * fv[i][d];    // w^T V'' w
       }
   MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, world);
-  sync_evals();
 
   double alpha = 0.0;
   if (!HardSphere::modified_alpha(sums[0], sums[1], sums[2], sums[3], dt * dt / 6.0, alpha))
@@ -688,30 +649,14 @@ double FixHardSphereMCVA::compute_vector(int n)
   return 0.0;
 }
 
-void FixHardSphereMCVA::write_restart(FILE *fp)
-{
-  if (comm->me == 0) {
-    double list_[9] = {ncoll_pair,  ncoll_wall,     ncoll_steps, nforce_evals, gauss_iters,
-                       gauss_substeps, gauss_maxit, gauss_solves, nmissed};
-    int size = sizeof(list_);
-    fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list_, sizeof(double), 9, fp);
-  }
-}
-
-void FixHardSphereMCVA::restart(char *buf)
-{
-  FixHardSphere::restart(buf);
-  const double *list_ = (const double *) buf;
-  gauss_iters = list_[4];
-  gauss_substeps = list_[5];
-  gauss_maxit = list_[6];
-  gauss_solves = list_[7];
-  nmissed = list_[8];
-}
-
 double FixHardSphereMCVA::memory_usage()
 {
   return FixHardSphere::memory_usage() + (double) nmax_f * 15 * sizeof(double) +
       (double) (y0.capacity() * 9 + work.capacity()) * sizeof(double);
+}
+
+// the counters after the base's in restart files
+std::vector<double *> FixHardSphereMCVA::extra_counters()
+{
+  return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed};
 }

@@ -31,29 +31,23 @@ class FixHardSphereMCVA : public FixHardSphere {
   FixHardSphereMCVA(class LAMMPS *, int, char **);
   ~FixHardSphereMCVA() override;
   void init() override;
-  void init_list(int, class NeighList *) override;
   double compute_vector(int) override;
-  void write_restart(FILE *) override;
-  void restart(char *) override;
   double memory_usage() override;
 
  protected:
+  std::vector<double *> extra_counters() override;
   void finish_step(double tleft) override;
   bool advance_to_contact(double &tau, double tleft, const Impulse &) override;
   void begin_collisional_step() override;
   void modify_impulse(Impulse &) override;
 
  private:
-  class HSPotential *pot;
-  int nlists_seen;          // init_list() calls since init(): ours first, then pot's
-  std::string path_told;    // the derivative paths last reported
 
   int gauss_step;    // 1 while the current step has had a predicted contact
   int cancel;        // 1: the Verlet-predicted contact is replaced by an earlier one
   // counters (global, identical on all ranks)
   double gauss_iters, gauss_substeps, gauss_maxit, gauss_solves;
   double nmissed;    // contacts of the Gauss flow the Verlet prediction missed
-  double pot_evals_seen;    // pot->nevals() already added to nforce_evals
 
   // the state of a Gauss sub-step: owned group atoms idx[k], y = (q, v)
   std::vector<int> idx;
@@ -76,7 +70,6 @@ class FixHardSphereMCVA : public FixHardSphere {
   bool find_overlap(Impulse &, Event &, int &rank);
   bool earliest_crossing(double &T, Event &, int &rank);
   void collide_missed(const Event &, int rank);
-  void sync_evals();
 };
 
 }    // namespace LAMMPS_NS

@@ -23,49 +23,18 @@
 
 using namespace LAMMPS_NS;
 
-// id of the neighbor list request forwarded to HSPotential (the base's
-// request has id 0)
-static constexpr int POT_LIST_ID = 1;
 
 /* ---------------------------------------------------------------------- */
 
 FixHardSpherePCVA::FixHardSpherePCVA(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), pot(nullptr), Ht0(0.0), nproj(0.0), nskip(0.0), maxdev(0.0),
+    FixHardSphere(lmp, narg, arg), Ht0(0.0), nproj(0.0), nskip(0.0), maxdev(0.0),
     warned(0)
 {
   size_vector = 8;
-  pot = new HSPotential(lmp, groupbit, "fix " + style_name);
-}
-
-FixHardSpherePCVA::~FixHardSpherePCVA()
-{
-  delete pot;
+  derivs_needed = 1;
 }
 
 /* ---------------------------------------------------------------------- */
-
-void FixHardSpherePCVA::init()
-{
-  FixHardSphere::init();
-  pot->init(HSPotential::AUTO);
-  // init_list() tells the lists apart by the request's id, which the
-  // request itself leaves at 0 (the base's): mark the derivative layer's
-  const int before = neighbor->nrequest;
-  pot->request_list(this, instance_me);
-  if (neighbor->nrequest > before) {
-#if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
-    neighbor->requests[before]->set_id(POT_LIST_ID);
-#else
-    neighbor->requests[before]->id = POT_LIST_ID;
-#endif
-  }
-}
-
-void FixHardSpherePCVA::init_list(int id, NeighList *ptr)
-{
-  if (id == POT_LIST_ID) pot->init_list(ptr);
-  else FixHardSphere::init_list(id, ptr);
-}
 
 /* ----------------------------------------------------------------------
    H_[2,VV] = K~ + U at the current state (section 3; hs_projection.h),
@@ -90,13 +59,11 @@ double FixHardSpherePCVA::modified_energy(double &U, double &Kt)
     }
   MPI_Allreduce(loc, all, 2, MPI_DOUBLE, MPI_SUM, world);
 
-  const double before = pot->nevals();
   HardSphere::ModifiedEnergyParts e;
   e.kin = 0.5 * force->mvv2e * all[0];
   e.g2 = force->ftm2v * all[1];
   e.pot = pot->energy();
   e.vhv = pot->d2(v);
-  nforce_evals += pot->nevals() - before;
 
   U = HardSphere::modified_potential(e, dtv);
   Kt = HardSphere::modified_kinetic(e, dtv);
@@ -182,21 +149,8 @@ double FixHardSpherePCVA::compute_vector(int n)
 
 /* ---------------------------------------------------------------------- */
 
-void FixHardSpherePCVA::write_restart(FILE *fp)
+// the counters after the base's in restart files
+std::vector<double *> FixHardSpherePCVA::extra_counters()
 {
-  if (comm->me == 0) {
-    double list_[7] = {ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals, nproj, nskip, maxdev};
-    int size = sizeof(list_);
-    fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list_, sizeof(double), 7, fp);
-  }
-}
-
-void FixHardSpherePCVA::restart(char *buf)
-{
-  FixHardSphere::restart(buf);
-  const double *list_ = (const double *) buf;
-  nproj = list_[4];
-  nskip = list_[5];
-  maxdev = list_[6];
+  return {&nproj, &nskip, &maxdev};
 }

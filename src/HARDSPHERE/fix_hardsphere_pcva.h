@@ -18,20 +18,17 @@ FixStyle(hardsphere/pcva,FixHardSpherePCVA);
 
 #include "fix_hardsphere.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 class FixHardSpherePCVA : public FixHardSphere {
  public:
   FixHardSpherePCVA(class LAMMPS *, int, char **);
-  ~FixHardSpherePCVA() override;
-  void init() override;
-  void init_list(int, class NeighList *) override;
   double compute_vector(int) override;
-  void write_restart(FILE *) override;
-  void restart(char *) override;
 
  protected:
-  class HSPotential *pot;
+  std::vector<double *> extra_counters() override;
   double Ht0;            // H_[2,VV] at the start of the current collisional step
   double nproj;          // projections done
   double nskip;          // sub-steps left unprojected (no real positive alpha)

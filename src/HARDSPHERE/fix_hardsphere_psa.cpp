@@ -24,13 +24,6 @@
 using namespace LAMMPS_NS;
 using HardSphere::Contact;
 
-static constexpr double BIG = 1.0e300;
-// the base's conventions (fix_hardsphere.cpp): touching tolerance relative to
-// sigma^2 (pairs) or the diameter (walls), screening flags, loop limits
-static constexpr double TOUCH_TOL = 1.0e-9;
-static constexpr int ACTIVE = 1, FAR = 2;
-static constexpr int MAX_STUCK = 100;
-static constexpr bigint MAX_EVENTS = 100000000;
 
 /* ---------------------------------------------------------------------- */
 
@@ -178,11 +171,7 @@ void FixHardSpherePSA::predict_all()
         HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::NO_CONTACT) continue;
     if (ct.status == HardSphere::OVERLAP) {
-      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {}: a collision was missed",
-                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep);
+      pair_overlap_error(i, j, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
     }
     if (ai && ct.t < tfirst[i]) {
       tfirst[i] = ct.t;
@@ -254,11 +243,7 @@ void FixHardSpherePSA::predict_atom(int k)
         HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv - t0, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::NO_CONTACT) continue;
     if (ct.status == HardSphere::OVERLAP) {
-      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {}: a collision was missed",
-                 style_name, tag[k], tag[p], sigma - r, r, sigma, update->ntimestep);
+      pair_overlap_error(k, p, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
     }
     const double te = t0 + ct.t;
     if (te < tbest) {
@@ -412,7 +397,6 @@ void FixHardSpherePSA::initial_integrate(int)
   const int nall = nlocal + atom->nghost;
   const int *mask = atom->mask;
   const int nprocs = comm->nprocs, me = comm->me;
-  const double ftm2v = force->ftm2v;
 
   tloc.assign(nall, 0.0);
   ncol.assign(nall, 0);
@@ -450,17 +434,7 @@ void FixHardSpherePSA::initial_integrate(int)
     const double te = first.t;
     const FlightImpulse &fi = first;
 
-    if (me == first.rank && fi.imp.apply) {
-      // impulse virial, averaged over the step: r (x) J / (dt ftm2v)
-      const double s = 1.0 / (dtv * ftm2v);
-      const Impulse &imp = fi.imp;
-      virial[0] += s * imp.dq[0] * imp.J[0];
-      virial[1] += s * imp.dq[1] * imp.J[1];
-      virial[2] += s * imp.dq[2] * imp.J[2];
-      virial[3] += s * imp.dq[0] * imp.J[1];
-      virial[4] += s * imp.dq[0] * imp.J[2];
-      virial[5] += s * imp.dq[1] * imp.J[2];
-    }
+    if (me == first.rank && fi.imp.apply) add_impulse_virial(fi.imp);
 
     // every rank: its copies of the atoms to the contact, the impulse, new
     // predictions for them (a grazing contact gets no impulse, but its
@@ -479,21 +453,9 @@ void FixHardSpherePSA::initial_integrate(int)
       else ncoll_wall += 1.0;
       collided = true;
     } else if (++stuck > MAX_STUCK) {
-      std::string who = fmt::format("atoms {} and {}", imp.itag, imp.jtag);
-      if (imp.type == WALL_EVENT) {
-        wall_name(walls[imp.wall], who);
-        who = fmt::format("atom {} and wall {}", imp.itag, who);
-      }
-      error->all(FLERR,
-                 "Fix {}: {} stay in contact with no normal velocity on step {} "
-                 "(a resting contact), which impulsive hard spheres cannot resolve",
-                 style_name, who, update->ntimestep);
+      resting_contact_error(imp);
     }
-    if (++nevents > MAX_EVENTS)
-      error->all(FLERR,
-                 "Fix {}: more than {} collisions in step {}: the timestep is far too large "
-                 "for this system",
-                 style_name, MAX_EVENTS, update->ntimestep);
+    check_runaway(++nevents);
   }
 
   // free flight of every sphere to the end of the step (fix nve's drift

@@ -34,7 +34,6 @@
 
 using namespace LAMMPS_NS;
 
-static constexpr int POT_LIST_ID = 1;
 // the impulse strength is sought in [SMIN, SMAX] times the elastic one:
 // below 1/2 the contact would not separate (1/2 stops the normal approach)
 static constexpr double SMIN = 0.5, SMAX = 2.0;
@@ -43,39 +42,12 @@ static constexpr int MAXIT = 100;
 /* ---------------------------------------------------------------------- */
 
 FixHardSphereVCI::FixHardSphereVCI(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), pot(nullptr), Vk(0.0), Etarget(0.0), have_target(0),
+    FixHardSphere(lmp, narg, arg), Vk(0.0), Etarget(0.0), have_target(0),
     tleft_after(0.0), pending(0), pending_target(0.0), nsolved(0.0), nnoroot(0.0), nzero(0.0),
     nevals(0.0), maxevals(0.0), maxdiff(0.0), warned(0)
 {
   size_vector = 11;
-  pot = new HSPotential(lmp, groupbit, "fix " + style_name);
-}
-
-FixHardSphereVCI::~FixHardSphereVCI()
-{
-  delete pot;
-}
-
-void FixHardSphereVCI::init()
-{
-  FixHardSphere::init();
-  pot->init(HSPotential::AUTO);
-  // init_list() tells the lists apart by the request's id (0: the base's)
-  const int before = neighbor->nrequest;
-  pot->request_list(this, instance_me);
-  if (neighbor->nrequest > before) {
-#if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
-    neighbor->requests[before]->set_id(POT_LIST_ID);
-#else
-    neighbor->requests[before]->id = POT_LIST_ID;
-#endif
-  }
-}
-
-void FixHardSphereVCI::init_list(int id, NeighList *ptr)
-{
-  if (id == POT_LIST_ID) pot->init_list(ptr);
-  else FixHardSphere::init_list(id, ptr);
+  derivs_needed = 1;
 }
 
 /* ----------------------------------------------------------------------
@@ -98,20 +70,7 @@ double FixHardSphereVCI::kinetic()
 // V at the current x (ghosts are forwarded by the energy evaluation)
 double FixHardSphereVCI::potential_at_new_x()
 {
-  const double before = pot->nevals();
-  const double V = pot->energy();
-  nforce_evals += pot->nevals() - before;
-  return V;
-}
-
-std::string FixHardSphereVCI::who(const Impulse &imp) const
-{
-  if (imp.type == WALL_EVENT) {
-    std::string name;
-    wall_name(walls[imp.wall], name);
-    return fmt::format("atom {} with wall {}", imp.itag, name);
-  }
-  return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
+  return pot->energy();
 }
 
 void FixHardSphereVCI::check_pending(double Ed)
@@ -142,9 +101,7 @@ bool FixHardSphereVCI::advance_to_contact(double &tau, double tleft, const Impul
     const double Kh = kinetic();    // 1/2 |(q_c - q_k)/tau|^2_M
     double Vc = 0.0;
     if (forces_present) {
-      const double before = pot->nevals();
       Vc = pot->evaluate(1);
-      nforce_evals += pot->nevals() - before;
     } else
       comm->forward_comm();
     kick(tau);
@@ -283,7 +240,7 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
                "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
                "step {} did not converge in {} evaluations (impulse strength in [{}, {}] "
                "times the elastic one, residual {})",
-               style_name, who(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
+               style_name, contact_name(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
   if (r.status != HardSphere::VCI_CONVERGED) {
     nnoroot += 1.0;
     if (!warned && comm->me == 0)
@@ -292,7 +249,7 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
                      "matches the discrete energy across the collision of {} on step {} ({}, "
                      "E_d- {}, E_d+ - E_d- {} for the elastic impulse); the elastic impulse is "
                      "used. Such collisions are counted in f_{}[7]; this warning is printed once",
-                     style_name, SMIN, SMAX, who(imp), update->ntimestep,
+                     style_name, SMIN, SMAX, contact_name(imp), update->ntimestep,
                      r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
                      Etarget, f1, id);
     warned = 1;
@@ -328,25 +285,8 @@ double FixHardSphereVCI::compute_vector(int n)
   return FixHardSphere::compute_vector(n);
 }
 
-void FixHardSphereVCI::write_restart(FILE *fp)
+// the counters after the base's in restart files
+std::vector<double *> FixHardSphereVCI::extra_counters()
 {
-  if (comm->me == 0) {
-    double list_[10] = {ncoll_pair, ncoll_wall, ncoll_steps, nforce_evals, nsolved,
-                        nnoroot,    nzero,      nevals,      maxevals,     maxdiff};
-    int size = sizeof(list_);
-    fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list_, sizeof(double), 10, fp);
-  }
-}
-
-void FixHardSphereVCI::restart(char *buf)
-{
-  FixHardSphere::restart(buf);
-  const double *list_ = (const double *) buf;
-  nsolved = list_[4];
-  nnoroot = list_[5];
-  nzero = list_[6];
-  nevals = list_[7];
-  maxevals = list_[8];
-  maxdiff = list_[9];
+  return {&nsolved, &nnoroot, &nzero, &nevals, &maxevals, &maxdiff};
 }

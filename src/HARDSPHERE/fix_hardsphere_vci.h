@@ -26,15 +26,10 @@ namespace LAMMPS_NS {
 class FixHardSphereVCI : public FixHardSphere {
  public:
   FixHardSphereVCI(class LAMMPS *, int, char **);
-  ~FixHardSphereVCI() override;
-  void init() override;
-  void init_list(int, class NeighList *) override;
   double compute_vector(int) override;
-  void write_restart(FILE *) override;
-  void restart(char *) override;
 
  protected:
-  class HSPotential *pot;
+  std::vector<double *> extra_counters() override;
 
   // state of the current collisional step
   double Vk;           // V at the start of the current sub-step (= at the last contact)
@@ -64,7 +59,6 @@ class FixHardSphereVCI : public FixHardSphere {
   double potential_at_new_x();
   double trial(const Impulse &, double s, double &scale, double &tau2);
   void check_pending(double Ed);
-  std::string who(const Impulse &) const;
 };
 
 }    // namespace LAMMPS_NS

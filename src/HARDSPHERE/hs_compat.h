@@ -30,14 +30,18 @@ namespace HSCompat {
   // a half neighbor list for a fix; cutoff > 0 gives it its own cutoff
   // (including skin), else it has the pair cutoffs and LAMMPS copies or
   // derives it from the pair style's list at no extra build cost
-  inline void request_half_list(Neighbor *neighbor, class Fix *fix, int instance, double cutoff)
+  // id tells an owner's lists apart in its init_list()
+  inline void request_half_list(Neighbor *neighbor, class Fix *fix, int instance, double cutoff,
+                                int id = 0)
   {
 #if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
     (void) instance;
     auto *req = neighbor->add_request(fix, NeighConst::REQ_DEFAULT);
     if (cutoff > 0.0) req->set_cutoff(cutoff);
+    req->set_id(id);
 #else
     int irequest = neighbor->request(fix, instance);
+    neighbor->requests[irequest]->id = id;
     neighbor->requests[irequest]->pair = 0;
     neighbor->requests[irequest]->fix = 1;
     if (cutoff > 0.0) {

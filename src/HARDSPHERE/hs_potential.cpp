@@ -690,7 +690,6 @@ void HSPotential::init(Mode mode)
     }
   if (!(len > 0.0)) len = (neighbor->skin > 0.0) ? 10.0 * neighbor->skin : 10.0;
   m.length = 0.1 * len;
-  m.list = nullptr;
   m.initialized = 1;
 }
 
@@ -720,9 +719,9 @@ double HSPotential::fd_error_third() const
   return impl->err_third;
 }
 
-void HSPotential::request_list(Fix *fix, int instance)
+void HSPotential::request_list(Fix *fix, int instance, int id)
 {
-  if (impl->pair_single) HSCompat::request_half_list(neighbor, fix, instance, 0.0);
+  if (impl->pair_single) HSCompat::request_half_list(neighbor, fix, instance, 0.0, id);
 }
 
 void HSPotential::request_list(Compute *compute, int instance)

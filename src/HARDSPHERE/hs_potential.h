@@ -44,7 +44,8 @@ class HSPotential : protected Pointers {
   // the owner forwards the half list it requested with request_list()
   // (needed by the SINGLE path; instance identifies the request); call
   // request_list() after init(), which decides whether a list is needed
-  void request_list(class Fix *owner, int instance);
+  // (id: the request's id, which the owner's init_list() receives)
+  void request_list(class Fix *owner, int instance, int id = 0);
   void request_list(class Compute *owner, int instance);
   void init_list(class NeighList *);
 

@@ -1,35 +1,16 @@
 // fix hardsphere/cva: invalid set-ups end in an ERROR naming the problem.
 // LAMMPS here is built without exceptions (an error exits the process), so
-// every case runs in a separate lmp process through run_lmp().
+// every case runs in a separate lmp process through run_lmp(). The checks
+// every method shares (overlap, walls, keywords, second integrator) are in
+// test_shared_errors.cpp, run for each method; here the rest of the base's.
 
-#include "hs_test_main.h"
+#include "hs_errors.h"
 
 #include <string>
 
-namespace {
+using hs_errors::expect_error;
+using hs_errors::two_atoms;
 
-// two atoms of type 1 at (x1,0,0) and (x2,0,0); 'box' and 'fix' are spliced in
-std::string two_atoms(const std::string &x1, const std::string &x2, const std::string &fix,
-                      const std::string &extra = "", const std::string &boundary = "f f f",
-                      const std::string &style = "atomic")
-{
-  return "units lj\natom_style " + style + "\natom_modify map array\nboundary " + boundary +
-      "\nregion box block -5 5 -5 5 -5 5 units box\ncreate_box 1 box\n"
-      "create_atoms 1 single " + x1 + " 0 0 units box\n"
-      "create_atoms 1 single " + x2 + " 0 0 units box\n"
-      "mass 1 1.0\ncomm_modify cutoff 3.0\n" + extra + fix + "\nrun 10\n";
-}
-
-void expect_error(const std::string &input, const std::vector<std::string> &needles)
-{
-  RunResult r = run_lmp(input);
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
-  for (const auto &n : needles)
-    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
-}
-
-}    // namespace
 
 TEST(CVAErrors, ValidBaselineRuns)
 {
@@ -39,46 +20,10 @@ TEST(CVAErrors, ValidBaselineRuns)
   EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
 }
 
-TEST(CVAErrors, OverlapAtSetup)
-{
-  expect_error(two_atoms("0", "0.5", "fix hs all hardsphere/cva diameter 1.0"),
-               {"atoms 1 and 2 overlap", "set-up"});
-}
-
-TEST(CVAErrors, SphereThroughWallAtSetup)
-{
-  // centre 0.2 from the wall plane, radius 0.5
-  expect_error(two_atoms("-1.8", "1", "fix hs all hardsphere/cva diameter 1.0 wall xlo -2.0"),
-               {"atom 1 is", "through wall xlo"});
-}
-
 TEST(CVAErrors, SphereThroughEdgeWallAtSetup)
 {
   expect_error(two_atoms("1", "4.9", "fix hs all hardsphere/cva diameter 1.0 wall xhi EDGE"),
                {"atom 2 is", "through wall xhi"});
-}
-
-TEST(CVAErrors, MissingDiameterAtomic)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva"), {"diameter"});
-}
-
-TEST(CVAErrors, UnknownKeyword)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 bogus 3"),
-               {"Unknown fix hardsphere/cva keyword", "bogus"});
-}
-
-TEST(CVAErrors, NegativeDiameter)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter -1"),
-               {"diameter must be > 0", "-1"});
-}
-
-TEST(CVAErrors, ZeroDiameter)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 0"),
-               {"diameter must be > 0"});
 }
 
 TEST(CVAErrors, NonNumericDiameter)
@@ -106,26 +51,6 @@ TEST(CVAErrors, ZWallIn2d)
                "create_atoms 1 single 1 0 0 units box\nmass 1 1.0\ncomm_modify cutoff 3.0\n"
                "fix hs all hardsphere/cva diameter 1.0 wall zlo 0\nrun 10\n",
                {"wall zlo", "2d"});
-}
-
-TEST(CVAErrors, BadWallFace)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0 wall xmid 0"),
-               {"wall face", "xmid"});
-}
-
-TEST(CVAErrors, WallGivenTwice)
-{
-  expect_error(two_atoms("-1", "1",
-                         "fix hs all hardsphere/cva diameter 1.0 wall ylo -4 wall ylo -3"),
-               {"wall ylo", "twice"});
-}
-
-TEST(CVAErrors, SecondIntegratorOnSameAtoms)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/cva diameter 1.0",
-                         "fix mynve all nve\n"),
-               {"mynve", "hs", "nve", "hardsphere/cva"});
 }
 
 TEST(CVAErrors, SecondIntegratorOnSubset)

@@ -10,7 +10,7 @@
 // example's harmonic bonds, anchor atom 1 fixed at the origin),
 // H~ = H + dt^2/12 v^T V'' v - dt^2/24 |grad V|^2 (unit masses, lj units).
 
-#include "hs_test_main.h"
+#include "hs_chain.h"
 
 #include <cmath>
 #include <fstream>
@@ -19,13 +19,7 @@
 
 namespace {
 
-std::string slurp(const std::string &path)
-{
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hs_chain::slurp;
 
 struct Errors {
   double dH = 0.0, dHt = 0.0;    // max |H - H0|, max |H~ - H~0|
@@ -74,7 +68,7 @@ Errors run_chain(const std::string &method, double dt, double T)
 {
   Errors e;
   std::string input =
-      slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
+      slurp(hs_chain::chain_path());
   EXPECT_FALSE(input.empty());
   const std::string dump = "mcva_conv_" + method + "_" + std::to_string(dt) + ".dump";
   const std::string anchor = "fix         dEout all ave/time 1 1 1 v_dE file ${out}\n";
@@ -134,19 +128,8 @@ Errors run_chain(const std::string &method, double dt, double T)
   return e;
 }
 
-double fit_slope(const std::vector<double> &x, const std::vector<double> &y)
-{
-  const double n = (double) x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t k = 0; k < x.size(); k++) {
-    const double lx = std::log(x[k]), ly = std::log(y[k]);
-    sx += lx;
-    sy += ly;
-    sxx += lx * lx;
-    sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
+// the order of y in x
+const auto fit_slope = hs_chain::loglog_slope;
 
 }    // namespace
 
@@ -187,7 +170,7 @@ TEST(MCVAConvergence, PendulumChainModifiedHamiltonianFourthOrder)
 TEST(MCVAConvergence, PendulumChainCostPerCollision)
 {
   std::string input =
-      slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
+      slurp(hs_chain::chain_path());
   input += "print \"MCVACOST $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) "
            "$(f_hs[10])\"\n";
   RunResult res = run_lmp(input, {"-var", "method", "mcva", "-var", "dt", "0.02", "-var", "T",

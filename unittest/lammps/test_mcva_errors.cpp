@@ -1,23 +1,16 @@
 // fix hardsphere/mcva: invalid set-ups end in an ERROR naming the problem
 // (LAMMPS here exits on errors: each case runs in its own lmp process).
-// The keywords and set-up checks are the base class's (as hardsphere/cva,
-// tested in test_cva_errors.cpp); here: that they speak of hardsphere/mcva,
-// and the method's own failures.
+// The keywords and set-up checks are the base class's (tested for every
+// method, with its style name, in test_shared_errors.cpp); here the
+// method's own failures.
 
-#include "hs_test_main.h"
+#include "hs_errors.h"
 
 #include <string>
 
-namespace {
+using hs_errors::expect_error;
 
-void expect_error(const std::string &input, const std::vector<std::string> &needles)
-{
-  RunResult r = run_lmp(input);
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
-  for (const auto &n : needles)
-    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
-}
+namespace {
 
 std::string two_atoms(const std::string &fix)
 {
@@ -58,15 +51,6 @@ TEST(MCVAErrors, ValidBaselineRuns)
   EXPECT_EQ(r.exit_code, 0) << r.output;
   r = run_lmp(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.1", "2.0"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
-}
-
-TEST(MCVAErrors, BaseKeywordErrorsNameTheStyle)
-{
-  expect_error(two_atoms("fix hs all hardsphere/mcva diameter 1.0 bogus 3"),
-               {"Unknown fix hardsphere/mcva keyword", "bogus"});
-  expect_error(two_atoms("fix hs all hardsphere/mcva"), {"hardsphere/mcva", "diameter"});
-  expect_error(two_atoms("fix hs all hardsphere/mcva diameter 1.0 wall xlo -4 wall xlo -3"),
-               {"wall xlo given twice"});
 }
 
 TEST(MCVAErrors, GaussStagesDoNotConverge)

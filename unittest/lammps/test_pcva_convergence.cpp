@@ -4,7 +4,7 @@
 // by hardsphere/cva (fig. 4.3). H_[2,VV] is evaluated independently from a
 // dump (hs_modified_energy.h).
 
-#include "hs_test_main.h"
+#include "hs_chain.h"
 
 #include "hs_modified_energy.h"
 
@@ -17,47 +17,17 @@ using namespace hs_test;
 
 namespace {
 
-const char *CHAIN = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
-
-std::string slurp(const std::string &path)
-{
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+const char *CHAIN = hs_chain::chain_path();
 
 struct ChainRun {
   double dEmax = -1.0, ncoll = -1.0, nskip = -1.0;
 };
 
+// the chain with pcva (seed 1) and its count of unprojected sub-steps f_ID[7]
 ChainRun run_chain(const std::string &method, double dt, double T)
 {
-  ChainRun r;
-  char dts[32];
-  snprintf(dts, sizeof(dts), "%.17g", dt);
-  const std::string out = method + "_conv_dE_" + std::to_string(dt) + ".txt";
-  std::string input = slurp(CHAIN);
-  input += "print \"SKIPPED $(f_hs[7])\"\n";
-  RunResult res = run_lmp(input, {"-var", "method", method, "-var", "dt", dts, "-var", "T",
-                                  std::to_string(T), "-var", "seed", "1", "-var", "out", out});
-  EXPECT_EQ(res.exit_code, 0) << res.output;
-  std::smatch m;
-  std::regex re(R"((?:^|\n)pendulum chain: [^\n]*: ([0-9.eE+-]+) collisions)");
-  if (std::regex_search(res.output, m, re)) r.ncoll = std::stod(m[1]);
-  else ADD_FAILURE() << "no summary line in output:\n" << res.output;
-  std::regex rs(R"((?:^|\n)SKIPPED ([0-9.eE+-]+))");
-  if (std::regex_search(res.output, m, rs)) r.nskip = std::stod(m[1]);
-  std::ifstream in(out);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    double step, dE;
-    if (ls >> step >> dE) r.dEmax = std::max(r.dEmax, dE);
-  }
-  std::remove(out.c_str());
-  return r;
+  const hs_chain::ChainRun c = hs_chain::run_chain(method, dt, T, 1, {"$(f_hs[7])"});
+  return {c.dEmax, c.ncoll, c.extra.at(0)};
 }
 
 // max |H~(t) - H~(0)| over a run of the chain, every step (independent H~)
@@ -127,15 +97,7 @@ TEST(PCVAConvergence, PendulumChainEnergyErrorSecondOrder)
     ly.push_back(std::log(r.dEmax));
     printf("[ pcva conv ] dt %-6g collisions %g  max|H-H0| %.4e\n", dt, r.ncoll, r.dEmax);
   }
-  const double n = (double) lx.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t k = 0; k < lx.size(); k++) {
-    sx += lx[k];
-    sy += ly[k];
-    sxx += lx[k] * lx[k];
-    sxy += lx[k] * ly[k];
-  }
-  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double slope = hs_chain::fitted_slope(lx, ly);
   printf("[ pcva conv ] fitted order %.3f\n", slope);
   EXPECT_GE(slope, 1.6);
   EXPECT_LE(slope, 2.6);

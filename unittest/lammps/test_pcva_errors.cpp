@@ -1,14 +1,16 @@
-// fix hardsphere/pcva: the keywords and errors are hardsphere/cva's (shared
-// base), named with the pcva style; a sub-step where no momentum scaling can
+// fix hardsphere/pcva: the keywords and errors are the base's (tested for
+// every method in test_shared_errors.cpp); a sub-step where no momentum scaling can
 // restore H_[2,VV] (section 3.2: alpha^2 = (H~0 - U)/K~ has no positive
 // root) is left unprojected with a one-time warning and counted in f_ID[7].
 // LAMMPS here is built without exceptions: each case runs in its own lmp
 // process (run_lmp).
 
-#include "hs_test_main.h"
+#include "hs_errors.h"
 
 #include <regex>
 #include <string>
+
+using hs_errors::expect_error;
 
 namespace {
 
@@ -21,15 +23,6 @@ std::string two_atoms(const std::string &fix)
       fix + "\nthermo_style custom step f_hs[1] f_hs[6] f_hs[7]\nrun 100\n";
 }
 
-void expect_error(const std::string &input, const std::vector<std::string> &needles)
-{
-  RunResult r = run_lmp(input);
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
-  for (const auto &n : needles)
-    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
-}
-
 }    // namespace
 
 TEST(PCVAErrors, ValidBaselineRuns)
@@ -38,20 +31,6 @@ TEST(PCVAErrors, ValidBaselineRuns)
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("WARNING: Fix hardsphere/pcva"), std::string::npos) << r.output;
-}
-
-TEST(PCVAErrors, SharedKeywordErrorsNamePCVA)
-{
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0 bogus 1"),
-               {"Unknown fix hardsphere/pcva keyword: bogus"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter -1"),
-               {"Fix hardsphere/pcva diameter must be > 0"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva"),
-               {"Fix hardsphere/pcva needs the diameter keyword"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0 wall xlo -4.0 wall xlo 3"),
-               {"Fix hardsphere/pcva wall xlo given twice"});
-  expect_error(two_atoms("fix hs all hardsphere/pcva diameter 1.0\nfix 2 all nve"),
-               {"both time-integrate atoms"});
 }
 
 TEST(PCVAErrors, NoRealScalingIsCountedAndWarnedOnce)
@@ -97,30 +76,4 @@ print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
   const std::regex re(R"((?:^|\n)SKIPPED ([0-9.eE+-]+) PROJECTED ([0-9.eE+-]+))");
   ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
   EXPECT_GE(std::stod(m[1]), 1.0);
-}
-
-TEST(PCVAErrors, CountersSurviveRestart)
-{
-  // the 8 counters go to the restart file and come back with the fix ID
-  const std::string chain = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
-  RunResult a = run_lmp("include " + chain +
-                            "\nprint \"BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[8]:%.17g)\"\n"
-                            "write_restart pcva.restart\n",
-                        {"-var", "method", "pcva", "-var", "T", "20"});
-  ASSERT_EQ(a.exit_code, 0) << a.output;
-  RunResult b = run_lmp(R"IN(read_restart pcva.restart
-comm_modify cutoff 2.0
-fix hs chain hardsphere/pcva diameter 0.9 wall xlo 0.0
-fix 2d all enforce2d
-run 0
-print "BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[8]:%.17g)"
-)IN");
-  std::remove("pcva.restart");
-  ASSERT_EQ(b.exit_code, 0) << b.output;
-  std::smatch ma, mb;
-  const std::regex re(R"((?:^|\n)(BEFORE [^\n]*))");
-  ASSERT_TRUE(std::regex_search(a.output, ma, re)) << a.output;
-  ASSERT_TRUE(std::regex_search(b.output, mb, re)) << b.output;
-  EXPECT_EQ(ma[1].str(), mb[1].str());
-  EXPECT_NE(ma[1].str(), "BEFORE 0 0 0 0");
 }

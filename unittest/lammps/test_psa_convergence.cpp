@@ -9,7 +9,7 @@
 // fall, so the measure is the geometric mean over several random initial
 // velocities (the input's seed) of max|H(t) - H(0)| on [0, T].
 
-#include "hs_test_main.h"
+#include "hs_chain.h"
 
 #include "library.h"
 
@@ -35,39 +35,17 @@ ChainRun run_chain(const std::string &method, double dt, double T, int seed)
   {
     HSLammps h({"-var", "method", method, "-var", "dt", dts, "-var", "T", Ts, "-var", "seed",
                 std::to_string(seed), "-var", "out", out});
-    h.file(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
+    h.file(hs_chain::chain_path());
     r.ncoll = h.fix_vector("hs", 0);
     r.npair = h.fix_vector("hs", 1);
     r.nwall = h.fix_vector("hs", 2);
     r.fevals = h.fix_vector("hs", 4);
   }    // closes the fix ave/time file
-  std::ifstream in(out);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    double step, dE;
-    if (ls >> step >> dE) {
-      r.dEmax = std::max(r.dEmax, dE);
-      r.nsamples++;
-    }
-  }
-  std::remove(out.c_str());
+  r.dEmax = hs_chain::read_max_dE(out, &r.nsamples);
   return r;
 }
 
-double fitted_slope(const std::vector<double> &lx, const std::vector<double> &ly)
-{
-  const double n = (double) lx.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t k = 0; k < lx.size(); k++) {
-    sx += lx[k];
-    sy += ly[k];
-    sxx += lx[k] * lx[k];
-    sxy += lx[k] * ly[k];
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
+using hs_chain::fitted_slope;
 
 // geometric mean over seeds of max|H - H0|, per dt; returns the fitted slope
 double energy_error_order(const std::string &method, const std::vector<double> &dts, double T,

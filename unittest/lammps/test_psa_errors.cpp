@@ -1,12 +1,15 @@
 // fix hardsphere/psa: invalid set-ups end in an ERROR naming the problem
-// (the base class's checks, with psa's name, and psa's own check that a
-// sphere's flight after a collision stays within the neighbor skin).
+// (psa's own check that a sphere's flight after a collision stays within
+// the neighbor skin; the base class's checks, with psa's name, are in
+// test_shared_errors.cpp).
 // LAMMPS here is built without exceptions: each case runs in its own lmp
 // process through run_lmp().
 
-#include "hs_test_main.h"
+#include "hs_errors.h"
 
 #include <string>
+
+using hs_errors::expect_error;
 
 namespace {
 
@@ -25,15 +28,6 @@ std::string two_atoms(const std::string &x1, const std::string &x2, const std::s
       "\ncomm_modify cutoff 3.0\ntimestep " + dt + "\n" + extra + fix + "\nrun 10\n";
 }
 
-void expect_error(const std::string &input, const std::vector<std::string> &needles)
-{
-  RunResult r = run_lmp(input);
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
-  for (const auto &n : needles)
-    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
-}
-
 }    // namespace
 
 TEST(PSAErrors, ValidBaselineRuns)
@@ -42,36 +36,6 @@ TEST(PSAErrors, ValidBaselineRuns)
                                   "", "1", "-1"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
-}
-
-TEST(PSAErrors, OverlapAtSetup)
-{
-  expect_error(two_atoms("0", "0.5", "fix hs all hardsphere/psa diameter 1.0"),
-               {"hardsphere/psa", "atoms 1 and 2 overlap", "set-up"});
-}
-
-TEST(PSAErrors, SphereThroughWallAtSetup)
-{
-  expect_error(two_atoms("-1.8", "1", "fix hs all hardsphere/psa diameter 1.0 wall xlo -2.0"),
-               {"atom 1 is", "through wall xlo"});
-}
-
-TEST(PSAErrors, UnknownKeyword)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0 bogus 3"),
-               {"Unknown fix hardsphere/psa keyword", "bogus"});
-}
-
-TEST(PSAErrors, MissingDiameterAtomic)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/psa"), {"hardsphere/psa", "diameter"});
-}
-
-TEST(PSAErrors, SecondIntegratorOnSameAtoms)
-{
-  expect_error(two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0",
-                         "fix mynve all nve\n"),
-               {"mynve", "both time-integrate"});
 }
 
 TEST(PSAErrors, StepLongerThanSkinAllows)

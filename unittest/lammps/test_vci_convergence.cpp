@@ -10,62 +10,27 @@
 // 3 around the dt^2 line. The order is fitted to the geometric mean over
 // three initial conditions (seeds) and five timesteps.
 
-#include "hs_test_main.h"
-
-#include <cmath>
-#include <fstream>
-#include <regex>
-#include <sstream>
+#include "hs_chain.h"
 
 namespace {
 
-std::string slurp(const std::string &path)
-{
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-struct ChainRun {
-  double dEmax = -1.0, ncoll = -1.0;
+struct VCIRun : hs_chain::ChainRun {
   double solved = -1, fallback = -1, zero = -1, evals = -1, maxevals = -1, maxdiff = -1;
 };
 
-ChainRun run_chain(double dt, double T, int seed)
+// the chain with vci and its own counters f_ID[6..11]
+VCIRun run_chain(double dt, double T, int seed)
 {
-  ChainRun r;
-  char dts[32];
-  snprintf(dts, sizeof(dts), "%.17g", dt);
-  const std::string out = "vci_conv_dE_" + std::to_string(dt) + ".txt";
-  std::string input = slurp(std::string(HS_SOURCE_DIR) + "/examples/pendulum-chain/in.pendulum-chain");
-  input += "print \"VCI $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) $(f_hs[10]) $(f_hs[11]:%.6e)\"\n";
-  RunResult res = run_lmp(input, {"-var", "method", "vci", "-var", "dt", dts, "-var", "T",
-                                  std::to_string(T), "-var", "seed", std::to_string(seed), "-var", "out", out});
-  EXPECT_EQ(res.exit_code, 0) << res.output;
-  std::smatch m;
-  std::regex re(R"((?:^|\n)pendulum chain: [^\n]*: ([0-9.eE+-]+) collisions)");
-  if (std::regex_search(res.output, m, re)) r.ncoll = std::stod(m[1]);
-  else ADD_FAILURE() << "no summary line in output:\n" << res.output;
-  std::regex rv(R"((?:^|\n)VCI ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+) ([0-9.eE+-]+))");
-  if (std::regex_search(res.output, m, rv)) {
-    r.solved = std::stod(m[1]);
-    r.fallback = std::stod(m[2]);
-    r.zero = std::stod(m[3]);
-    r.evals = std::stod(m[4]);
-    r.maxevals = std::stod(m[5]);
-    r.maxdiff = std::stod(m[6]);
-  } else
-    ADD_FAILURE() << "no VCI line in output:\n" << res.output;
-  std::ifstream in(out);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    double step, dE;
-    if (ls >> step >> dE) r.dEmax = std::max(r.dEmax, dE);
-  }
-  std::remove(out.c_str());
+  VCIRun r;
+  static_cast<hs_chain::ChainRun &>(r) = hs_chain::run_chain(
+      "vci", dt, T, seed,
+      {"$(f_hs[6])", "$(f_hs[7])", "$(f_hs[8])", "$(f_hs[9])", "$(f_hs[10])", "$(f_hs[11]:%.6e)"});
+  r.solved = r.extra[0];
+  r.fallback = r.extra[1];
+  r.zero = r.extra[2];
+  r.evals = r.extra[3];
+  r.maxevals = r.extra[4];
+  r.maxdiff = r.extra[5];
   return r;
 }
 
@@ -79,7 +44,7 @@ TEST(VCIConvergence, PendulumChainSecondOrderAndDiscreteEnergyMatched)
   for (double dt : dts) {
     double logsum = 0.0;
     for (int seed = 1; seed <= 3; seed++) {
-    ChainRun r = run_chain(dt, T, seed);
+    VCIRun r = run_chain(dt, T, seed);
     printf("[ vci conv ] dt %-6g seed %d collisions %g: solved %g, elastic fallback %g, tau2=0 %g; "
            "%g evaluations of E_d+ (max %g per contact); max|E_d+ - E_d-| %.2e; max|H-H0| %.4e\n",
            dt, seed, r.ncoll, r.solved, r.fallback, r.zero, r.evals, r.maxevals, r.maxdiff, r.dEmax);
@@ -96,15 +61,7 @@ TEST(VCIConvergence, PendulumChainSecondOrderAndDiscreteEnergyMatched)
     ly.push_back(logsum / 3.0);
     printf("[ vci conv ] dt %-6g geometric mean of max|H-H0| %.4e\n", dt, std::exp(ly.back()));
   }
-  const double n = (double) lx.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t k = 0; k < lx.size(); k++) {
-    sx += lx[k];
-    sy += ly[k];
-    sxx += lx[k] * lx[k];
-    sxy += lx[k] * ly[k];
-  }
-  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double slope = hs_chain::fitted_slope(lx, ly);
   printf("[ vci conv ] fitted order %.3f\n", slope);
   EXPECT_GE(slope, 1.6);
   EXPECT_LE(slope, 2.6);

@@ -1,37 +1,17 @@
-// fix hardsphere/vci: the keywords and errors are hardsphere/cva's (shared
-// base), named with the vci style. A contact where no impulse strength in
+// fix hardsphere/vci: the keywords and errors are the base's (shared base;
+// tested for every method in test_shared_errors.cpp). A contact where no impulse strength in
 // [1/2, 2] times the elastic one matches the discrete energy (grazing
 // contacts: E_d+ - E_d- at the elastic impulse is O(dt^2) while the
 // impulse is small, section 2.3 / hs_vci.h) gets the elastic impulse, is
 // counted in f_ID[7] and warned about once. Each case runs in its own lmp
 // process (run_lmp): LAMMPS here is built without exceptions.
 
-#include "hs_test_main.h"
+#include "hs_errors.h"
 
 #include <regex>
 #include <string>
 
-namespace {
-
-std::string two_atoms(const std::string &fix)
-{
-  return "units lj\natom_style atomic\natom_modify map array\nboundary f f f\n"
-         "region box block -5 5 -5 5 -5 5 units box\ncreate_box 1 box\n"
-         "create_atoms 1 single -1 0 0 units box\ncreate_atoms 1 single 1 0 0 units box\n"
-         "mass 1 1.0\ncomm_modify cutoff 3.0\nvelocity all set 0.5 0 0 units box\n" +
-      fix + "\nrun 100\n";
-}
-
-void expect_error(const std::string &input, const std::vector<std::string> &needles)
-{
-  RunResult r = run_lmp(input);
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("ERROR"), std::string::npos) << r.output;
-  for (const auto &n : needles)
-    EXPECT_NE(r.output.find(n), std::string::npos) << "missing '" << n << "' in:\n" << r.output;
-}
-
-}    // namespace
+using hs_errors::expect_error;
 
 TEST(VCIErrors, ValidBaselineRuns)
 {
@@ -63,18 +43,6 @@ print "COUNTS $(f_hs[1]) $(f_hs[6]) $(f_hs[7])"
   EXPECT_GT(std::stod(m[1]), 2.0);
   EXPECT_EQ(std::stod(m[2]), std::stod(m[1]));
   EXPECT_EQ(std::stod(m[3]), 0.0);
-}
-
-TEST(VCIErrors, SharedKeywordErrorsNameVCI)
-{
-  expect_error(two_atoms("fix hs all hardsphere/vci diameter 1.0 bogus 1"),
-               {"Unknown fix hardsphere/vci keyword: bogus"});
-  expect_error(two_atoms("fix hs all hardsphere/vci diameter 0"),
-               {"Fix hardsphere/vci diameter must be > 0"});
-  expect_error(two_atoms("fix hs all hardsphere/vci diameter 1.0 wall qlo 1"),
-               {"Fix hardsphere/vci wall face must be"});
-  expect_error(two_atoms("fix hs all hardsphere/vci diameter 1.0\nfix 2 all nve"),
-               {"both time-integrate atoms"});
 }
 
 TEST(VCIErrors, NoRootFallsBackToElasticCountedAndWarnedOnce)
@@ -154,26 +122,4 @@ print "COUNTS $(f_hs[1]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(abs(ke-v_k0):%.3e)"
   EXPECT_GE(std::stod(m[4]), 1.0);
   EXPECT_EQ(std::stod(m[2]) + std::stod(m[3]) + std::stod(m[4]), std::stod(m[1]));
   EXPECT_LT(std::stod(m[5]), 1e-14);
-}
-
-TEST(VCIErrors, CountersSurviveRestart)
-{
-  // the 11 counters go to the restart file and come back with the fix ID
-  const std::string chain = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
-  const std::string show =
-      "print \"BEFORE $(f_hs[1]) $(f_hs[5]) $(f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[9]) "
-      "$(f_hs[10]) $(f_hs[11]:%.17g)\"\n";
-  RunResult a = run_lmp("include " + chain + "\n" + show + "write_restart vci.restart\n",
-                        {"-var", "method", "vci", "-var", "T", "20"});
-  ASSERT_EQ(a.exit_code, 0) << a.output;
-  RunResult b = run_lmp("read_restart vci.restart\ncomm_modify cutoff 2.0\n"
-                        "fix hs chain hardsphere/vci diameter 0.9 wall xlo 0.0\n"
-                        "fix 2d all enforce2d\nrun 0\n" + show);
-  std::remove("vci.restart");
-  ASSERT_EQ(b.exit_code, 0) << b.output;
-  std::smatch ma, mb;
-  const std::regex re(R"((?:^|\n)(BEFORE [^\n]*))");
-  ASSERT_TRUE(std::regex_search(a.output, ma, re)) << a.output;
-  ASSERT_TRUE(std::regex_search(b.output, mb, re)) << b.output;
-  EXPECT_EQ(ma[1].str(), mb[1].str());
 }

@@ -9,11 +9,8 @@
 # periodic faces and the rank boundaries. comm_modify cutoff 7 gives every
 # rank all atoms of the angles it stores with newton off.
 
-LMP=${1:?usage: test_mpi_hamiltonian.sh <lmp> <source dir>}
-SRC=${2:?usage: test_mpi_hamiltonian.sh <lmp> <source dir>}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-RTOL=${RTOL:-1e-10}
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
+mpi_init test_mpi_hamiltonian "$@"
 
 # data file: chain c (0..15) at grid point (y, z) = (c % 4, c / 4) * 2 + 1,
 # atoms at x = 0.5, 1.5, 2.5, 3.5, deterministically perturbed
@@ -82,29 +79,8 @@ EOF
   tail_part
 } > in.gauss
 
-# run <sys> <name> <np> <vars...>: prints the RESULT line's fields
-run() {
-  local sys=$1 name=$2 np=$3
-  shift 3
-  local out=out.$sys.$name.$np
-  if [ "$np" -eq 1 ]; then
-    "$LMP" -in in.$sys -log none -echo none "$@" > "$out" 2>&1
-  else
-    mpirun -np "$np" --oversubscribe "$LMP" -in in.$sys -log none -echo none "$@" > "$out" 2>&1
-  fi
-  local rc=$?
-  local res
-  res=$(grep '^RESULT ' "$out" | tail -1)
-  if [ $rc -ne 0 ] || [ -z "$res" ]; then
-    echo "FAIL: $sys $name on $np ranks exited with $rc / no RESULT line; output:" >&2
-    tail -20 "$out" >&2
-    return 1
-  fi
-  echo "${res#RESULT }"
-}
-
-# compare <label> <ref fields> <fields> <rtol> [<rtol of [4]> <rtol of [5]>]
-compare() {
+# compare_h <label> <ref fields> <fields> <rtol> [<rtol of [4]> <rtol of [5]>]
+compare_h() {
   python3 - "$@" <<'PY'
 import sys, math
 name, ref, got, rtol = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), float(sys.argv[4])
@@ -135,10 +111,10 @@ check() {
   local sys=$1 path=$2 newton=$3 grp=$4
   local vars=(-var newton $newton -var grp $grp -var path $path)
   local ref got
-  ref=$(run $sys "$path.$newton.$grp" 1 "${vars[@]}") || { fail=1; return; }
+  ref=$(run "$sys.$path.$newton.$grp" 1 in.$sys "${vars[@]}") || { fail=1; return; }
   for np in $NPS; do
-    got=$(run $sys "$path.$newton.$grp" $np "${vars[@]}") || { fail=1; continue; }
-    compare "$sys $path newton $newton $grp np=$np" "$ref" "$got" "$RTOL" "$RTOL" 1e-7 || fail=1
+    got=$(run "$sys.$path.$newton.$grp" $np in.$sys "${vars[@]}") || { fail=1; continue; }
+    compare_h "$sys $path newton $newton $grp np=$np" "$ref" "$got" "$RTOL" "$RTOL" 1e-7 || fail=1
   done
   echo "$ref" > res.$sys.$path.$newton.$grp
 }
@@ -153,15 +129,10 @@ for newton in on off; do
     # the paths agree (single: r-differences of the pair's single(); fdiff:
     # force differences): H2 to ~1e-10, H4 to ~1e-5 relative
     if [ -f res.gauss.auto.$newton.$grp ] && [ -f res.gauss.fdiff.$newton.$grp ]; then
-      compare "gauss auto vs fdiff newton $newton $grp" "$(cat res.gauss.auto.$newton.$grp)" \
+      compare_h "gauss auto vs fdiff newton $newton $grp" "$(cat res.gauss.auto.$newton.$grp)" \
         "$(cat res.gauss.fdiff.$newton.$grp)" 1e-13 1e-8 1e-4 || fail=1
     fi
   done
 done
 
-if [ $fail -ne 0 ]; then
-  echo "test_mpi_hamiltonian: FAILED"
-  exit 1
-fi
-echo "test_mpi_hamiltonian: all comparisons passed (relative tolerance $RTOL)"
-exit 0
+mpi_finish

@@ -17,16 +17,10 @@
 # units): at T = 100 the 1- and 2-rank runs differ by ~1e-8 in ke, so the
 # chain is compared at T = 40 (bit-identical on 2 and 4 ranks when written).
 
-LMP=${1:?usage: test_mpi_mcva.sh <lmp> <source dir>}
-SRC=${2:?usage: test_mpi_mcva.sh <lmp> <source dir>}
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-RTOL=${RTOL:-1e-10}
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
+mpi_init test_mpi_mcva "$@"
 
-cat > in.mcva_chain <<EOF
-include ${SRC}/examples/pendulum-chain/in.pendulum-chain
-print "RESULT \$(etotal:%.17g) \$(ke:%.17g) \$(f_hs[1]) \$(f_hs[2]) \$(f_hs[3]) \$(f_hs[4]) \$(f_hs[7])"
-EOF
+chain_input 7 > in.mcva_chain
 
 cat > in.mcva_fluid <<'EOF'
 units       lj
@@ -51,78 +45,15 @@ run         ${nsteps}
 print "RESULT $(etotal:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[2]) $(f_hs[3]) $(f_hs[4]) $(f_hs[7])"
 EOF
 
-# run <name> <np> <input> <vars...>: prints the RESULT line's fields
-run() {
-  local name=$1 np=$2 input=$3
-  shift 3
-  local out=out.$name.$np
-  if [ "$np" -eq 1 ]; then
-    "$LMP" -in "$input" -log none -echo none "$@" > "$out" 2>&1
-  else
-    mpirun -np "$np" --oversubscribe "$LMP" -in "$input" -log none -echo none "$@" > "$out" 2>&1
-  fi
-  local rc=$?
-  local res
-  res=$(grep '^RESULT ' "$out" | tail -1)
-  if [ $rc -ne 0 ] || [ -z "$res" ]; then
-    echo "FAIL: $name on $np ranks exited with $rc / no RESULT line; output:" >&2
-    tail -20 "$out" >&2
-    echo "NORESULT"
-    return 1
-  fi
-  echo "${res#RESULT }"
-}
-
-# compare <name> <ref fields> <fields> <np>
-compare() {
-  local name=$1 ref=$2 got=$3 np=$4
-  python3 - "$name" "$ref" "$got" "$np" "$RTOL" <<'PY'
-import sys
-name, ref, got, np, rtol = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), sys.argv[4], float(sys.argv[5])
-labels = ["etotal", "ke", "collisions", "pair", "wall", "coll.steps", "gauss.substeps"]
-ok = len(ref) == len(got) == 7
-if not ok:
-    print(f"FAIL {name}: malformed results {ref} / {got}"); sys.exit(1)
-for lab, a, b in zip(labels, ref, got):
-    a, b = float(a), float(b)
-    if lab in ("etotal", "ke"):
-        rel = abs(a - b) / max(abs(a), 1e-300)
-        good = rel <= rtol
-        print(f"  {name:6s} np={np} {lab:14s} 1 rank {a:.17g}  {np} ranks {b:.17g}  rel.diff {rel:.2e} {'ok' if good else 'FAIL'}")
-    else:
-        good = a == b
-        print(f"  {name:6s} np={np} {lab:14s} 1 rank {a:g}  {np} ranks {b:g}  {'ok' if good else 'FAIL'}")
-    ok = ok and good
-sys.exit(0 if ok else 1)
-PY
-}
-
-# check_system <name> <input> <rank counts> <vars...>
-check_system() {
-  local name=$1 input=$2 nps=$3
-  shift 3
-  local ref
-  ref=$(run "$name" 1 "$input" "$@") || { fail=1; return; }
-  # the system must collide, and sub-step with Gauss
-  if ! echo "$ref" | awk '{exit !($3 > 0 && $7 >= $3)}'; then
-    echo "FAIL: $name has no collisions / Gauss sub-steps on 1 rank ($ref)"
-    fail=1
-  fi
-  for np in $nps; do
-    local got
-    got=$(run "$name" "$np" "$input" "$@") || { fail=1; continue; }
-    compare "$name" "$ref" "$got" "$np" || fail=1
-  done
-}
+# the RESULT fields: the first two to RTOL relative, the counters exactly
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "gauss.substeps")
+# the system must collide, and sub-step with Gauss
+REF_CHECK='$3 > 0 && $7 >= $3'
+REF_CHECK_MSG='no collisions / Gauss sub-steps'
 
 echo "pendulum chain (mcva, dt 0.02, T 40) on 1, 2, 4 ranks:"
 check_system chain in.mcva_chain "2 4" -var method mcva -var dt 0.02 -var T 40 -var seed 1 -var every 1000
 echo "periodic hard-sphere + LJ fluid (108 atoms, 40 steps) on 1, 2 ranks:"
 check_system fluid in.mcva_fluid "2" -var nsteps 40
 
-if [ $fail -ne 0 ]; then
-  echo "test_mpi_mcva: FAILED"
-  exit 1
-fi
-echo "test_mpi_mcva: all comparisons passed (relative tolerance $RTOL)"
-exit 0
+mpi_finish

@@ -1,7 +1,9 @@
-// fix hardsphere/cva on a pure hard-sphere fluid: the pressure from the
-// collision (impulse) virial follows the Carnahan-Starling equation of state,
-// and the kinetic energy (temperature) is conserved to round-off, since
-// elastic collisions and free flight conserve it exactly.
+// A pure hard-sphere fluid with psa (its event-driven use case) and cva: the
+// pressure from the collision (impulse) virial follows the Carnahan-Starling
+// equation of state, the collision rate the Enskog frequency, and the
+// temperature is conserved to round-off, since elastic collisions and free
+// flight conserve it exactly. One suite, instantiated per method (test names
+// start with the method).
 
 #include "hs_test_main.h"
 
@@ -30,10 +32,18 @@ double var_value(HSLammps &h, const char *name)
   return v;
 }
 
+class HardSphereFluid : public ::testing::TestWithParam<const char *> {};
+
+std::string case_name(const ::testing::TestParamInfo<const char *> &info)
+{
+  return info.param;
+}
+
 }    // namespace
 
-TEST(CVAHardSphereFluid, CarnahanStarlingAndTemperatureConservation)
+TEST_P(HardSphereFluid, CarnahanStarlingAndTemperatureConservation)
 {
+  const std::string method = GetParam();
   const double PI = 3.14159265358979323846;
   const double eta = 0.3;
   const double rho = 6.0 * eta / PI;
@@ -59,8 +69,8 @@ run 0
   const double T0 = h.thermo("temp");
   ASSERT_NEAR(T0, 1.0, 1e-12);
   EXPECT_EQ(h.thermo("atoms"), 500.0);
+  h.cmd("fix hs all hardsphere/" + method + " diameter 1.0");
   h.lines(R"(
-fix hs all hardsphere/cva diameter 1.0
 run 500
 reset_timestep 0
 variable T0 equal temp
@@ -74,9 +84,10 @@ run 2000
   const double Tavg = fix_value(h, "avg", 0, 1, 1);
   const double ncoll = fix_value(h, "hs", 0, 1, 0);
   const double dTmax = var_value(h, "dTmax");
-  printf("[ cva eos  ] eta %.2f rho %.5f: <P> = %.5f, rho T Z_CS = %.5f (ratio %.4f), "
+  printf("[ %s eos  ] eta %.2f rho %.5f: <P> = %.5f, rho T Z_CS = %.5f (ratio %.4f), "
          "<T> - 1 = %.2e, max|T-1| = %.2e, %g collisions\n",
-         eta, rho, P, rho * Tavg * zcs, P / (rho * Tavg * zcs), Tavg - 1.0, dTmax, ncoll);
+         method.c_str(), eta, rho, P, rho * Tavg * zcs, P / (rho * Tavg * zcs), Tavg - 1.0, dTmax,
+         ncoll);
 
   // the collision count matches the Enskog collision frequency per particle
   // nu = 4 sigma^2 rho g(sigma) sqrt(pi T/m), contact value g = (Z_CS-1)/(4 eta),
@@ -93,3 +104,6 @@ run 2000
   // Carnahan-Starling within 2 %
   EXPECT_NEAR(P / (rho * Tavg * zcs), 1.0, 0.02) << "P " << P << " expected " << rho * zcs;
 }
+
+INSTANTIATE_TEST_SUITE_P(PSA, HardSphereFluid, ::testing::Values("psa"), case_name);
+INSTANTIATE_TEST_SUITE_P(CVA, HardSphereFluid, ::testing::Values("cva"), case_name);

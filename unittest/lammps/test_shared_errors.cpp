@@ -1,0 +1,93 @@
+// The keywords and set-up checks every hardsphere fix shares (they are the
+// base class's): invalid input ends in an ERROR naming the problem and the
+// method's own style name. One suite, instantiated per method (test names
+// start with the method); a method's own failures are in test_<method>_errors.cpp.
+
+#include "hs_errors.h"
+
+using hs_errors::expect_error;
+using hs_errors::two_atoms;
+
+namespace {
+
+class SharedErrors : public ::testing::TestWithParam<const char *> {
+ protected:
+  std::string style() const { return std::string("hardsphere/") + GetParam(); }
+  // "fix hs all hardsphere/<method><args>"
+  std::string fix(const std::string &args) const { return "fix hs all " + style() + args; }
+};
+
+std::string case_name(const ::testing::TestParamInfo<const char *> &info)
+{
+  return info.param;
+}
+
+}    // namespace
+
+TEST_P(SharedErrors, OverlapAtSetup)
+{
+  expect_error(two_atoms("0", "0.5", fix(" diameter 1.0")),
+               {style(), "atoms 1 and 2 overlap", "set-up"});
+}
+
+TEST_P(SharedErrors, SphereThroughWallAtSetup)
+{
+  // centre 0.2 from the wall plane, radius 0.5
+  expect_error(two_atoms("-1.8", "1", fix(" diameter 1.0 wall xlo -2.0")),
+               {"atom 1 is", "through wall xlo"});
+}
+
+TEST_P(SharedErrors, MissingDiameterAtomic)
+{
+  expect_error(two_atoms("-1", "1", fix("")), {"Fix " + style() + " needs the diameter keyword"});
+}
+
+TEST_P(SharedErrors, UnknownKeyword)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 bogus 3")),
+               {"Unknown fix " + style() + " keyword: bogus"});
+}
+
+TEST_P(SharedErrors, NegativeDiameter)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter -1")),
+               {"Fix " + style() + " diameter must be > 0", "-1"});
+}
+
+TEST_P(SharedErrors, ZeroDiameter)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 0")),
+               {"Fix " + style() + " diameter must be > 0"});
+}
+
+TEST_P(SharedErrors, BadWallFace)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall xmid 0")),
+               {"Fix " + style() + " wall face must be", "xmid"});
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall qlo 1")),
+               {"Fix " + style() + " wall face must be"});
+}
+
+TEST_P(SharedErrors, WallGivenTwice)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall ylo -4 wall ylo -3")),
+               {"Fix " + style() + " wall ylo given twice"});
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo -4.0 wall xlo 3")),
+               {"Fix " + style() + " wall xlo given twice"});
+}
+
+TEST_P(SharedErrors, SecondIntegratorOnSameAtoms)
+{
+  // defined before the hardsphere fix ...
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0"), "fix mynve all nve\n"),
+               {"mynve", "hs", "nve", style(), "both time-integrate"});
+  // ... and after it
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0\nfix 2 all nve")),
+               {"both time-integrate atoms"});
+}
+
+INSTANTIATE_TEST_SUITE_P(PSA, SharedErrors, ::testing::Values("psa"), case_name);
+INSTANTIATE_TEST_SUITE_P(CVA, SharedErrors, ::testing::Values("cva"), case_name);
+INSTANTIATE_TEST_SUITE_P(PCVA, SharedErrors, ::testing::Values("pcva"), case_name);
+INSTANTIATE_TEST_SUITE_P(MCVA, SharedErrors, ::testing::Values("mcva"), case_name);
+INSTANTIATE_TEST_SUITE_P(VCI, SharedErrors, ::testing::Values("vci"), case_name);
