@@ -87,7 +87,8 @@ inline ChainRun run_chain(const std::string &method, double dt, double T, int se
     for (const auto &e : extra) input += " " + e;
     input += "\"\n";
   }
-  const std::string out = method + "_conv_dE_" + std::to_string(seed) + "_" + f17(dt) + ".txt";
+  const std::string out =
+      scratch_name(method + "_conv_dE_" + std::to_string(seed) + "_" + f17(dt) + ".txt");
   RunResult res = run_lmp(input, {"-var", "method", method, "-var", "dt", f17(dt), "-var", "T",
                                   std::to_string(T), "-var", "seed", std::to_string(seed),
                                   "-var", "out", out});

@@ -114,6 +114,14 @@ class HSLammps {
   }
 };
 
+// A scratch file name private to this process: ctest -j runs the cases of
+// one test executable as parallel processes in the same directory, so a
+// fixed name would let two of them overwrite each other's output.
+inline std::string scratch_name(const std::string &base)
+{
+  return base + "." + std::to_string((long) getpid());
+}
+
 struct RunResult {
   int exit_code;         // exit status of lmp / mpirun (-1: not exited normally)
   std::string output;    // stdout + stderr

@@ -70,7 +70,7 @@ Errors run_chain(const std::string &method, double dt, double T)
   std::string input =
       slurp(hs_chain::chain_path());
   EXPECT_FALSE(input.empty());
-  const std::string dump = "mcva_conv_" + method + "_" + std::to_string(dt) + ".dump";
+  const std::string dump = scratch_name("mcva_conv_" + method + "_" + std::to_string(dt) + ".dump");
   const std::string anchor = "fix         dEout all ave/time 1 1 1 v_dE file ${out}\n";
   const size_t at = input.find(anchor);
   EXPECT_NE(at, std::string::npos) << "the example changed: no '" << anchor << "'";

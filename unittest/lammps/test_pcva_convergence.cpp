@@ -37,7 +37,7 @@ double chain_modified_drift(const std::string &method, double dt, int nsteps)
   snprintf(dts, sizeof(dts), "%.17g", dt);
   HSLammps h({"-var", "method", method, "-var", "dt", dts, "-var", "T", "0", "-var", "seed", "1"});
   h.file(CHAIN);
-  const std::string dump = "conv_dump_" + method + ".txt";
+  const std::string dump = scratch_name("conv_dump_" + method + ".txt");
   h.cmd("dump hsd all custom 1 " + dump + " id x y z vx vy vz");
   h.cmd("dump_modify hsd format float %.17g sort id");
   h.cmd("run " + std::to_string(nsteps));
@@ -66,7 +66,7 @@ double chain_modified_drift_compute(const std::string &method, double dt, int ns
   snprintf(dts, sizeof(dts), "%.17g", dt);
   HSLammps h({"-var", "method", method, "-var", "dt", dts, "-var", "T", "0", "-var", "seed", "1"});
   h.file(CHAIN);
-  const std::string out = "conv_hm_" + method + ".txt";
+  const std::string out = scratch_name("conv_hm_" + method + ".txt");
   h.cmd("compute hm chain hamiltonian/modified");
   h.cmd("fix hmo all ave/time 1 1 1 c_hm[2] file " + out + " format \" %.17g\"");
   h.cmd("run " + std::to_string(nsteps));

@@ -42,7 +42,8 @@ Conservation check_run(HSLammps &h, int nsteps, int marker, const std::vector<Ha
                        const std::map<int, double> &masses, double dt, double mvv2e, double ftm2v,
                        const std::string &tag)
 {
-  const std::string dump = "pcva_dump_" + tag + ".txt", series = "pcva_series_" + tag + ".txt";
+  const std::string dump = scratch_name("pcva_dump_" + tag + ".txt"),
+                    series = scratch_name("pcva_series_" + tag + ".txt");
   h.cmd("dump hsd all custom 1 " + dump + " id x y z vx vy vz");
   h.cmd("dump_modify hsd format float %.17g sort id");
   h.cmd("fix hsser all ave/time 1 1 1 f_hs[" + std::to_string(marker) + "] file " + series);
@@ -208,7 +209,7 @@ timestep 0.02
 compute hm chain hamiltonian/modified
 )");
   h.cmd("fix hs chain hardsphere/" + method + " diameter 0.9 wall xlo 0.0");
-  const std::string out = "pcva_angle_" + method + ".txt";
+  const std::string out = scratch_name("pcva_angle_" + method + ".txt");
   h.cmd(std::string("fix ser all ave/time 1 1 1 c_hm[2] f_hs[") + (method == "pcva" ? "6" : "4") +
         "] file " + out + " format \" %.17g\"");
   h.cmd("run 2500");

@@ -30,7 +30,7 @@ ChainRun run_chain(const std::string &method, double dt, double T, int seed)
   char dts[32], Ts[32];
   snprintf(dts, sizeof(dts), "%.17g", dt);
   snprintf(Ts, sizeof(Ts), "%.17g", T);
-  const std::string out = "psa_conv_dE_" + method + ".txt";
+  const std::string out = scratch_name("psa_conv_dE_" + method + ".txt");
   ChainRun r;
   {
     HSLammps h({"-var", "method", method, "-var", "dt", dts, "-var", "T", Ts, "-var", "seed",

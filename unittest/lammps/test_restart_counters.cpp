@@ -30,7 +30,7 @@ TEST_P(RestartCounters, CountersContinue)
 {
   const RestartCase &c = GetParam();
   const std::string method = c.method;
-  const std::string file = method + "_restart.bin";
+  const std::string file = scratch_name(method + "_restart.bin");
   std::vector<double> before(c.ncounters);
   {
     HSLammps h({"-var", "method", method, "-var", "T", "20", "-var", "every", "100000"});
