@@ -159,6 +159,7 @@ void FixHardSphere::init()
       rloc = MAX(rloc, r);
     }
   MPI_Allreduce(&rloc, &rmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  max_substeps = MAX_SUBSTEPS_BASE + MAX_SUBSTEPS_PER_SPHERE * group->count(igroup);
   if (rmax == 0.0) rmax = diameter_flag ? 0.5 * diameter : 0.0;
 
   // the list holds every pair within 2 rmax + 2 skin of each other when it
@@ -277,11 +278,12 @@ void FixHardSphere::pair_overlap_error(int i, int j, double r, double sigma)
 
 void FixHardSphere::check_runaway(bigint ncollisions)
 {
-  if (ncollisions > MAX_SUBSTEPS)
+  if (ncollisions > max_substeps)
     error->all(FLERR,
-               "Fix {}: more than {} collisions in step {}: the timestep is far too large "
-               "for this system",
-               style_name, MAX_SUBSTEPS, update->ntimestep);
+               "Fix {}: more than {} collisions in step {}: a sequence of contacts that does "
+               "not end (e.g. a sphere pressed against a wall or a neighbour with almost no "
+               "normal velocity) or a timestep far too large for this system",
+               style_name, max_substeps, update->ntimestep);
 }
 
 void FixHardSphere::resting_contact_error(const Impulse &imp)

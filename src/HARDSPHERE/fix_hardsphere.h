@@ -55,8 +55,12 @@ class FixHardSphere : public Fix {
   // consecutive zero-length sub-steps without an impulse before we call it
   // a resting contact, which the impulsive hard-sphere model cannot resolve
   static constexpr int MAX_STUCK = 100;
-  // collisions in one step beyond which something is wrong (a runaway loop)
-  static constexpr bigint MAX_SUBSTEPS = 100000000;
+  // collisions in one step beyond which something is wrong (a sequence of
+  // contacts that does not end): MAX_SUBSTEPS_BASE + MAX_SUBSTEPS_PER_SPHERE
+  // x the group's size (a dense fluid at a large step has a few per sphere)
+  static constexpr bigint MAX_SUBSTEPS_BASE = 1000000;
+  static constexpr bigint MAX_SUBSTEPS_PER_SPHERE = 100;
+  bigint max_substeps = MAX_SUBSTEPS_BASE;
   // screen() results
   static constexpr int ACTIVE = 1, FAR = 2;
 
