@@ -38,6 +38,7 @@
 #include <mpi.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -102,6 +103,15 @@ class HSLammps {
       if (end > start) cmd(text.substr(start, end - start));
       start = end + 1;
     }
+  }
+  // value of an equal-style variable (NaN if it does not evaluate)
+  double variable(const char *name)
+  {
+    auto *p = (double *) lammps_extract_variable(lmp, name, nullptr);
+    if (!p) return NAN;
+    const double val = *p;
+    lammps_free(p);
+    return val;
   }
   // element k (0-based) of fix ID's global vector
   double fix_vector(const char *id, int k)

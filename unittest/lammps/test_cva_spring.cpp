@@ -32,14 +32,6 @@ double extract_fix(HSLammps &h, const char *id, int style, int type, int i)
   return v;
 }
 
-double extract_var(HSLammps &h, const char *name)
-{
-  auto *p = (double *) lammps_extract_variable(h.lmp, name, nullptr);
-  if (!p) return NAN;
-  double v = *p;
-  lammps_free(p);
-  return v;
-}
 
 int exact_count(double T)
 {
@@ -122,8 +114,8 @@ variable dEmax equal max(f_dEv)
   s += "run " + std::to_string(nsteps) + "\n";
   h.lines(s);
 
-  r.E0 = extract_var(h, "E0");
-  r.dEmax = extract_var(h, "dEmax");
+  r.E0 = h.variable("E0");
+  r.dEmax = h.variable("dEmax");
   r.ncoll = extract_fix(h, "hs", 0, 1, 0);
   r.npair = extract_fix(h, "hs", 0, 1, 1);
   r.nwall = extract_fix(h, "hs", 0, 1, 2);

@@ -23,15 +23,6 @@ double fix_value(HSLammps &h, const char *id, int style, int type, int i)
   return v;
 }
 
-double var_value(HSLammps &h, const char *name)
-{
-  auto *p = (double *) lammps_extract_variable(h.lmp, name, nullptr);
-  if (!p) return NAN;
-  double v = *p;
-  lammps_free(p);
-  return v;
-}
-
 class HardSphereFluid : public ::testing::TestWithParam<const char *> {};
 
 std::string case_name(const ::testing::TestParamInfo<const char *> &info)
@@ -83,7 +74,7 @@ run 2000
   const double P = fix_value(h, "avg", 0, 1, 0);
   const double Tavg = fix_value(h, "avg", 0, 1, 1);
   const double ncoll = fix_value(h, "hs", 0, 1, 0);
-  const double dTmax = var_value(h, "dTmax");
+  const double dTmax = h.variable("dTmax");
   printf("[ %s eos  ] eta %.2f rho %.5f: <P> = %.5f, rho T Z_CS = %.5f (ratio %.4f), "
          "<T> - 1 = %.2e, max|T-1| = %.2e, %g collisions\n",
          method.c_str(), eta, rho, P, rho * Tavg * zcs, P / (rho * Tavg * zcs), Tavg - 1.0, dTmax,

@@ -52,14 +52,6 @@ struct State {
   double ncoll = -1, npair = -1, nwall = -1, etotal = NAN, e0 = NAN;
 };
 
-double extract_var(HSLammps &h, const char *name)
-{
-  auto *p = (double *) lammps_extract_variable(h.lmp, name, nullptr);
-  if (!p) return NAN;
-  double v = *p;
-  lammps_free(p);
-  return v;
-}
 
 // run a prepared input (everything but fix hs and the run) and gather the state
 State run_case(const std::string &setup, const std::string &fixline, double dt, int nsteps,
@@ -83,7 +75,7 @@ State run_case(const std::string &setup, const std::string &fixline, double dt, 
   st.npair = h.fix_vector("hs", 1);
   st.nwall = h.fix_vector("hs", 2);
   st.etotal = h.thermo("etotal");
-  st.e0 = extract_var(h, "E0");
+  st.e0 = h.variable("E0");
   return st;
 }
 
@@ -428,6 +420,6 @@ variable xmin equal min(f_xv)
   EXPECT_NEAR(x[3], 0.5 + 1.5 * dt * dt / 2, 1e-14);
   h.cmd("run 1000");
   EXPECT_GE(h.fix_vector("hs", 2), 500.0);
-  EXPECT_GE(extract_var(h, "xmin"), 0.5 * (1 - 1e-12));
+  EXPECT_GE(h.variable("xmin"), 0.5 * (1 - 1e-12));
   EXPECT_LT(std::fabs(h.thermo("etotal") - 1.125), 1e-3);
 }

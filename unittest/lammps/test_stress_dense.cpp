@@ -21,14 +21,6 @@
 #include <string>
 
 namespace {
-double extract_var(HSLammps &h, const char *name)
-{
-  auto *p = (double *) lammps_extract_variable(h.lmp, name, nullptr);
-  if (!p) return NAN;
-  double v = *p;
-  lammps_free(p);
-  return v;
-}
 
 double speedy_Z(double eta)
 {
@@ -72,10 +64,10 @@ variable rho equal $(atoms/vol:%.17g)
 variable kT equal $(2*ke/(3*atoms):%.17g)
 )");
   h.cmd("run " + std::to_string(nsteps));
-  const double K0 = extract_var(h, "K0"), rho = extract_var(h, "rho"), kT = extract_var(h, "kT");
+  const double K0 = h.variable("K0"), rho = h.variable("rho"), kT = h.variable("kT");
   EXPECT_NEAR(rho, 6 * eta / 3.14159265358979323846, 1e-9);
   EXPECT_NEAR(h.thermo("ke"), K0, 1e-12 * K0) << m;
-  EXPECT_NEAR(extract_var(h, "px"), 0.0, 1e-11) << m;
+  EXPECT_NEAR(h.variable("px"), 0.0, 1e-11) << m;
   const double ncoll = h.fix_vector("hs", 0);
   auto *pp = (double *) lammps_extract_fix(h.lmp, "pav", 0, 0, 0, 0);
   ASSERT_NE(pp, nullptr);

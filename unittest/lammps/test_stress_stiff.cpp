@@ -62,14 +62,6 @@ variable Emin equal min(f_hi)
   return s;
 }
 
-double extract_var(HSLammps &h, const char *name)
-{
-  auto *p = (double *) lammps_extract_variable(h.lmp, name, nullptr);
-  if (!p) return NAN;
-  double v = *p;
-  lammps_free(p);
-  return v;
-}
 
 struct Range {
   double emax, emin, ncoll;
@@ -80,7 +72,7 @@ Range run_dimer(const std::string &method, double amp, double hw, int nsteps)
   HSLammps h;
   h.lines(dimer_input(method, amp, hw, 0.3));
   h.cmd("run " + std::to_string(nsteps));
-  return {extract_var(h, "Emax"), extract_var(h, "Emin"), h.fix_vector("hs", 0)};
+  return {h.variable("Emax"), h.variable("Emin"), h.fix_vector("hs", 0)};
 }
 
 }    // namespace
