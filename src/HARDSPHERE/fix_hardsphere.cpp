@@ -294,6 +294,24 @@ void FixHardSphere::resting_contact_error(const Impulse &imp)
              style_name, contact_name(imp), update->ntimestep);
 }
 
+// a touching contact that a method found separating on its own flow:
+// predict() passes over it while it touches, until a sub-step moves on
+void FixHardSphere::release_contact(const Impulse &imp)
+{
+  released.type = imp.type;
+  released.itag = imp.itag;
+  released.jtag = imp.jtag;
+  released.wall = imp.wall;
+}
+
+bool FixHardSphere::is_released(int type, tagint itag, tagint jtag, int wall) const
+{
+  if (released.type != type) return false;
+  if (type == WALL_EVENT) return released.itag == itag && released.wall == wall;
+  return (released.itag == itag && released.jtag == jtag) ||
+         (released.itag == jtag && released.jtag == itag);
+}
+
 double FixHardSphere::force_evals() const
 {
   return nforce_evals + pot->nevals();
@@ -658,6 +676,7 @@ double FixHardSphere::predict(double tleft, Event &ev)
                    "Fix {}: atom {} is {} through wall {} on step {}: a collision was missed",
                    style_name, tag[i], -g, name, update->ntimestep);
       }
+      if (ct.status == HardSphere::CONTACT_NOW && is_released(WALL_EVENT, tag[i], 0, w)) continue;
       if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
         tbest = ct.t;
         ev.type = WALL_EVENT;
@@ -684,6 +703,8 @@ double FixHardSphere::predict(double tleft, Event &ev)
     if (ct.status == HardSphere::OVERLAP) {
       pair_overlap_error(i, j, sqrt(r2), sigma);
     }
+    if (ct.status == HardSphere::CONTACT_NOW && is_released(PAIR_EVENT, tag[i], tag[j], -1))
+      continue;
     if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
       tbest = ct.t;
       ev.type = PAIR_EVENT;
@@ -909,6 +930,7 @@ void FixHardSphere::initial_integrate(int)
   grow_peratom();
   update_walls();
   step_collided = 0;
+  released.type = -1;
 
   double tleft = dtv;
   // screened ahead in the previous step's final_integrate unless velocities
@@ -959,6 +981,7 @@ void FixHardSphere::initial_integrate(int)
 
     double tau = first.t;
     if (!advance_to_contact(tau, tleft, imp)) break;    // hook: the step ended without it
+    if (tau > 0.0) released.type = -1;    // the sub-step moved the released pair apart
 
     // the rank that found the contact builds the impulse from the state at
     // contact and sends it to all; each applies it to its copies of the atoms

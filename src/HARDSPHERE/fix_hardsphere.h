@@ -105,6 +105,15 @@ class FixHardSphere : public Fix {
   void pair_overlap_error(int i, int j, double r, double sigma);
   void check_runaway(bigint ncollisions);
   void add_impulse_virial(const Impulse &);
+  // a contact touching now that the method's own flow separates (mcva):
+  // not predicted again until a sub-step of nonzero length
+  struct {
+    int type = -1;
+    tagint itag = 0, jtag = 0;
+    int wall = -1;
+  } released;
+  void release_contact(const Impulse &);
+  bool is_released(int type, tagint itag, tagint jtag, int wall) const;
   // a method's own counters, written to restart files after the base's
   virtual std::vector<double *> extra_counters() { return {}; }
 

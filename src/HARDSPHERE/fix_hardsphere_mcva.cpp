@@ -44,11 +44,11 @@ static constexpr int NVEC_BASE = 5;
 
 FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
     FixHardSphere(lmp, narg, arg), gauss_step(0), cancel(0),
-    gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0),
+    gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0), nreleased(0.0),
     hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
     fhv(nullptr), ftv(nullptr), fha(nullptr)
 {
-  size_vector = NVEC_BASE + 5;
+  size_vector = NVEC_BASE + 6;
   derivs_needed = 1;
 }
 
@@ -611,6 +611,17 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
       }
   MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, world);
 
+  // touching, approaching by the plain velocity (the prediction's test)
+  // but separating on the Gauss flow of H~ (u^T A p = u.v + dt^2/6 w^T V''v
+  // >= 0): no impulse, or alpha-hat would reverse it to approaching and the
+  // next zero-length sub-step back again, without end
+  if (sums[0] + dt * dt / 6.0 * sums[2] >= 0.0) {
+    imp.apply = 0;
+    release_contact(imp);
+    nreleased += 1.0;
+    return;
+  }
+
   double alpha = 0.0;
   if (!HardSphere::modified_alpha(sums[0], sums[1], sums[2], sums[3], dt * dt / 6.0, alpha))
     error->all(FLERR,
@@ -645,6 +656,8 @@ double FixHardSphereMCVA::compute_vector(int n)
       return gauss_solves;
     case 4:
       return nmissed;
+    case 5:
+      return nreleased;
   }
   return 0.0;
 }
@@ -658,5 +671,5 @@ double FixHardSphereMCVA::memory_usage()
 // the counters after the base's in restart files
 std::vector<double *> FixHardSphereMCVA::extra_counters()
 {
-  return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed};
+  return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed, &nreleased};
 }

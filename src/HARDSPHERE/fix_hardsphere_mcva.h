@@ -48,6 +48,7 @@ class FixHardSphereMCVA : public FixHardSphere {
   // counters (global, identical on all ranks)
   double gauss_iters, gauss_substeps, gauss_maxit, gauss_solves;
   double nmissed;    // contacts of the Gauss flow the Verlet prediction missed
+  double nreleased;  // touching contacts the Gauss flow separates: no impulse
 
   // the state of a Gauss sub-step: owned group atoms idx[k], y = (q, v)
   std::vector<int> idx;

@@ -55,5 +55,5 @@ TEST_P(RestartCounters, CountersContinue)
 INSTANTIATE_TEST_SUITE_P(PSA, RestartCounters, ::testing::Values(RestartCase{"psa", 5, -1}), case_name);
 INSTANTIATE_TEST_SUITE_P(CVA, RestartCounters, ::testing::Values(RestartCase{"cva", 5, -1}), case_name);
 INSTANTIATE_TEST_SUITE_P(PCVA, RestartCounters, ::testing::Values(RestartCase{"pcva", 8, -1}), case_name);
-INSTANTIATE_TEST_SUITE_P(MCVA, RestartCounters, ::testing::Values(RestartCase{"mcva", 10, 5}), case_name);
+INSTANTIATE_TEST_SUITE_P(MCVA, RestartCounters, ::testing::Values(RestartCase{"mcva", 11, 5}), case_name);
 INSTANTIATE_TEST_SUITE_P(VCI, RestartCounters, ::testing::Values(RestartCase{"vci", 11, -1}), case_name);
