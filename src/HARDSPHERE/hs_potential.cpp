@@ -284,18 +284,28 @@ struct HSPotential::Impl : protected Pointers {
     comm->forward_comm();
   }
 
+  // the styles' compute(ef, 0) in Verlet::run's order: all of them, or
+  // (fd_only) those whose derivatives come from force differences (the fd_
+  // flags are set in init() only for styles that are present and computed)
+  void compute_styles(int ef, bool fd_only)
+  {
+    if (force->pair && force->pair->compute_flag && (!fd_only || fd_pair))
+      force->pair->compute(ef, 0);
+    if (molecular()) {
+      if (force->bond && (!fd_only || fd_bond)) force->bond->compute(ef, 0);
+      if (force->angle && (!fd_only || fd_angle)) force->angle->compute(ef, 0);
+      if (force->dihedral && (!fd_only || fd_dihedral)) force->dihedral->compute(ef, 0);
+      if (force->improper && (!fd_only || fd_improper)) force->improper->compute(ef, 0);
+    }
+    if (force->kspace && force->kspace->compute_flag && (!fd_only || fd_kspace))
+      force->kspace->compute(ef, 0);
+  }
+
   // -grad of the FDIFF part of V at the current x, owned atoms, into out
   void fd_forces(double **out)
   {
     force_clear();
-    if (fd_pair) force->pair->compute(0, 0);
-    if (molecular()) {
-      if (fd_bond) force->bond->compute(0, 0);
-      if (fd_angle) force->angle->compute(0, 0);
-      if (fd_dihedral) force->dihedral->compute(0, 0);
-      if (fd_improper) force->improper->compute(0, 0);
-    }
-    if (fd_kspace) force->kspace->compute(0, 0);
+    compute_styles(0, true);
     if (force->newton) comm->reverse_comm();
     for (int k : efix) modify->fix[k]->post_force(0);
     double **f = atom->f;
@@ -771,14 +781,7 @@ double HSPotential::evaluate(int eflag)
   comm->forward_comm();
   impl->force_clear();
   if (modify->n_pre_force) modify->pre_force(0);
-  if (force->pair && force->pair->compute_flag) force->pair->compute(ef, 0);
-  if (atom->molecular != Atom::ATOMIC) {
-    if (force->bond) force->bond->compute(ef, 0);
-    if (force->angle) force->angle->compute(ef, 0);
-    if (force->dihedral) force->dihedral->compute(ef, 0);
-    if (force->improper) force->improper->compute(ef, 0);
-  }
-  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(ef, 0);
+  impl->compute_styles(ef, false);
   if (modify->n_pre_reverse) modify->pre_reverse(ef, 0);
   if (force->newton) comm->reverse_comm();
   if (modify->n_post_force) modify->post_force(0);
@@ -800,14 +803,7 @@ double HSPotential::energy()
   Impl &m = *impl;
   m.save();
   m.force_clear();
-  if (force->pair && force->pair->compute_flag) force->pair->compute(1, 0);
-  if (atom->molecular != Atom::ATOMIC) {
-    if (force->bond) force->bond->compute(1, 0);
-    if (force->angle) force->angle->compute(1, 0);
-    if (force->dihedral) force->dihedral->compute(1, 0);
-    if (force->improper) force->improper->compute(1, 0);
-  }
-  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(1, 0);
+  m.compute_styles(1, false);
   for (int k : m.efix) modify->fix[k]->post_force(0);
   nevals_ += 1.0;
   const double v = m.tally_energy();
