@@ -7,6 +7,7 @@
 
 #include "hs_compat.h"
 #include "hs_contact.h"
+#include "hs_fix_rule.h"
 #include "hs_potential.h"
 
 #include "angle.h"
@@ -128,6 +129,9 @@ FixHardSphere::~FixHardSphere()
   memory->destroy(gap);
   memory->destroy(active);
   memory->destroy(acc);
+  memory->destroy(ftot);
+  memory->destroy(fcons);
+  memory->destroy(fheld);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -206,9 +210,65 @@ void FixHardSphere::init()
       (force->bond || force->angle || force->dihedral || force->improper))
     forces_present = 1;
   if (force->kspace && force->kspace->compute_flag) forces_present = 1;
-  if (modify->n_pre_force || modify->n_pre_reverse || modify->n_post_force) forces_present = 1;
+  for (int k = 0; k < modify->nfix; k++)
+    if (modify->fmask[k] & (FixConst::PRE_FORCE | FixConst::PRE_REVERSE | FixConst::POST_FORCE))
+      forces_present = 1;
 
+  check_fixes_beside();
   reset_dt();
+}
+
+/* ----------------------------------------------------------------------
+   the fixes beside the integrator (hs_fix_rule.h, doc "Fixes beside the
+   integrator"): box changes and constraint fixes are refused, thermostat
+   forces are held through collisional steps, unknown forces are named
+------------------------------------------------------------------------- */
+
+void FixHardSphere::check_fixes_beside()
+{
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *other = modify->fix[k];
+    if (other == this) continue;
+    if (other->box_change & (Fix::BOX_CHANGE_SIZE | Fix::BOX_CHANGE_SHAPE))
+      error->all(FLERR,
+                 "Fix {} cannot run beside fix {} {}: it changes the box during the run and "
+                 "rescales positions without regard to the spheres' contacts, which makes "
+                 "hard spheres overlap. Run at constant volume (a box changed between runs "
+                 "is checked for overlaps at set-up)",
+                 style_name, other->id, other->style);
+    const std::string base = HardSphere::base_style(other->style);
+    if (HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::REFUSED)
+      error->all(FLERR,
+                 "Fix {} cannot run beside fix {} {}: its constraint forces are computed for "
+                 "one velocity-Verlet step of dt, which the collisional sub-steps break",
+                 style_name, other->id, other->style);
+    if (base == "langevin" &&
+        (modify->fmask[k] & (FixConst::INITIAL_INTEGRATE | FixConst::POST_INTEGRATE)))
+      error->all(FLERR,
+                 "Fix {} cannot run beside fix {} langevin with the gjf keyword: GJF changes "
+                 "positions and velocities as one velocity-Verlet step of dt, which the "
+                 "collisional sub-steps break; use gjf no",
+                 style_name, other->id);
+  }
+
+  pot->init_fixes();
+  const std::string unknown = pot->unknown_names();
+  if (!unknown.empty() && comm->me == 0 && unknown != unknown_told)
+    error->warning(FLERR,
+                   "Fix {}: the forces of {} are of a kind it does not know; they are "
+                   "treated as conservative (a function of the positions) and evaluated again "
+                   "at every collisional sub-step. If they are stochastic or depend on "
+                   "velocities, statistics will be wrong",
+                   style_name, unknown);
+  unknown_told = unknown;
+  nheld = pot->held_any() ? 1 : 0;
+  const std::string held = pot->held_names();
+  if (nheld && comm->me == 0 && held != held_told)
+    utils::logmesg(lmp,
+                   "fix {}: forces of {} held through collisional steps (two half kicks "
+                   "around the method's conservative map)\n",
+                   style_name, held);
+  held_told = held;
 }
 
 /* ----------------------------------------------------------------------
@@ -220,9 +280,11 @@ void FixHardSphere::check_other_integrators()
 {
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
+  others_integrate = 0;
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == this || !other->time_integrate) continue;
+    others_integrate = 1;
     int shared = 0;
     for (int i = 0; i < nlocal; i++)
       if ((mask[i] & groupbit) && (mask[i] & other->groupbit)) shared = 1;
@@ -357,6 +419,8 @@ void FixHardSphere::setup(int)
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
   dtf_last = dtf;
   screened_step = -1;
+  held_step = -1;
+  step_split = 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -429,7 +493,12 @@ void FixHardSphere::reset_reference(int at_setup)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const tagint *tag = atom->tag;
-  const char *when = at_setup ? "at set-up" : "after a step (a collision was missed)";
+  // at set-up the likely cause is the input, not a missed collision
+  const char *when = at_setup
+      ? "at set-up (the initial configuration, or a change_box, displace_atoms, set, "
+        "create_atoms or read_data since the last run, placed them closer than their "
+        "contact distance)"
+      : "after a step (a collision was missed)";
   const double cut2 = list_cutoff * list_cutoff;
 
   for (int i = 0; i < nlocal; i++) {
@@ -451,9 +520,9 @@ void FixHardSphere::reset_reference(int at_setup)
     const double r = sqrt(r2);
     if (r < sigma * (1.0 - TOUCH_TOL))
       error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} {} (distance {} < contact distance {}) "
-                 "on step {}",
-                 style_name, tag[i], tag[j], sigma - r, when, r, sigma, update->ntimestep);
+                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+                 "on step {} {}",
+                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep, when);
     const double g = 0.5 * (r - sigma);
     gap[i] = MIN(gap[i], g);
     gap[j] = MIN(gap[j], g);
@@ -515,8 +584,8 @@ void FixHardSphere::reset_reference(int at_setup)
       if (g < -TOUCH_TOL * 2.0 * radius_of(i)) {
         std::string name;
         wall_name(w, name);
-        error->one(FLERR, "Fix {}: atom {} is {} through wall {} at {} {} on step {}",
-                   style_name, tag[i], -g, name, w.coord, when, update->ntimestep);
+        error->one(FLERR, "Fix {}: atom {} is {} through wall {} at {} on step {} {}",
+                   style_name, tag[i], -g, name, w.coord, update->ntimestep, when);
       }
       gap[i] = MIN(gap[i], g);
     }
@@ -946,6 +1015,14 @@ void FixHardSphere::initial_integrate(int)
     return;
   }
 
+  // the sub-steps evaluate forces of all atoms: keep those of atoms that
+  // another integrator moves
+  save_other_forces();
+  if (nheld) {
+    begin_held_split();    // K_held(dt/2); atom->f is conservative from here
+    screen(tleft);         // velocities changed: which spheres may touch
+  }
+
   int stuck = 0;
   bigint nsub = 0;
   bool contact_seen = false;
@@ -1010,7 +1087,108 @@ void FixHardSphere::initial_integrate(int)
   }
   if (step_collided) ncoll_steps += 1.0;
   step_substeps = contact_seen;
+  restore_other_forces();
   request_rebuild();
+}
+
+/* ----------------------------------------------------------------------
+   held (thermostat) forces, doc "Fixes beside the integrator": a step with
+   collisions is K_held(dt/2) . Phi(dt) . K_held(dt/2), Phi the method's
+   map with conservative forces only. Held forces f_h are LAMMPS' own,
+   evaluated once per step at its end as beside fix nve: each random force
+   acts for dt in all, and the drag sees the velocities fix nve's would.
+   A step without collisions stays fix nve's step with f = f_c + f_h.
+------------------------------------------------------------------------- */
+
+// at the current x with atom->f = f_c + f_h (LAMMPS' forces): ftot = that,
+// fcons = f_c (one conservative evaluation, left in atom->f), fheld = f_h
+void FixHardSphere::split_held_forces()
+{
+  if (atom->nmax > nmax_held) {
+    nmax_held = atom->nmax;
+    memory->destroy(ftot);
+    memory->destroy(fcons);
+    memory->destroy(fheld);
+    memory->create(ftot, nmax_held, 3, "hardsphere:ftot");
+    memory->create(fcons, nmax_held, 3, "hardsphere:fcons");
+    memory->create(fheld, nmax_held, 3, "hardsphere:fheld");
+  }
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) ftot[i][k] = f[i][k];
+  pot->evaluate(0);
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) {
+      fcons[i][k] = f[i][k];
+      fheld[i][k] = ftot[i][k] - f[i][k];
+    }
+}
+
+// v += dt/2 f_h / m on the group (fix nve's kick arithmetic)
+void FixHardSphere::kick_held()
+{
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      const double dtfm = dtf / mass_of(i);
+      v[i][0] += dtfm * fheld[i][0];
+      v[i][1] += dtfm * fheld[i][1];
+      v[i][2] += dtfm * fheld[i][2];
+    }
+}
+
+void FixHardSphere::begin_held_split()
+{
+  if (held_step == update->ntimestep) {
+    // split at these positions at the end of the last step
+    double **f = atom->f;
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < 3; k++) f[i][k] = fcons[i][k];
+  } else
+    split_held_forces();
+  kick_held();
+  step_split = 1;
+}
+
+void FixHardSphere::end_held_split()
+{
+  split_held_forces();    // at the step's end
+  kick_dtf(dtf_last);     // the method's closing kick, conservative forces
+  if (step_substeps) end_collisional_step();
+  kick_held();
+  // LAMMPS' forces again, for output and the next step
+  double **f = atom->f;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) f[i][k] = ftot[i][k];
+  held_step = update->ntimestep + 1;
+  step_split = 0;
+  screened_step = -1;
+}
+
+// forces of owned atoms outside the group, while another fix integrates
+// some: the sub-step evaluations overwrite them
+void FixHardSphere::save_other_forces()
+{
+  fother.clear();
+  if (!others_integrate) return;
+  double **f = atom->f;
+  const int *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (!(mask[i] & groupbit)) fother.insert(fother.end(), f[i], f[i] + 3);
+}
+
+void FixHardSphere::restore_other_forces()
+{
+  if (!others_integrate) return;
+  double **f = atom->f;
+  const int *mask = atom->mask;
+  size_t m = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (!(mask[i] & groupbit))
+      for (int k = 0; k < 3; k++) f[i][k] = fother[m++];
 }
 
 /* ----------------------------------------------------------------------
@@ -1048,6 +1226,10 @@ void FixHardSphere::end_collisional_step() {}
 
 void FixHardSphere::final_integrate()
 {
+  if (step_split) {    // closing half kicks of a split step (doc: the rule)
+    end_held_split();
+    return;
+  }
   // no end_of_step fix can change velocities before the next step: screen
   // for it now, in the same pass as the kick, while v and f are in cache
 

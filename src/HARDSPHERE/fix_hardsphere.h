@@ -145,6 +145,24 @@ class FixHardSphere : public Fix {
   // flags of the current step: an impulse was applied / the loop sub-stepped
   int step_collided = 0, step_substeps = 0;
 
+  // thermostat (held) forces, doc "Fixes beside the integrator": a
+  // collisional step is K_held(dt/2) . method's conservative map . K_held(dt/2)
+  int nheld = 0;            // 1 if some fix's forces are held
+  int step_split = 0;       // 1 while the current step is split so
+  bigint held_step = -1;    // the step whose start x fcons/fheld belong to
+  int nmax_held = 0;
+  double **ftot = nullptr, **fcons = nullptr, **fheld = nullptr;    // [nmax_held][3]
+  std::string unknown_told, held_told;    // fixes named in the log already
+  void check_fixes_beside();
+  void split_held_forces();
+  void kick_held();
+  void begin_held_split();
+  void end_held_split();
+  int others_integrate = 0;       // another fix integrates atoms outside the group
+  std::vector<double> fother;     // their forces during a collisional step
+  void save_other_forces();
+  void restore_other_forces();
+
   // --- hooks of the sub-step loop; the defaults are CVA's. All are called
   // on every rank together (collective), with the contact's tags known ---
   // no contact in the remaining tleft: finish the step (set dtf_last)

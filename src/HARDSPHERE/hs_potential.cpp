@@ -6,6 +6,7 @@
 #include "hs_potential.h"
 
 #include "hs_compat.h"
+#include "hs_fix_rule.h"
 #include "hs_jet.h"
 
 #include "angle.h"
@@ -74,6 +75,9 @@ struct HSPotential::Impl : protected Pointers {
   // FDIFF path: which contributions the force evaluations include
   int fd_pair = 0, fd_bond = 0, fd_angle = 0, fd_dihedral = 0, fd_improper = 0, fd_kspace = 0;
   std::vector<int> efix;    // fixes with fix_modify energy yes and a post_force()
+  // fixes with a post_force(): all, the conservative ones (evaluated again at
+  // sub-steps), the held ones (thermostats; hs_fix_rule.h) and unknown ones
+  std::vector<int> post_all, post_cons, held, unknown;
   int fd_any = 0;
   double length = 1.0;      // length scale L of the differences
   double err_hess = 0.0, err_third = 0.0;    // see fd_error_hess()
@@ -194,6 +198,25 @@ struct HSPotential::Impl : protected Pointers {
       if (atom->torque_flag) memset(&atom->torque[0][0], 0, 3 * nbytes);
       if (atom->avec->forceclearflag) atom->avec->force_clear(0, nbytes);
     }
+  }
+
+  // post_force() of the fixes whose forces are evaluated again at
+  // sub-steps: all of them, in LAMMPS' order, unless some are held
+  void post_force_conservative()
+  {
+    if (held.empty()) {
+      if (!post_all.empty()) modify->post_force(0);
+    } else
+      for (int k : post_cons) modify->fix[k]->post_force(0);
+  }
+
+  std::string names(const std::vector<int> &ks) const
+  {
+    std::string s;
+    for (int k : ks)
+      s += (s.empty() ? "" : ", ") + std::string("fix ") + modify->fix[k]->id + " " +
+          modify->fix[k]->style;
+    return s;
   }
 
   // every f (owned and ghost) to zero, for accumulating fields in f
@@ -672,9 +695,10 @@ void HSPotential::init(Mode mode)
     if (mode == SINGLE) no_single(std::string("kspace style ") + force->kspace_style);
     m.fd_kspace = 1;
   }
-  for (int k = 0; k < modify->nfix; k++) {
+  init_fixes();
+  for (int k : m.post_cons) {
     Fix *fix = modify->fix[k];
-    if (fix->energy_global_flag && fix->thermo_energy && (modify->fmask[k] & FixConst::POST_FORCE)) {
+    if (fix->energy_global_flag && fix->thermo_energy) {
       if (mode == SINGLE) no_single(std::string("fix ") + fix->id + " " + fix->style);
       m.efix.push_back(k);
     }
@@ -784,9 +808,65 @@ double HSPotential::evaluate(int eflag)
   impl->compute_styles(ef, false);
   if (modify->n_pre_reverse) modify->pre_reverse(ef, 0);
   if (force->newton) comm->reverse_comm();
-  if (modify->n_post_force) modify->post_force(0);
+  impl->post_force_conservative();
   nevals_ += 1.0;
   return eflag ? impl->tally_energy() : 0.0;
+}
+
+void HSPotential::conservative_forces(double **out)
+{
+  Impl &m = *impl;
+  m.save();
+  m.force_clear();
+  if (modify->n_pre_force) modify->pre_force(0);
+  m.compute_styles(0, false);
+  if (modify->n_pre_reverse) modify->pre_reverse(0, 0);
+  if (force->newton) comm->reverse_comm();
+  m.post_force_conservative();
+  nevals_ += 1.0;
+  double **f = atom->f;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) out[i][k] = f[i][k];
+  m.restore();
+}
+
+/* ----------------------------------------------------------------------
+   the rule of hs_fix_rule.h applied to the fixes of this run
+------------------------------------------------------------------------- */
+
+void HSPotential::init_fixes()
+{
+  Impl &m = *impl;
+  m.post_all.clear();
+  m.post_cons.clear();
+  m.held.clear();
+  m.unknown.clear();
+  for (int k = 0; k < modify->nfix; k++) {
+    if (!(modify->fmask[k] & FixConst::POST_FORCE)) continue;
+    m.post_all.push_back(k);
+    const auto kind = HardSphere::fix_force_kind(modify->fix[k]->style);
+    if (kind == HardSphere::FixForceKind::HELD) {
+      m.held.push_back(k);
+      continue;
+    }
+    if (kind == HardSphere::FixForceKind::UNKNOWN) m.unknown.push_back(k);
+    m.post_cons.push_back(k);
+  }
+}
+
+bool HSPotential::held_any() const
+{
+  return !impl->held.empty();
+}
+
+std::string HSPotential::held_names() const
+{
+  return impl->names(impl->held);
+}
+
+std::string HSPotential::unknown_names() const
+{
+  return impl->names(impl->unknown);
 }
 
 double HSPotential::tallied_energy()

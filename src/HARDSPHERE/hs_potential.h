@@ -67,14 +67,30 @@ class HSPotential : protected Pointers {
   double fd_error_hess() const;
   double fd_error_third() const;
 
-  // --- a full force (re-)evaluation as Verlet::run does it, at the current
+  // --- fixes beside the integrator (hs_fix_rule.h, the doc's rule):
+  // sorts the fixes with a post_force() into conservative ones (evaluated
+  // again by evaluate()) and held ones (thermostats: left to LAMMPS' own
+  // evaluation at the step's end). Called by init(); owners that need no
+  // derivatives call it from their init() themselves.
+  void init_fixes();
+  bool held_any() const;
+  // "fix ID style" of the held fixes, and of the fixes with forces the
+  // rule does not know (treated as conservative), "" if none
+  std::string held_names() const;
+  std::string unknown_names() const;
+
+  // --- a force (re-)evaluation as Verlet::run does it, at the current
   // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse
-  // comm, post_force. With eflag the total potential energy V (the sum
-  // compute pe would report, fix energies included) is returned, else 0.
-  // This one DOES leave the new forces in atom->f (it is the force
-  // evaluation of the fixes' sub-steps); ghosts' x are forward-communicated
-  // first.
+  // comm, post_force of every fix except the held ones. With eflag the total
+  // potential energy V (the sum compute pe would report, fix energies
+  // included) is returned, else 0. This one DOES leave the new forces in
+  // atom->f (it is the force evaluation of the fixes' sub-steps); ghosts' x
+  // are forward-communicated first.
   double evaluate(int eflag);
+
+  // the conservative forces of evaluate() at the current x into out (owned
+  // atoms); x, f and tallies are left unchanged
+  void conservative_forces(double **out);
 
   // V from LAMMPS' current energy tallies (the sum compute pe reports);
   // valid on steps where LAMMPS tallied energy (update->eflag_global)

@@ -1,0 +1,70 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the rule for force contributions of fixes inside a
+   step with collisions (doc/fix_hardsphere.rst, "Fixes beside the
+   integrator"). LAMMPS-free: a table from fix style name to kind.
+
+   A collisional step of cva, pcva, mcva and vci evaluates forces again at
+   every contact. A force that is a function of the positions (and time)
+   only is part of -grad V, or at least of the smooth flow, and is
+   evaluated again with the pair, bond, ... styles (CONSERVATIVE). A force
+   that is stochastic or depends on velocities (thermostats, friction) is
+   not: drawing a fresh random force at every sub-step gives the sub-steps
+   less noise than one step's worth while the drag stays, so such a force
+   is evaluated once per step by LAMMPS, as beside fix nve, and applied as
+   two half kicks around the method's conservative map (HELD). Fixes whose
+   own algorithm assumes one velocity-Verlet step of dt per step are
+   REFUSED. A fix with forces that the table does not know is treated as
+   CONSERVATIVE and named once in a warning (UNKNOWN).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_FIX_RULE_H
+#define LMP_HS_FIX_RULE_H
+
+#include <string>
+
+namespace HardSphere {
+
+enum class FixForceKind { CONSERVATIVE, HELD, REFUSED, UNKNOWN };
+
+// a style name without an accelerator suffix (/omp, /opt, /intel, /gpu, /kk)
+inline std::string base_style(const std::string &style)
+{
+  for (const char *sfx : {"/omp", "/opt", "/intel", "/gpu", "/kk", "/kk/host", "/kk/device"}) {
+    const std::string s(sfx);
+    if (style.size() > s.size() && style.compare(style.size() - s.size(), s.size(), s) == 0)
+      return style.substr(0, style.size() - s.size());
+  }
+  return style;
+}
+
+// the kind of the forces a fix adds in post_force, by its style name
+inline FixForceKind fix_force_kind(const std::string &style_in)
+{
+  const std::string style = base_style(style_in);
+  // functions of positions (and time) only: evaluated again at sub-steps
+  static const char *const conservative[] = {
+      "addforce", "aveforce", "cmap", "colvars", "drag", "efield", "efield/tip4p", "enforce2d",
+      "freeze", "gravity", "indent", "lineforce", "planeforce", "plumed", "restrain", "setforce",
+      "smd", "spring", "spring/chunk", "spring/rg", "spring/self", "store/force",
+      "accelerate/cos", "wall/colloid", "wall/harmonic", "wall/lj1043", "wall/lj126",
+      "wall/lj93", "wall/morse", "wall/table", "wall/region", "wall/ees", "wall/region/ees",
+      "rhok", "ave/atom", "ave/time"};
+  // stochastic or velocity-dependent: once per step, half kicks around the map
+  static const char *const held[] = {
+      "langevin", "langevin/eff", "langevin/drude", "langevin/spin", "viscous",
+      "viscous/sphere", "wall/gran", "wall/gran/region", "damping/cundall", "ttm",
+      "ttm/mod", "ttm/grid", "dpd/energy"};
+  // constraint forces computed for one unconstrained Verlet step of dt
+  static const char *const refused[] = {"shake", "rattle"};
+  for (const char *s : conservative)
+    if (style == s) return FixForceKind::CONSERVATIVE;
+  for (const char *s : held)
+    if (style == s) return FixForceKind::HELD;
+  for (const char *s : refused)
+    if (style == s) return FixForceKind::REFUSED;
+  return FixForceKind::UNKNOWN;
+}
+
+}    // namespace HardSphere
+
+#endif
