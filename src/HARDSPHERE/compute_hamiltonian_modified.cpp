@@ -10,8 +10,11 @@
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "fix.h"
 #include "force.h"
+#include "group.h"
 #include "memory.h"
+#include "modify.h"
 #include "update.h"
 
 #include <cmath>
@@ -68,6 +71,7 @@ ComputeHamiltonianModified::~ComputeHamiltonianModified()
   memory->destroy(g);
   memory->destroy(hv);
   memory->destroy(tv);
+  memory->destroy(fc);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -79,6 +83,35 @@ void ComputeHamiltonianModified::init()
   if (!logged && comm->me == 0)
     utils::logmesg(lmp, "compute {} hamiltonian/modified: {}\n", id, pot->describe());
   logged = 1;
+  check_group_integrated();
+}
+
+/* ----------------------------------------------------------------------
+   H_[2,VV] is the modified Hamiltonian of the integrator's flow: of the
+   atoms it moves. An atom of the group that no integrator moves (e.g. the
+   anchor of the pendulum chain) still adds its |grad V|^2 term, so the
+   sum is conserved only to second order: warn once.
+------------------------------------------------------------------------- */
+
+void ComputeHamiltonianModified::check_group_integrated()
+{
+  if (warned_group) return;
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  int integmask = 0;
+  for (int k = 0; k < modify->nfix; k++)
+    if (modify->fix[k]->time_integrate) integmask |= modify->fix[k]->groupbit;
+  bigint one = 0, all = 0;
+  for (int i = 0; i < nlocal; i++)
+    if ((mask[i] & groupbit) && !(mask[i] & integmask)) one++;
+  MPI_Allreduce(&one, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (all > 0 && comm->me == 0)
+    error->warning(FLERR,
+                   "Compute hamiltonian/modified {}: {} atoms of group {} are moved by no "
+                   "time integrator; their force terms make H_[2,VV] and H_[4,VV] conserved "
+                   "only to second order. Use the integrator's group",
+                   id, all, group->names[igroup]);
+  if (all > 0) warned_group = 1;
 }
 
 void ComputeHamiltonianModified::init_list(int, NeighList *ptr)
@@ -120,7 +153,9 @@ void ComputeHamiltonianModified::eval(int want_h4)
     memory->destroy(g);
     memory->destroy(hv);
     memory->destroy(tv);
+    memory->destroy(fc);
     nmax = atom->nmax;
+    memory->create(fc, nmax, 3, "hamiltonian/modified:fc");
     memory->create(g, nmax, 3, "hamiltonian/modified:g");
     memory->create(hv, nmax, 3, "hamiltonian/modified:hv");
     memory->create(tv, nmax, 3, "hamiltonian/modified:tv");
@@ -131,6 +166,12 @@ void ComputeHamiltonianModified::eval(int want_h4)
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   const double ftm2v = force->ftm2v, mvv2e = force->mvv2e;
+
+  // grad V = -f, unless thermostat forces are in f (doc: the rule)
+  if (pot->held_any()) {
+    pot->conservative_forces(fc);
+    f = fc;
+  }
 
   // hv = V''v (and tv = V'''[v,v,.])
   pot->reset_fd_error();
@@ -192,5 +233,5 @@ void ComputeHamiltonianModified::compute_vector()
 
 double ComputeHamiltonianModified::memory_usage()
 {
-  return 3.0 * nmax * 3 * sizeof(double);
+  return 4.0 * nmax * 3 * sizeof(double);
 }

@@ -43,6 +43,9 @@ class ComputeHamiltonianModified : public Compute {
   bigint step_h2, step_h4;    // steps at which H2 / H4 were last evaluated
   int nmax;
   double **g, **hv, **tv;
+  double **fc = nullptr;    // conservative forces, when thermostat forces are in atom->f
+  int warned_group = 0;
+  void check_group_integrated();
   int logged;    // the paths were written to the log
 
   void check_energy_tallied();
