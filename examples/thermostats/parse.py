@@ -1,0 +1,62 @@
+"""Table of results.md from the outputs of run.sh: mean T over the run and
+its standard error from 20 block means (tblocks.<method>.<thermo>.txt),
+the expected value from statistical mechanics, collisions per step."""
+import glob
+import os
+import re
+import sys
+
+import numpy as np
+
+out = sys.argv[1]
+N = 500
+T0 = 1.5
+DOF = 3 * N / (3 * N - 3)    # langevin (zero no) thermalizes 3N components
+EXPECT = {
+    "langevin": T0 * DOF,
+    "langevin_zero": T0,
+    # drag adds up, noise is langevin's only: gamma_L = 1/0.5, viscous 1.0
+    "langevin_viscous": T0 * DOF * 2.0 / (2.0 + 1.0),
+    "berendsen": T0,
+    "rescale": T0,
+}
+rows = []
+for f in sorted(glob.glob(os.path.join(out, "*.out"))):
+    m, th = os.path.basename(f)[:-4].split(".")
+    txt = open(f).read()
+    r = re.search(r"RESULT method \S+ thermo \S+ T_mean (\S+) collisions_per_step (\S+)", txt)
+    if not r:
+        rows.append((th, m, None))
+        continue
+    blk = os.path.join(out, f"tblocks.{m}.{th}.txt")
+    d = np.loadtxt(blk, comments="#")
+    T = d[:, 1]
+    se = T.std(ddof=1) / np.sqrt(len(T))
+    sec = re.search(r"SECONDS (\d+)", txt)
+    steps = re.search(r"Loop time of \S+ on \d+ procs for (\d+) steps", txt.split("RESULT")[0][::-1][::-1])
+    rows.append((th, m, (T.mean(), se, float(r.group(2)), len(T), sec.group(1) if sec else "?")))
+
+order = ["langevin", "langevin_zero", "langevin_viscous", "berendsen", "rescale"]
+mord = ["nve", "psa", "cva", "pcva", "vci", "mcva"]
+print("# Thermostats beside the hard-sphere methods: measured\n")
+print("`bash examples/thermostats/run.sh` (input `in.lj-thermostat`: 500 atoms, fcc 0.8,")
+print("LJ 2.5 shifted, diameter 1.0, kT 1.5, dt 0.005, damp 0.5; `nve` is fix nve")
+print("without hard cores). <T> is the mean of compute temp over the run after")
+print("equilibration, +- the standard error of 20 block means. Expected: statistical")
+print("mechanics (langevin thermalizes all 3N components, compute temp counts 3N-3;")
+print("zero yes removes the total momentum; viscous 1.0 beside langevin damp 0.5 gives")
+print("gamma_L/(gamma_L+gamma_v) of it).\n")
+print("| thermostat | method | <T> | expected | deviation | coll./step | blocks | s |")
+print("|---|---|---|---|---|---|---|---|")
+for th in order:
+    for m in mord:
+        for (t, mm, v) in rows:
+            if t != th or mm != m:
+                continue
+            if v is None:
+                print(f"| {th} | {m} | failed | | | | | |")
+                continue
+            Tm, se, cps, nb, sec = v
+            ex = EXPECT[th]
+            print(f"| {th} | {m} | {Tm:.4f} +- {se:.4f} | {ex:.4f} | {100*(Tm/ex-1):+.2f} % "
+                  f"({(Tm-ex)/se:+.1f} se) | {cps:.1f} | {nb} | {sec} |")

@@ -1,0 +1,295 @@
+// The rule for fixes beside the integrator (doc/fix_hardsphere.rst, "Fixes
+// beside the integrator"), apart from the thermostat statistics
+// (test_thermostats.cpp):
+// - fix langevin tally yes: etotal + ecouple is conserved up to the errors
+//   of the integrator and of the tally's quadrature, which vanish as dt -> 0:
+//   small against the energy the thermostat exchanged, and smaller at dt/2;
+// - deterministic force fixes (spring/self, wall/lj93, efield on charged
+//   spheres) are evaluated again at every sub-step: each method keeps its
+//   energy order (psa 1, the others 2) with their energies in etotal;
+// - fixes that change the box, and langevin's gjf, are refused by name; a
+//   fix with forces of an unknown kind is named in a warning; the held
+//   thermostats are named in the log; compute hamiltonian/modified warns
+//   about atoms of its group that no integrator moves; an overlap at set-up
+//   names its likely causes.
+
+#include "hs_chain.h"
+#include "hs_errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <regex>
+
+using hs_chain::f17;
+using hs_errors::expect_error;
+
+namespace {
+
+// the 108-sphere fluid of test_thermostats.cpp; smooth: lj/smooth/linear
+// (no force jump at the cutoff) instead of the shifted lj/cut
+std::string fluid(const std::string &method, double dt, int seed, const std::string &extra,
+                  bool smooth = false)
+{
+  const std::string pair = smooth ? "pair_style lj/smooth/linear 2.5\npair_coeff 1 1 1.0 1.0 2.5\n"
+                                  : "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0 2.5\n"
+                                    "pair_modify shift yes\n";
+  return R"LMP(
+units lj
+atom_style atomic
+atom_modify map array
+lattice fcc 0.8
+region box block 0 3 0 3 0 3
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+)LMP" + pair + R"LMP(
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+comm_modify cutoff 3.0
+velocity all create 1.5 )LMP" +
+      std::to_string(seed) + R"LMP( dist gaussian
+timestep )LMP" + f17(dt) + R"LMP(
+fix int all hardsphere/)LMP" + method + R"LMP( diameter 1.05
+)LMP" + extra;
+}
+
+// the value printed on a line "KEY value"
+double printed(const std::string &out, const std::string &key)
+{
+  std::smatch m;
+  if (std::regex_search(out, m, std::regex("\n" + key + " ([-0-9.eE+naninf]+)")))
+    return std::stod(m[1]);
+  ADD_FAILURE() << "no " << key << " line in:\n" << out;
+  return NAN;
+}
+
+// max |econserve(t) - econserve(0)| and max |ecouple| over T = 5 with
+// fix langevin tally yes (kT 1.5, damp 0.5), extensive energies; without
+// the thermostat econserve = etotal (the method's own energy error);
+// method "nve": fix nve (LAMMPS alone, no hard spheres)
+void tally_run(const std::string &method, double dt, int seed, bool thermostat, double &dEc,
+               double &ecmax)
+{
+  const int n = (int) std::lround(5.0 / dt);
+  std::string in = fluid(method, dt, seed, (thermostat ? "fix th all langevin 1.5 1.5 0.5 " +
+                                                  std::to_string(seed + 1) + " tally yes\n"
+                                                       : std::string()) +
+                             R"LMP(
+thermo_modify norm no
+variable ec equal econserve
+variable eco equal abs(ecouple)
+fix ecv all vector 1 v_ec v_eco
+run )LMP" + std::to_string(n) + R"LMP(
+variable ecmin equal min(f_ecv[1])
+variable ecmaxv equal max(f_ecv[1])
+variable ec0 equal f_ecv[1][1]
+print "DEC $(0.5*(v_ecmaxv-v_ecmin)+abs(0.5*(v_ecmaxv+v_ecmin)-v_ec0))"
+print "ECOUPLE $(max(f_ecv[2]))"
+)LMP", true);
+  if (method == "nve") {
+    const std::string from = "fix int all hardsphere/nve diameter 1.05";
+    in.replace(in.find(from), from.size(), "fix int all nve");
+  }
+  RunResult r = run_lmp(in);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  dEc = printed(r.output, "DEC");
+  ecmax = printed(r.output, "ECOUPLE");
+}
+
+class Rule : public ::testing::TestWithParam<const char *> {};
+
+std::string case_name(const ::testing::TestParamInfo<const char *> &info)
+{
+  return info.param;
+}
+
+}    // namespace
+
+// etotal + ecouple is conserved up to the method's own energy error (the
+// same run without the thermostat) and the error of langevin's tally
+// quadrature (fix nve + langevin on the same fluid, LAMMPS alone): within
+// 3x their sum, and converging with dt (two seeds, geometric mean of the
+// ratio). Before the rule, sub-step kicks of fresh random forces that the
+// tally never saw broke this by orders of magnitude.
+TEST_P(Rule, LangevinTallyConserved)
+{
+  const std::string method = GetParam();
+  double lratio = 0.0;
+  for (int seed : {3101, 4409}) {
+    double d[2], e[2];
+    for (int k = 0; k < 2; k++) {
+      const double dt = k ? 0.0025 : 0.005;
+      double dnve, dtally, dummy;
+      tally_run(method, dt, seed, true, d[k], e[k]);
+      tally_run(method, dt, seed, false, dnve, dummy);
+      tally_run("nve", dt, seed, true, dtally, dummy);
+      printf("[ %s tally seed %d dt %g ] max|econserve - econserve0| %.4g; method without "
+             "thermostat %.4g, fix nve + langevin %.4g; max|ecouple| %.4g\n",
+             method.c_str(), seed, dt, d[k], dnve, dtally, e[k]);
+      EXPECT_LT(d[k], 3.0 * (dnve + dtally));
+      EXPECT_LT(d[k], 0.2 * e[k]);
+    }
+    lratio += 0.5 * std::log(d[0] / d[1]);
+  }
+  const double ratio = std::exp(lratio);
+  printf("[ %s tally ] error ratio dt 0.005 / 0.0025: %.2f (order %.2f)\n", method.c_str(),
+         ratio, std::log2(ratio));
+  // it converges: at least order 1/2
+  EXPECT_GT(ratio, std::sqrt(2.0));
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, Rule, ::testing::Values("psa", "cva", "pcva", "vci"),
+                         case_name);
+
+/* ---------------------------------------------------------------------- */
+
+namespace {
+
+// 32 charged spheres (diameter 1.1, nearest lattice neighbours 1.21 apart)
+// tethered by spring/self between soft walls (wall/lj93) in a field
+// (efield), with a weak LJ attraction: frequent collisions, and every
+// deterministic fix's energy in etotal. Smooth forces only (the LJ force
+// goes to zero at its cutoff, the walls' cutoff is beyond the box), so
+// that no force jump adds an O(dt) error. max |E(t) - E(0)| over T = 2.
+double fixes_run(const std::string &method, double dt)
+{
+  const int n = (int) std::lround(2.0 / dt);
+  const std::string in = R"LMP(
+units lj
+atom_style charge
+atom_modify map array
+boundary p p f
+lattice fcc 0.8
+region box block 0 2 0 2 -0.6 2.1
+create_box 1 box
+region inside block 0 2 0 2 0 1.9
+create_atoms 1 region inside
+mass 1 1.0
+set atom 1*16 charge 1.0
+set atom 17*32 charge -1.0
+pair_style lj/smooth/linear 2.5
+pair_coeff 1 1 0.5 1.0 2.5
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+comm_modify cutoff 3.0
+velocity all create 1.0 6823 dist gaussian mom yes
+timestep )LMP" + f17(dt) + R"LMP(
+fix int all hardsphere/)LMP" + method + R"LMP( diameter 1.1
+fix sp all spring/self 20.0
+fix wl all wall/lj93 zlo EDGE 1.0 1.0 6.0 zhi EDGE 1.0 1.0 6.0
+fix ef all efield 0.0 0.0 0.5
+fix_modify sp energy yes
+fix_modify wl energy yes
+fix_modify ef energy yes
+thermo_modify norm no
+variable E equal etotal
+fix Ev all vector 1 v_E
+run )LMP" + std::to_string(n) + R"LMP(
+variable Emin equal min(f_Ev)
+variable Emax equal max(f_Ev)
+variable E0 equal f_Ev[1]
+print "DE $(0.5*(v_Emax-v_Emin)+abs(0.5*(v_Emax+v_Emin)-v_E0))"
+print "NCOLL $(f_int[1])"
+)LMP";
+  RunResult r = run_lmp(in);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const double ncoll = printed(r.output, "NCOLL");
+  EXPECT_GT(ncoll, 20.0) << "the case is meant to collide";
+  return printed(r.output, "DE");
+}
+
+class DeterministicFixes : public ::testing::TestWithParam<const char *> {};
+
+}    // namespace
+
+TEST_P(DeterministicFixes, EnergyOrder)
+{
+  const std::string method = GetParam();
+  std::vector<double> dts = {0.004, 0.002, 0.001}, errs;
+  for (double dt : dts) errs.push_back(fixes_run(method, dt));
+  const double order = hs_chain::loglog_slope(dts, errs);
+  printf("[ %s spring/self + wall/lj93 + efield ] max|E-E0|: %.3g %.3g %.3g, order %.2f\n",
+         method.c_str(), errs[0], errs[1], errs[2], order);
+  EXPECT_GT(order, method == "psa" ? 0.8 : 1.8);
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, DeterministicFixes,
+                         ::testing::Values("psa", "cva", "pcva", "mcva", "vci"), case_name);
+
+/* ---------------------------------------------------------------------- */
+
+TEST(RuleErrors, PressBerendsenRefused)
+{
+  expect_error(fluid("cva", 0.005, 1, "fix pr all press/berendsen iso 4.0 4.0 5.0\nrun 10\n"),
+               {"hardsphere/cva cannot run beside fix pr press/berendsen", "changes the box",
+                "overlap"});
+}
+
+TEST(RuleErrors, DeformRefused)
+{
+  expect_error(fluid("pcva", 0.005, 1, "fix df all deform 1 x scale 1.01\nrun 10\n"),
+               {"hardsphere/pcva cannot run beside fix df deform", "changes the box"});
+}
+
+TEST(RuleErrors, LangevinGJFRefused)
+{
+  expect_error(
+      fluid("vci", 0.005, 1, "fix th all langevin 1.5 1.5 0.5 1 gjf vhalf\nrun 10\n"),
+      {"hardsphere/vci cannot run beside fix th langevin with the gjf keyword", "gjf no"});
+}
+
+TEST(RuleWarnings, UnknownFixNamedHeldFixLogged)
+{
+  RunResult r = run_lmp(fluid("cva", 0.005, 1,
+                              "fix ex all external pf/array 1\n"
+                              "fix th all langevin 1.5 1.5 0.5 7\nrun 20\n"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("WARNING: Fix hardsphere/cva: the forces of fix ex external are of a "
+                          "kind it does not know"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("forces of fix th langevin held through collisional steps"),
+            std::string::npos)
+      << r.output;
+  // known fixes are not warned about
+  EXPECT_EQ(r.output.find("fix th langevin are of a kind"), std::string::npos) << r.output;
+}
+
+TEST(RuleWarnings, ComputeGroupNotIntegrated)
+{
+  const std::string base = R"LMP(
+units lj
+atom_style atomic
+atom_modify map array
+boundary f f f
+region box block -5 5 -5 5 -5 5 units box
+create_box 1 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+mass 1 1.0
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+comm_modify cutoff 3.0
+group mob id 1
+fix hs mob hardsphere/cva diameter 1.0
+)LMP";
+  RunResult r = run_lmp(base + "compute h all hamiltonian/modified\n"
+                               "thermo_style custom step c_h[1] c_h[2]\nrun 5\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("WARNING: Compute hamiltonian/modified h: 1 atoms of group all are "
+                          "moved by no time integrator"),
+            std::string::npos)
+      << r.output;
+  RunResult ok = run_lmp(base + "compute h mob hamiltonian/modified\n"
+                                "thermo_style custom step c_h[1] c_h[2]\nrun 5\n");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(ok.output.find("moved by no time integrator"), std::string::npos) << ok.output;
+}
+
+TEST(RuleErrors, OverlapAtSetupNamesLikelyCause)
+{
+  expect_error(hs_errors::two_atoms("0", "2", "fix hs all hardsphere/cva diameter 1.0",
+                                    "run 0\ndisplace_atoms all move 0 0 0 units box\n"
+                                    "set atom 2 x 0.5\n"),
+               {"atoms 1 and 2 overlap", "at set-up", "change_box, displace_atoms, set"});
+}
