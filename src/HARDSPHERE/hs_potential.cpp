@@ -784,7 +784,7 @@ double HSPotential::evaluate(int eflag)
   impl->compute_styles(ef, false);
   if (modify->n_pre_reverse) modify->pre_reverse(ef, 0);
   if (force->newton) comm->reverse_comm();
-  if (modify->n_post_force) modify->post_force(0);
+  if (HSCompat::n_post_force(modify)) modify->post_force(0);
   nevals_ += 1.0;
   return eflag ? impl->tally_energy() : 0.0;
 }
