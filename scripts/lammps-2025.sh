@@ -6,6 +6,7 @@
 #                                            LAMMPS2025_SRC    <tree>  (cmake/ src/ lib/ python/ tools/)
 #                                            LAMMPS2025_BUILD  <build dir> (liblammps.so, lmp)
 #   bash scripts/lammps-2025.sh --env      only print them (no fetch, no build)
+#   bash scripts/lammps-2025.sh --source   fetch + verify + extract only
 #
 # Source: the upstream tarball of Debian's `lammps` source package
 # 20250204+dfsg.1-2 (trixie), fetched with `apt-get source --download-only`
@@ -52,7 +53,8 @@ print_env() {
   echo "LAMMPS2025_SRC=$SRC"
   echo "LAMMPS2025_BUILD=$BUILD"
 }
-if [ "${1:-}" = "--env" ]; then print_env; exit 0; fi
+MODE="${1:-build}"
+if [ "$MODE" = "--env" ]; then print_env; exit 0; fi
 
 log() { echo "lammps-2025: $*" >&2; }
 
@@ -63,7 +65,8 @@ if ! flock -n 9; then
   flock 9
 fi
 
-if [ -f "$BUILD/.hs-stamp" ] && [ -f "$BUILD/liblammps.so" ] && [ -x "$BUILD/lmp" ]; then
+if [ "$MODE" != "--source" ] && [ -f "$BUILD/.hs-stamp" ] && [ -f "$BUILD/liblammps.so" ] \
+   && [ -x "$BUILD/lmp" ]; then
   log "cached build $BUILD ($(cat "$BUILD/.hs-stamp"))"
   print_env
   exit 0
@@ -126,6 +129,8 @@ EOF
   echo "$ORIG sha256 $ORIG_SHA256" > "$SRC.tmp/.hs-stamp"
   mv "$SRC.tmp" "$SRC"
 fi
+
+if [ "$MODE" = "--source" ]; then print_env; exit 0; fi
 
 # ---------------------------------------------------------------- build
 JOBS="${HS_JOBS:-2}"
