@@ -51,7 +51,7 @@ fi
 # left the package since the last run are removed again
 PKG="$ROOT/src/HARDSPHERE"
 files=()
-for f in "$PKG"/fix_hardsphere* "$PKG"/compute_hamiltonian_modified.* "$PKG"/hs_potential.* \
+for f in "$PKG"/fix_hardsphere* "$PKG"/compute_hamiltonian_modified.* "$PKG"/hs_*.cpp \
          "$PKG"/hs_*.h; do
   files+=("$(basename "$f")")
 done
