@@ -183,8 +183,9 @@ void FixHardSphere::init()
   for (int a = 1; a <= ntypes && !own_list; a++)
     for (int b = 1; b <= ntypes && !own_list; b++)
       if (tall[a] && tall[b] && sqrt(force->pair->cutsq[a][b]) + skin < list_cutoff) own_list = 1;
+
   // the contact list needs ghost atoms out to its cutoff: checked here,
-  // before LAMMPS >= 2025 checks the request itself with a vaguer message
+  // before newer LAMMPS (4Feb2025) checks the request with a vaguer message
 
   const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
   if (cutghost < list_cutoff)
