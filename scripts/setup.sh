@@ -75,7 +75,10 @@ SRC
   apt_update
   DL="$CACHE/lammps-src"
   mkdir -p "$DL"
-  (cd "$DL" && apt-get source --download-only lammps)
+  # exactly the source of the installed library (a deb-src entry for a
+  # newer release, e.g. trixie's for scripts/lammps-2025.sh, must not win)
+  LIBVER="$(dpkg-query -W -f='${source:Version}' liblammps0)"
+  (cd "$DL" && apt-get source --download-only "lammps=$LIBVER")
   tarball="$(ls "$DL"/lammps_*.orig.tar.xz | head -n1)"
   echo "setup: extracting headers from $(basename "$tarball")"
   rm -rf "$HDR"
