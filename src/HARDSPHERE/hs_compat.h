@@ -42,10 +42,12 @@
 namespace LAMMPS_NS {
 namespace HSCompat {
 
-  // a half neighbor list for a fix; cutoff > 0 gives it its own cutoff
-  // (including skin), else it has the pair cutoffs and LAMMPS copies or
-  // derives it from the pair style's list at no extra build cost
-  // id tells an owner's lists apart in its init_list()
+  // a half neighbor list for a fix; cutoff > 0 gives it its own cutoff,
+  // passed to LAMMPS as is (4Feb2025 adds the skin to it, 29Sep2021 does
+  // not: the overload with a LAMMPS pointer below hides that), else it has
+  // the pair cutoffs and LAMMPS copies or derives it from the pair style's
+  // list at no extra build cost. id tells an owner's lists apart in its
+  // init_list()
   inline void request_half_list(Neighbor *neighbor, class Fix *fix, int instance, double cutoff,
                                 int id = 0)
   {
