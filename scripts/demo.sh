@@ -7,7 +7,7 @@
 # METHODS="cva pcva" restricts the methods.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bash "$ROOT/scripts/setup.sh"
+HS_LAMMPS_VERSIONS="${HS_LAMMPS_VERSIONS:-2021}" bash "$ROOT/scripts/setup.sh"
 cd "$ROOT/examples/pendulum-chain"
 series="$(mktemp)"
 trap 'rm -f "$series" "$series.screen"' EXIT

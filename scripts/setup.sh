@@ -2,6 +2,14 @@
 # HARDSPHERE set-up: install Debian packages, fetch the matching LAMMPS
 # headers from Debian's lammps source package, configure and build.
 # Idempotent and quick when everything is already in place.
+#
+# Two LAMMPS versions (HS_LAMMPS_VERSIONS, default "2021 2025"):
+#   2021  Debian bookworm's liblammps (29 Sep 2021 update 2)  -> build/
+#   2025  stock LAMMPS 4 Feb 2025 (Debian trixie's source), built once per
+#         machine under ~/.cache by scripts/lammps-2025.sh (~8-15 min on
+#         2 cores the first time)                             -> build-2025/
+#         build-2025/lmp, build-2025/hardsphereplugin.so, and
+#         build-2025/lammps -> that LAMMPS build (lammps/lmp, lammps/python)
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -67,7 +75,10 @@ SRC
   apt_update
   DL="$CACHE/lammps-src"
   mkdir -p "$DL"
-  (cd "$DL" && apt-get source --download-only lammps)
+  # exactly the source of the installed library (a deb-src entry for a
+  # newer release, e.g. trixie's for scripts/lammps-2025.sh, must not win)
+  LIBVER="$(dpkg-query -W -f='${source:Version}' liblammps0)"
+  (cd "$DL" && apt-get source --download-only "lammps=$LIBVER")
   tarball="$(ls "$DL"/lammps_*.orig.tar.xz | head -n1)"
   echo "setup: extracting headers from $(basename "$tarball")"
   rm -rf "$HDR"
@@ -82,8 +93,25 @@ SRC
   rm -rf "$DL"
 fi
 
-# ---------------------------------------------------------------- build
-BUILD="$ROOT/build"
-# always (re)configure: quick, and picks up new style headers / tests
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
-cmake --build "$BUILD" -j2
+VERSIONS="${HS_LAMMPS_VERSIONS:-2021 2025}"
+
+# ---------------------------------------------------------------- build (2021)
+if [[ " $VERSIONS " == *" 2021 "* ]]; then
+  BUILD="$ROOT/build"
+  # always (re)configure: quick, and picks up new style headers / tests
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
+  cmake --build "$BUILD" -j2
+fi
+
+# ---------------------------------------------------------------- build (2025)
+if [[ " $VERSIONS " == *" 2025 "* ]]; then
+  eval "$(bash "$ROOT/scripts/lammps-2025.sh")"    # LAMMPS2025_SRC, LAMMPS2025_BUILD
+  BUILD25="$ROOT/build-2025"
+  mkdir -p "$BUILD25"
+  ln -sfn "$LAMMPS2025_BUILD" "$BUILD25/lammps"
+  cmake -S "$ROOT" -B "$BUILD25" -DCMAKE_BUILD_TYPE=Release \
+    -DLAMMPS_SOURCE_DIR="$LAMMPS2025_SRC/src" \
+    -DLAMMPS_LIBRARY="$LAMMPS2025_BUILD/liblammps.so" \
+    -DHS_OTHER_PLUGIN="$ROOT/build/hardsphereplugin.so"
+  cmake --build "$BUILD25" -j2
+fi

@@ -187,7 +187,18 @@ void FixHardSphere::init()
   for (int a = 1; a <= ntypes && !own_list; a++)
     for (int b = 1; b <= ntypes && !own_list; b++)
       if (tall[a] && tall[b] && sqrt(force->pair->cutsq[a][b]) + skin < list_cutoff) own_list = 1;
-  HSCompat::request_half_list(neighbor, this, instance_me, own_list ? list_cutoff : 0.0,
+
+  // the contact list needs ghost atoms out to its cutoff: checked here,
+  // before newer LAMMPS (4Feb2025) checks the request with a vaguer message
+
+  const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
+  if (cutghost < list_cutoff)
+    error->all(FLERR,
+               "Fix {} needs ghost atoms out to {} (contact distance {} + 2 x skin {}), "
+               "but the ghost cutoff is {}: use comm_modify cutoff {} or a pair style "
+               "with a larger cutoff",
+               style_name, list_cutoff, 2.0 * rmax, skin, cutghost, list_cutoff);
+  HSCompat::request_half_list(lmp, this, instance_me, own_list ? list_cutoff : 0.0,
                               CONTACT_LIST_ID);
 
   // the derivative layer decides its paths now, and asks for a second
@@ -405,16 +416,6 @@ void FixHardSphere::setup(int)
                "Fix {} cannot be used with neigh_modify exclude: excluded pairs would "
                "pass through each other",
                style_name);
-
-  // the contact list needs ghost atoms out to its cutoff
-
-  const double cutghost = MAX(neighbor->cutneighmax, comm->cutghostuser);
-  if (cutghost < list_cutoff)
-    error->all(FLERR,
-               "Fix {} needs ghost atoms out to {} (contact distance {} + 2 x skin {}), "
-               "but the ghost cutoff is {}: use comm_modify cutoff {} or a pair style "
-               "with a larger cutoff",
-               style_name, list_cutoff, 2.0 * rmax, skin, cutghost, list_cutoff);
 
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
   dtf_last = dtf;

@@ -17,7 +17,8 @@
 
    IMPORTANT (Debian's liblammps is built WITHOUT LAMMPS_EXCEPTIONS): any
    LAMMPS error (Error::all/one) inside HSLammps::cmd()/file() prints the
-   message and terminates the whole test process (exit(1) or MPI_Abort).
+   message and terminates the whole test process (exit(1) or MPI_Abort);
+   with LAMMPS 2025 it throws a LAMMPSException out of the test instead.
    Test expected errors through run_lmp() (a separate lmp process) instead.
    Since HSLammps uses "-screen none", such an error is silent: run the test
    with HS_TEST_VERBOSE=1 to see LAMMPS' screen output and the message.
@@ -173,11 +174,11 @@ inline std::vector<std::string> child_environment(bool mpirun)
 }
 }    // namespace hs_test_detail
 
-// Run the lmp driver on input_text (written to a temporary file in the
-// current directory) with "-in file -log none -echo screen" plus extra_args;
-// nprocs > 1 runs under "mpirun -np N --oversubscribe".
-inline RunResult run_lmp(const std::string &input_text,
-                         const std::vector<std::string> &extra_args = {}, int nprocs = 1)
+// Run a LAMMPS executable (binary) on input_text (written to a temporary
+// file in the current directory) with "-in file -log none -echo screen"
+// plus extra_args; nprocs > 1 runs under "mpirun -np N --oversubscribe".
+inline RunResult run_program(const std::string &binary, const std::string &input_text,
+                             const std::vector<std::string> &extra_args = {}, int nprocs = 1)
 {
   using namespace hs_test_detail;
   char tmpl[] = "hs_input_XXXXXX";
@@ -190,7 +191,7 @@ inline RunResult run_lmp(const std::string &input_text,
 
   std::string cmd;
   if (nprocs > 1) cmd = "mpirun -np " + std::to_string(nprocs) + " --oversubscribe ";
-  cmd += shell_quote(HS_LMP_BINARY) + " -in " + shell_quote(infile) + " -log none -echo screen";
+  cmd += shell_quote(binary) + " -in " + shell_quote(infile) + " -log none -echo screen";
   for (const auto &a : extra_args) cmd += " " + shell_quote(a);
   cmd += " 2>&1";
 
@@ -239,6 +240,13 @@ inline RunResult run_lmp(const std::string &input_text,
   if (WIFEXITED(status)) res.exit_code = WEXITSTATUS(status);
   unlink(infile.c_str());
   return res;
+}
+
+// the same with our lmp driver (build/lmp)
+inline RunResult run_lmp(const std::string &input_text,
+                         const std::vector<std::string> &extra_args = {}, int nprocs = 1)
+{
+  return run_program(HS_LMP_BINARY, input_text, extra_args, nprocs);
 }
 
 #ifndef HS_TEST_NO_MAIN

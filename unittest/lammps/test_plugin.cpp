@@ -58,3 +58,39 @@ TEST(Plugin, RegistersAllStyles)
   if (!styles.empty()) EXPECT_EQ(seen_lmp, (void *) h.lmp);
   dlclose(handle);
 }
+
+// The plugin's styles depend on one LAMMPS version's classes: loaded into a
+// LAMMPS that reports another version (lammps_version(), here faked through
+// the instance's num_ver), it registers nothing and says why; with LAMMPS
+// >= 2023 it stops with a LAMMPS error (an exception), as error->all() would.
+TEST(Plugin, RefusesOtherLammpsVersion)
+{
+  HSLammps h;
+  void *handle = dlopen(HS_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
+  ASSERT_NE(handle, nullptr) << dlerror();
+  auto init = (lammpsplugin_initfunc) dlsym(handle, "lammpsplugin_init");
+  ASSERT_NE(init, nullptr) << dlerror();
+
+  const int real_version = h.lmp->num_ver;
+  h.lmp->num_ver = real_version - 10000;    // one year older
+  recorded.clear();
+  std::string message;
+  testing::internal::CaptureStderr();
+  try {
+    (*init)((void *) h.lmp, handle, (void *) &fake_regfunc);
+  } catch (std::exception &e) {
+    message = e.what();
+  }
+  const std::string err = testing::internal::GetCapturedStderr();
+  h.lmp->num_ver = real_version;
+  if (message.empty()) message = err;
+  EXPECT_TRUE(recorded.empty()) << "registered " << recorded.size() << " styles";
+  EXPECT_NE(message.find("HARDSPHERE plugin was compiled for LAMMPS " LAMMPS_VERSION), std::string::npos)
+      << message;
+  EXPECT_NE(message.find(std::to_string(real_version - 10000)), std::string::npos) << message;
+  EXPECT_NE(message.find("rebuild the plugin"), std::string::npos) << message;
+#if defined(HS_LAMMPS_ALWAYS_EXCEPTIONS) && HS_LAMMPS_ALWAYS_EXCEPTIONS
+  EXPECT_NE(message.find("ERROR: "), std::string::npos) << "expected the LAMMPS error: " << message;
+#endif
+  dlclose(handle);
+}
