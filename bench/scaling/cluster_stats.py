@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """bench/scaling: how large would the clusters of `substep local` be?
-cluster_stats.py DATAFILE [dt] [diameter] [rc] [windows]
+cluster_stats.py DATAFILE [dt] [diameter] [rc] [windows] [rule]
+rule: issue (default) or frozen
 
 Reads an equilibrated data file written by in.make-fluid (Atoms + Velocities),
 and for `windows` consecutive windows [k dt, (k+1) dt] of the straight-line
@@ -9,6 +10,9 @@ motion q + t v (an estimate of one step: forces bend the paths by O(dt^2)):
   clusters = connected components of contacts and of pair terms (r < rc) that
              involve a member: the rule "clusters that share an atom are one
              cluster" of issue 10 (partners of two members join their clusters).
+With rule "frozen" (the frozen-partner splitting of
+unittest/math/test_local_splitting.cpp: partners do not move inside Phi_C) only
+contacts and pair terms between two members join clusters.
 Prints per window: contacts, members, clusters, largest cluster (atoms, members),
 fraction of all atoms in clusters, and an estimate of the pair terms Phi_C
 evaluates: sum over clusters of contacts_K x (pair terms with a member of K), in
@@ -23,6 +27,7 @@ dt = float(sys.argv[2]) if len(sys.argv) > 2 else 0.005
 diam = float(sys.argv[3]) if len(sys.argv) > 3 else 1.0
 rc = float(sys.argv[4]) if len(sys.argv) > 4 else 2.5
 nwin = int(sys.argv[5]) if len(sys.argv) > 5 else 5
+rule = sys.argv[6] if len(sys.argv) > 6 else "issue"
 
 lines = open(path).read().splitlines()
 box = np.zeros(3)
@@ -54,7 +59,7 @@ def find(par, i):
         i = par[i]
     return i
 
-print(f"# {path}: N {n}, box {box[0]:.3f}, dt {dt}, diameter {diam}, rc {rc}")
+print(f"# {path}: N {n}, box {box[0]:.3f}, dt {dt}, diameter {diam}, rc {rc}, rule {rule}")
 print("# window contacts members clusters largest_atoms largest_members frac_atoms_in_clusters "
       "phiC_pair_terms_in_force_evals")
 vmax = np.max(np.linalg.norm(v, axis=1))
@@ -83,8 +88,12 @@ for w in range(nwin):
     pairs = tree.query_pairs(rc, output_type="ndarray")
     vc = pairs[member[pairs[:, 0]] | member[pairs[:, 1]]]
     touched = member.copy()
-    touched[vc.ravel()] = True
-    for i, j in vc:
+    if rule == "issue":
+        touched[vc.ravel()] = True
+        link = vc
+    else:    # frozen: only terms between two members couple flows
+        link = vc[member[vc[:, 0]] & member[vc[:, 1]]]
+    for i, j in link:
         ri, rj = find(par, i), find(par, j)
         par[ri] = rj
     roots = np.array([find(par, i) for i in range(n)])
@@ -102,7 +111,7 @@ for w in range(nwin):
     # pair terms of V_C per cluster: pairs (within rc) with a member of K
     nterm = {u: 0 for u in uniq}
     for i, j in vc:
-        nterm[roots[i]] += 1
+        nterm[roots[i] if member[i] else roots[j]] += 1
     full = len(pairs)
     cost = sum(ncont[u] * nterm[u] for u in uniq) / full
     big = uniq[np.argmax(size)]

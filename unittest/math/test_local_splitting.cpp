@@ -26,7 +26,8 @@
 // Checks: no overlap ever; second order in energy for both (fitted slope
 // >= 1.8 over dt 0.08 .. 0.01); local within 0.5 .. 2x of global at every
 // dt; the growth path is taken; with no contacts at all both reduce to
-// plain Verlet (bit-identical trajectories).
+// plain Verlet. A second variant ("frozen partners", below) is checked the
+// same way.
 
 #include "hs_cluster.h"
 #include "hs_contact.h"
@@ -434,6 +435,188 @@ struct LocalIntegrator {
   }
 };
 
+// Variant "frozen partners" (not the splitting; a candidate for
+// systems where the clusters percolate, bench/scaling/README.md):
+// H = H1 + H2 with H1 = T_C + V_C (kinetic energy of the members only) and
+// H2 = T_N + V_R (kinetic energy of the non-members), integrated as
+// Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2). In Phi_H1 only members move
+// (CVA sub-steps); partners stay put and take V_C's impulses, so two
+// members that only share a partner are independent. Phi_H2 is one plain
+// Verlet step of the non-members under V_R (members do not move and V_R
+// does not act on them). A non-member that touches anything in either flow
+// becomes a member and the step is redone. Here Phi_H1 moves all members
+// together (one flow): per-cluster flows would differ only in where the
+// Verlet sub-steps fall, as the variant above shows.
+struct FrozenIntegrator {
+  Stats st;
+
+  // Phi_H1 over (0, h]: members move; a contact with a non-member is returned
+  Hit flow_h1(const Chain &c, const std::vector<char> &mem, const std::vector<char> &use_c,
+              double h, std::vector<Vec> &q, std::vector<Vec> &p)
+  {
+    const int n = c.n;
+    std::vector<int> M;
+    for (int i = 0; i < n; i++)
+      if (mem[i]) M.push_back(i);
+    std::vector<Vec> f, f1, zero(n, Vec{0, 0, 0}), q1;
+    forces(c, q, &use_c, f);
+    double t = 0.0, tau = h;
+    while (tau > 0.0) {
+      // members on Verlet paths, everyone else static: velocity and
+      // acceleration of a static atom are zero
+      std::vector<Vec> v(n, Vec{0, 0, 0}), a(n, Vec{0, 0, 0});
+      for (int i : M) {
+        v[i] = p[i];
+        a[i] = f[i];
+      }
+      std::vector<int> all(n);
+      for (int i = 0; i < n; i++) all[i] = i;
+      // earliest over pairs with at least one member (static pairs never meet)
+      Hit best{tau + 1.0, -1, -1};
+      double cc[5];
+      for (int i : M) {
+        HardSphere::wall_gap_poly(q[i][0] - RAD, v[i][0], a[i][0], cc);
+        const Contact w = first_contact(cc, 2, tau, TOL_WALL);
+        if (w.status == HardSphere::OVERLAP) st.overlaps++;
+        if (w.status != HardSphere::NO_CONTACT && w.t < best.t) best = {w.t, i, -1};
+        for (int j = 0; j < n; j++) {
+          if (j == i || (mem[j] && j < i)) continue;
+          Vec dq, dv, da;
+          for (int k = 0; k < 3; k++) {
+            dq[k] = q[i][k] - q[j][k];
+            dv[k] = v[i][k] - v[j][k];
+            da[k] = a[i][k] - a[j][k];
+          }
+          HardSphere::pair_gap_poly(dq.data(), dv.data(), da.data(), SIGMA, cc);
+          const Contact k = first_contact(cc, 4, tau, TOL_PAIR);
+          if (k.status == HardSphere::OVERLAP) st.overlaps++;
+          if (k.status != HardSphere::NO_CONTACT && k.t < best.t) best = {k.t, i, j};
+        }
+      }
+      const bool hit = best.t <= tau;
+      if (hit && best.j >= 0 && !mem[best.j]) return best;
+      const double d = hit ? best.t : tau;
+      q1 = q;
+      for (int i : M)
+        for (int k = 0; k < 3; k++) q1[i][k] = q[i][k] + d * p[i][k] + 0.5 * d * d * f[i][k];
+      forces(c, q1, &use_c, f1);
+      // every atom takes V_C's momentum (trapezoid); only members move
+      for (int i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) p[i][k] += 0.5 * d * (f[i][k] + f1[i][k]);
+      q = q1;
+      f = f1;
+      if (hit) {
+        impulse(q, p, best.i, best.j);
+        st.contacts++;
+      }
+      t += d;
+      tau = hit ? h - t : 0.0;
+    }
+    return {h, -1, -1};
+  }
+
+  void step(Chain &c, double dt)
+  {
+    const int n = c.n;
+    std::vector<char> mem(n, 0);
+    {
+      // first guess: contacts on the Verlet paths of the unsplit step
+      std::vector<Vec> f0;
+      forces(c, c.q, nullptr, f0);
+      std::vector<int> all(n);
+      for (int i = 0; i < n; i++) all[i] = i;
+      Stats tmp;
+      for (int i = 0; i < n; i++)
+        for (int j = -1; j < n; j++) {
+          if (j >= 0 && j <= i) continue;
+          double cc[5];
+          Contact k;
+          if (j < 0) {
+            HardSphere::wall_gap_poly(c.q[i][0] - RAD, c.p[i][0], f0[i][0], cc);
+            k = first_contact(cc, 2, dt, TOL_WALL);
+          } else {
+            Vec dq, dv, da;
+            for (int d = 0; d < 3; d++) {
+              dq[d] = c.q[i][d] - c.q[j][d];
+              dv[d] = c.p[i][d] - c.p[j][d];
+              da[d] = f0[i][d] - f0[j][d];
+            }
+            HardSphere::pair_gap_poly(dq.data(), dv.data(), da.data(), SIGMA, cc);
+            k = first_contact(cc, 4, dt, TOL_PAIR);
+          }
+          if (k.status == HardSphere::OVERLAP) st.overlaps++;
+          if (k.status != HardSphere::NO_CONTACT) {
+            mem[i] = 1;
+            if (j >= 0) mem[j] = 1;
+          }
+        }
+    }
+    for (int guard = 0;; guard++) {
+      ASSERT_LT(guard, 2 * n + 2) << "growth does not terminate";
+      std::vector<char> use_c(n), use_r(n);
+      for (int t = 0; t < n; t++) {
+        const int a = term_a(t), b = term_b(t);
+        use_c[t] = mem[b] || (a >= 0 && mem[a]);
+        use_r[t] = !use_c[t];
+      }
+      std::vector<Vec> q = c.q, p = c.p;
+      Hit h = flow_h1(c, mem, use_c, 0.5 * dt, q, p);
+      if (h.i < 0) {
+        // Phi_H2: one Verlet step of the non-members; any contact of theirs grows
+        std::vector<Vec> fr, fr1;
+        forces(c, q, &use_r, fr);
+        std::vector<Vec> v(n, Vec{0, 0, 0}), a(n, Vec{0, 0, 0});
+        for (int i = 0; i < n; i++)
+          if (!mem[i]) {
+            v[i] = p[i];
+            a[i] = fr[i];
+          }
+        double cc[5];
+        for (int i = 0; i < n && h.i < 0; i++) {
+          if (mem[i]) continue;
+          HardSphere::wall_gap_poly(q[i][0] - RAD, v[i][0], a[i][0], cc);
+          Contact w = first_contact(cc, 2, dt, TOL_WALL);
+          if (w.status != HardSphere::NO_CONTACT) h = {w.t, i, -1};
+          for (int j = 0; j < n && h.i < 0; j++) {
+            if (j == i || (!mem[j] && j < i)) continue;
+            Vec dq, dv, da;
+            for (int k = 0; k < 3; k++) {
+              dq[k] = q[i][k] - q[j][k];
+              dv[k] = v[i][k] - v[j][k];
+              da[k] = a[i][k] - a[j][k];
+            }
+            HardSphere::pair_gap_poly(dq.data(), dv.data(), da.data(), SIGMA, cc);
+            Contact k = first_contact(cc, 4, dt, TOL_PAIR);
+            if (k.status != HardSphere::NO_CONTACT) h = {k.t, i, j};
+          }
+        }
+        if (h.i < 0) {
+          for (int i = 0; i < n; i++)
+            if (!mem[i])
+              for (int k = 0; k < 3; k++) {
+                p[i][k] += 0.5 * dt * fr[i][k];
+                q[i][k] += dt * p[i][k];
+              }
+          forces(c, q, &use_r, fr1);
+          for (int i = 0; i < n; i++)
+            if (!mem[i])
+              for (int k = 0; k < 3; k++) p[i][k] += 0.5 * dt * fr1[i][k];
+          h = flow_h1(c, mem, use_c, 0.5 * dt, q, p);
+        }
+      }
+      if (h.i < 0) {
+        c.q = q;
+        c.p = p;
+        break;
+      }
+      mem[h.i] = 1;
+      if (h.j >= 0) mem[h.j] = 1;
+      st.growths++;
+    }
+    st.steps++;
+  }
+};
+
 Chain initial(int n, unsigned seed)
 {
   Chain c;
@@ -576,3 +759,50 @@ TEST(LocalSplittingNoContacts, ReducesToVerlet)
       EXPECT_NEAR(b.p[i][k], c.p[i][k], 1e-12);
     }
 }
+
+// the frozen-partner variant: second order too, and how close to global CVA
+class FrozenPartners : public ::testing::TestWithParam<int> {};
+
+TEST_P(FrozenPartners, SecondOrderAndCloseToGlobal)
+{
+  const int n = GetParam();
+  const double T = 100.0;
+  const int NSEED = 8;
+  const std::vector<double> dts = {0.08, 0.04, 0.02, 0.01};
+  std::vector<double> eg, ef;
+  long growths = 0;
+  for (double dt : dts) {
+    double mg = 0.0, mf = 0.0;
+    Stats sg;
+    FrozenIntegrator F;
+    for (int seed = 1; seed <= NSEED; seed++) {
+      RunOut g = run(initial(n, 1000 + seed), dt, T,
+                     [&](Chain &c, double h) { step_global(c, h, sg); }, sg);
+      RunOut f = run(initial(n, 1000 + seed), dt, T, [&](Chain &c, double h) { F.step(c, h); },
+                     F.st);
+      ASSERT_FALSE(HasFatalFailure());
+      mg += g.max_de / NSEED;
+      mf += f.max_de / NSEED;
+    }
+    EXPECT_EQ(F.st.overlaps, 0) << "frozen dt " << dt;
+    eg.push_back(mg);
+    ef.push_back(mf);
+    growths += F.st.growths;
+    printf("n %2d dt %.2f  mean max|dE| global %.3e frozen-partners %.3e (ratio %.2f)  "
+           "contacts %ld / %ld  growths %ld\n",
+           n, dt, mg, mf, mf / mg, sg.contacts, F.st.contacts, F.st.growths);
+  }
+  const double sg = slope(dts, eg), sf = slope(dts, ef);
+  printf("n %2d fitted slopes: global %.3f frozen-partners %.3f\n", n, sg, sf);
+  EXPECT_GE(sf, 1.8);
+  for (size_t k = 0; k < dts.size(); k++) {
+    EXPECT_GE(ef[k] / eg[k], 0.5) << "dt " << dts[k];
+    EXPECT_LE(ef[k] / eg[k], 2.0) << "dt " << dts[k];
+  }
+  EXPECT_GT(growths, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Chains, FrozenPartners, ::testing::Values(8, 12),
+                         [](const ::testing::TestParamInfo<int> &i) {
+                           return "n" + std::to_string(i.param);
+                         });
