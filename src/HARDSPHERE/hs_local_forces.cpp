@@ -73,6 +73,9 @@ void HSLocalForces::init()
       if (has_suffix(ps, suf))
         add(std::string("pair style ") + ps + " (accelerator variant: thread-private forces)");
   }
+  if (comm->nprocs > 1 && atom->torque_flag)
+    add("atom style with torque on several ranks (the reverse communication of the ghosts' "
+        "forces would also add their torques)");
   initialized_ = 1;
   built_ncalls_ = -1;
 }
@@ -316,9 +319,6 @@ void HSLocalForces::compute(const int *c, int nc)
     for (size_t k = 0; k < nz; k++)
       if (zero_list_[k] >= nlocal) zero(owner_of(zero_list_[k]));
     for (int k = 0; k < nc; k++) zero(c[k]);
-  } else {
-    // comm->reverse_comm() adds every ghost's f into its owner
-    if (nall) memset(&fl_[0][0], 0, 3 * sizeof(double) * nall);
   }
 
   // ---- the styles' own compute() on the restricted lists
@@ -340,8 +340,20 @@ void HSLocalForces::compute(const int *c, int nc)
   if (force->dihedral) save(tal[3], force->dihedral->energy, d1, force->dihedral->virial);
   if (force->improper) save(tal[4], force->improper->energy, d1, force->improper->virial);
 
+  // single rank: the styles write into fl_ through a swapped atom->f.
+  // Several ranks: comm->reverse_comm() packs through the atom style's own
+  // cached f pointer (AtomVec::f), not atom->f, so the evaluation runs in
+  // atom->f itself, saved to fl_ before and swapped back after (O(atoms);
+  // a reverse communication of only the touched ghosts needs a Fix's
+  // pack_reverse_comm(): the engine's job)
   double **f_saved = atom->f;
-  atom->f = fl_;
+  const size_t nbytes = 3 * sizeof(double) * nall;
+  if (nprocs == 1)
+    atom->f = fl_;
+  else if (nall) {
+    memcpy(&fl_[0][0], &atom->f[0][0], nbytes);
+    memset(&atom->f[0][0], 0, nbytes);
+  }
   if (L) {
     const int inum0 = L->inum;
     int *ilist0 = L->ilist, *numneigh0 = L->numneigh;
@@ -373,12 +385,15 @@ void HSLocalForces::compute(const int *c, int nc)
     *nlist[b] = n0;
     *plist[b] = l0;
   }
-  if (nprocs > 1 && (force->newton_pair || force->newton_bond)) {
-    // NOTE: also sums torque and the extra per-atom force arrays of the
-    // atom style into the owners; only f is swapped here (point particles)
-    comm->reverse_comm();
+  if (nprocs == 1)
+    atom->f = f_saved;
+  else if (nall) {
+    // NOTE: reverse_comm() also sums the atom style's torque and extra
+    // per-atom force arrays into the owners: point particles only
+    if (force->newton_pair || force->newton_bond) comm->reverse_comm();
+    for (int i = 0; i < nall; i++)
+      for (int k = 0; k < 3; k++) std::swap(fl_[i][k], atom->f[i][k]);
   }
-  atom->f = f_saved;
 
   if (force->pair) put(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
   if (force->bond) put(tal[1], force->bond->energy, d2, force->bond->virial);

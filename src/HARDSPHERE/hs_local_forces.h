@@ -32,10 +32,15 @@
 
    MPI (compute() is collective): the tags of C are gathered on every rank
    (MPI_Allgatherv, O(|C|)), each rank restricts its own lists to terms with
-   an owned or ghost copy of an atom of C, and with newton on the ghosts'
-   forces go back to their owners by comm->reverse_comm() on the swapped f
-   (O(ghosts); single rank: folded through atom->map(), O(terms)). Tested
-   serially only so far.
+   an owned or ghost copy of an atom of C. Single rank: the styles write
+   into a swapped atom->f and the ghosts' forces are folded into their owners
+   through atom->map(), O(terms). Several ranks: comm->reverse_comm() packs
+   through AtomVec's cached f pointer, not atom->f, so the evaluation runs in
+   atom->f itself (saved and restored: O(atoms) per call) and the ghosts'
+   forces go back by a full reverse communication (O(ghosts)). A local
+   engine wants instead a reverse communication of only the touched ghosts
+   through its Fix's pack_reverse_comm(). Tested on 1-4 ranks
+   (unittest/mpi/test_mpi_local_forces.sh).
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LOCAL_FORCES_H

@@ -9,7 +9,9 @@
 // bit-identical after each call. Cases: LJ fluid with newton on / off,
 // bead-spring melt (bonds, angles, dihedrals) with chains across the
 // periodic boundary, random C of sizes 1 .. all, atoms near the boundaries;
-// styles that cannot be restricted are reported.
+// styles that cannot be restricted are reported. Under mpirun (unittest/mpi/
+// test_mpi_local_forces.sh) every rank passes its own C; the checks on C,
+// the state and the vanishing total force hold on every rank count.
 
 #include "hs_test_main.h"
 
@@ -18,6 +20,7 @@
 #include "angle.h"
 #include "atom.h"
 #include "bond.h"
+#include "comm.h"
 #include "dihedral.h"
 #include "domain.h"
 #include "force.h"
@@ -199,7 +202,10 @@ TEST_P(LocalForcesFluid, ExactOnCAndPartners)
         const std::string what = "newton " + std::to_string(newton) + " |C| " +
             std::to_string(c.size()) + (boundary ? " boundary" : "");
         worst = std::max(worst, check_c(h, lf, c, what));
+        ++cases;
         // partners: against the brute-force -grad V_C on every owned atom
+        // (the brute force sees only this rank's atoms: serial runs only)
+        if (h.lmp->comm->nprocs > 1) continue;
         const auto ref = brute_lj(h.lmp, c);
         std::set<int> touched(lf.touched().begin(), lf.touched().end());
         double fscale = 1.0;
@@ -214,11 +220,11 @@ TEST_P(LocalForcesFluid, ExactOnCAndPartners)
             EXPECT_NEAR(lf.forces()[i][k], ref[3 * i + k], 1e-12 * fscale)
                 << what << ": tag " << atom->tag[i] << " dim " << k;
         }
-        ++cases;
       }
   EXPECT_GE(cases, 30);
   EXPECT_LT(worst, 1e-13);
   // the restricted evaluation is local: |C| = 1 evaluates O(neighbours) pairs
+  if (h.lmp->comm->nprocs > 1) return;
   const double before = lf.npair_terms;
   const auto one = random_c(h.lmp, 1, 5, false);
   lf.compute(one.data(), 1);
@@ -298,7 +304,9 @@ TEST_P(LocalForcesMelt, BondedTermsExact)
   h.lines(melt_input(data, newton));
   remove(data.c_str());
   auto *atom = h.lmp->atom;
-  ASSERT_GT(h.lmp->neighbor->ndihedrallist, 0);
+  int ndih = h.lmp->neighbor->ndihedrallist, ndih_all = 0;
+  MPI_Allreduce(&ndih, &ndih_all, 1, MPI_INT, MPI_SUM, h.lmp->world);
+  ASSERT_GT(ndih_all, 0);
   HSLocalForces lf(h.lmp, "test");
   lf.init();
   ASSERT_TRUE(lf.exact()) << lf.unrestrictable();
@@ -312,7 +320,9 @@ TEST_P(LocalForcesMelt, BondedTermsExact)
             std::to_string(c.size()) + (boundary ? " boundary" : "");
         const double b0 = lf.nbonded_terms;
         worst = std::max(worst, check_c(h, lf, c, what));
-        EXPECT_GT(lf.nbonded_terms, b0) << what << ": no bonded term restricted";
+        double nb = lf.nbonded_terms - b0, nb_all = 0.0;
+        MPI_Allreduce(&nb, &nb_all, 1, MPI_DOUBLE, MPI_SUM, h.lmp->world);
+        EXPECT_GT(nb_all, 0.0) << what << ": no bonded term restricted";
         // every term's forces sum to zero, so V_C's total force vanishes:
         // a partner's missing contribution would show here
         double sum[3] = {0, 0, 0}, scale = 0.0;
@@ -321,7 +331,10 @@ TEST_P(LocalForcesMelt, BondedTermsExact)
             sum[k] += lf.forces()[i][k];
             scale = std::max(scale, std::fabs(lf.forces()[i][k]));
           }
-        for (int k = 0; k < 3; k++) EXPECT_LT(std::fabs(sum[k]), 1e-11 * scale) << what;
+        double all[4], one[4] = {sum[0], sum[1], sum[2], 0.0};
+        MPI_Allreduce(one, all, 3, MPI_DOUBLE, MPI_SUM, h.lmp->world);
+        MPI_Allreduce(&scale, &all[3], 1, MPI_DOUBLE, MPI_MAX, h.lmp->world);
+        for (int k = 0; k < 3; k++) EXPECT_LT(std::fabs(all[k]), 1e-11 * all[3]) << what;
       }
   EXPECT_LT(worst, 1e-13);
   // C = all atoms: every atom's force is the full force
