@@ -161,11 +161,21 @@ class ClusterSet {
       if (is_member(a[t])) m = a[t];
     if (m < 0) return false;
     for (int t = 0; t < k; ++t) {
+      if (!partners_join_ && !is_member(a[t])) continue;
       note(a[t]);
       uf_.unite(m, a[t]);
     }
     return true;
   }
+
+  // true (default): the rule, a term's partners join the cluster
+  // (they move inside Phi_C). false: the frozen-partner splitting
+  // Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2) (unittest/math/
+  // test_local_splitting.cpp), where only members move inside the collision
+  // flow: a term joins only its members, clusters hold members only.
+  // Set before the first add_term() of a step.
+  void set_partners_join(bool yes) { partners_join_ = yes; }
+  bool partners_join() const { return partners_join_; }
   bool add_pair(int i, int j)
   {
     const int a[2] = {i, j};
@@ -304,6 +314,7 @@ class ClusterSet {
   std::vector<int> touched_, new_members_;
   std::vector<std::vector<int>> members_, atoms_;
   bool built_ = false, counted_ = false;
+  bool partners_join_ = true;
   ClusterCounters count_;
 };
 

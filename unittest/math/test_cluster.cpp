@@ -33,7 +33,7 @@ struct Case {
 // all its atoms; clusters are the connected components (BFS) of the touched
 // atoms under contact and term links
 Groups brute(int n, const std::vector<std::pair<int, int>> &contacts,
-             const std::vector<std::vector<int>> &terms)
+             const std::vector<std::vector<int>> &terms, bool partners_join = true)
 {
   std::vector<char> member(n, 0), touched(n, 0);
   std::vector<std::vector<int>> adj(n);
@@ -50,8 +50,10 @@ Groups brute(int n, const std::vector<std::pair<int, int>> &contacts,
     for (int a : t) has = has || member[a];
     if (!has) continue;
     for (int a : t) {
+      if (!partners_join && !member[a]) continue;
       touched[a] = 1;
-      for (int b : t) adj[a].push_back(b);
+      for (int b : t)
+        if (partners_join || member[b]) adj[a].push_back(b);
     }
   }
   std::vector<char> seen(n, 0);
@@ -134,8 +136,9 @@ Case random_case(std::mt19937 &rng)
   return k;
 }
 
-void build_case(ClusterSet &cs, const Case &k)
+void build_case(ClusterSet &cs, const Case &k, bool partners_join = true)
 {
+  cs.set_partners_join(partners_join);
   cs.reset(k.n);
   for (auto &c : k.contacts) cs.add_contact(c.first, c.second);
   for (auto &t : k.terms) cs.add_term(t.data(), (int) t.size());
@@ -365,4 +368,36 @@ TEST(Clusters, Counters)
   EXPECT_EQ(k.redone, 1);
   EXPECT_DOUBLE_EQ(k.mean_atoms(), 7.0 / 3.0);
   EXPECT_DOUBLE_EQ(k.mean_members(), 5.0 / 3.0);
+}
+
+// the frozen-partner rule: terms join only their members
+TEST(Clusters, FrozenPartnersRandomAgainstBFS)
+{
+  std::mt19937 rng(4242);
+  ClusterSet cs;
+  for (int trial = 0; trial < 10000; ++trial) {
+    const Case k = random_case(rng);
+    build_case(cs, k, false);
+    ASSERT_EQ(groups_of(cs), brute(k.n, k.contacts, k.terms, false)) << "trial " << trial;
+    check_consistency(cs, k.n);
+    if (HasFatalFailure()) FAIL() << "trial " << trial;
+    for (int c = 0; c < cs.nclusters(); ++c) ASSERT_EQ(cs.atoms(c), cs.members(c));
+  }
+  // two members sharing a partner stay apart; a term of two members joins them
+  cs.set_partners_join(false);
+  cs.reset(6);
+  cs.add_contact(0, -1);
+  cs.add_contact(2, -1);
+  cs.add_pair(0, 1);
+  cs.add_pair(1, 2);    // 1 is a partner of both
+  cs.build();
+  EXPECT_EQ(cs.nclusters(), 2);
+  EXPECT_EQ(cs.cluster_of(1), -1);
+  cs.add_contact(4, -1);
+  cs.add_contact(5, -1);
+  cs.add_pair(4, 5);
+  cs.build();
+  EXPECT_EQ(cs.nclusters(), 3);
+  EXPECT_EQ(cs.atoms(2), (std::vector<int>{4, 5}));
+  cs.set_partners_join(true);
 }
