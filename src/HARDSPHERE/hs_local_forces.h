@@ -23,7 +23,9 @@
    thread-private force arrays); the engine then falls back to `global`.
    Fixes' forces are not part of V_C here: the engine decides about them.
 
-   Version notes: uses only members present in LAMMPS 29Sep2021 .. 4Feb2025:
+   Version notes: compiled and tested against Debian's LAMMPS 7Jan2022
+   headers only; the members used are believed unchanged in 4Feb2025 (not
+   compiled against it here):
    Pair::list, NeighList::{inum,ilist,numneigh,firstneigh}, Neighbor::
    {bondlist,nbondlist,...,improperlist,nimproperlist,ncalls}, Atom::{map(),
    sametag}, NEIGHMASK, the styles' tallies (Pair::eng_vdwl, eng_coul,
