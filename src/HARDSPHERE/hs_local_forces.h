@@ -23,7 +23,8 @@
    thread-private force arrays); the engine then falls back to `global`.
    Fixes' forces are not part of V_C here: the engine decides about them.
 
-   Version notes: compiled and tested against Debian's LAMMPS 7Jan2022
+   Version notes: compiled and tested against LAMMPS 29Sep2021 update 2
+   (Debian 20220106)
    headers only; the members used are believed unchanged in 4Feb2025 (not
    compiled against it here):
    Pair::list, NeighList::{inum,ilist,numneigh,firstneigh}, Neighbor::
