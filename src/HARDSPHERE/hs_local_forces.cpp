@@ -1,0 +1,421 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: forces of the interaction terms of a set of atoms
+   through LAMMPS' own styles. See hs_local_forces.h.
+------------------------------------------------------------------------- */
+
+#include "hs_local_forces.h"
+
+#include "angle.h"
+#include "atom.h"
+#include "bond.h"
+#include "comm.h"
+#include "dihedral.h"
+#include "error.h"
+#include "force.h"
+#include "improper.h"
+#include "memory.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+
+#include <algorithm>
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+
+namespace {
+// the tallies a style keeps; compute(0, 0) should not touch them, but a
+// style may reset them in ev_init(): they are saved and restored anyway
+struct Tally {
+  double e1 = 0.0, e2 = 0.0, v[6] = {0, 0, 0, 0, 0, 0};
+};
+
+bool has_suffix(const char *style, const char *suf)
+{
+  const size_t n = strlen(style), m = strlen(suf);
+  return n >= m && strcmp(style + n - m, suf) == 0;
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+HSLocalForces::HSLocalForces(LAMMPS *lmp, const std::string &owner) : Pointers(lmp), owner_(owner)
+{
+}
+
+HSLocalForces::~HSLocalForces()
+{
+  memory->destroy(numneigh_);
+  memory->sfree(firstneigh_);
+  memory->destroy(fl_);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void HSLocalForces::init()
+{
+  if (atom->map_style == 0)
+    error->all(FLERR, "{} with substep local needs an atom map to find the periodic images of "
+                      "colliding atoms: use atom_modify map array (or yes)", owner_);
+  why_.clear();
+  auto add = [this](const std::string &s) { why_ += (why_.empty() ? "" : "; ") + s; };
+  if (force->kspace) add(std::string("kspace style ") + force->kspace_style + " (long-range)");
+  if (force->pair) {
+    const char *ps = force->pair_style;
+    if (strncmp(ps, "hybrid", 6) == 0)
+      add(std::string("pair style ") + ps + " (its sub-styles' lists are not restricted yet)");
+    else if (force->pair->manybody_flag)
+      add(std::string("pair style ") + ps + " (many-body)");
+    else if (force->pair->ghostneigh)
+      add(std::string("pair style ") + ps + " (needs neighbours of ghost atoms)");
+    for (const char *suf : {"/omp", "/gpu", "/kk", "/kk/host", "/kk/device", "/intel"})
+      if (has_suffix(ps, suf))
+        add(std::string("pair style ") + ps + " (accelerator variant: thread-private forces)");
+  }
+  if (comm->nprocs > 1 && atom->torque_flag)
+    add("atom style with torque on several ranks (the reverse communication of the ghosts' "
+        "forces would also add their torques)");
+  initialized_ = 1;
+  built_ncalls_ = -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void HSLocalForces::grow()
+{
+  if (atom->nmax > nmax_) {
+    memory->destroy(numneigh_);
+    memory->sfree(firstneigh_);
+    memory->destroy(fl_);
+    nmax_ = atom->nmax;
+    memory->create(numneigh_, nmax_, "hs_local_forces:numneigh");
+    firstneigh_ = (int **) memory->smalloc(nmax_ * sizeof(int *), "hs_local_forces:firstneigh");
+    memory->create(fl_, nmax_, 3, "hs_local_forces:f");
+  }
+  const size_t nall = atom->nlocal + atom->nghost;
+  if (in_c_.size() < nall) {
+    in_c_.resize(nall, 0);
+    zeroed_.resize(nall, 0);
+  }
+}
+
+void HSLocalForces::zero(int i)
+{
+  if (zeroed_[i] == epoch_) return;
+  zeroed_[i] = epoch_;
+  fl_[i][0] = fl_[i][1] = fl_[i][2] = 0.0;
+  zero_list_.push_back(i);
+}
+
+// which of bond, angle, dihedral, improper contribute (molecular system,
+// style defined, list allocated)
+void HSLocalForces::presence(bool present[4]) const
+{
+  const bool mol = atom->molecular != Atom::ATOMIC;
+  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
+                    neighbor->improperlist};
+  const bool style[4] = {force->bond != nullptr, force->angle != nullptr,
+                         force->dihedral != nullptr, force->improper != nullptr};
+  for (int b = 0; b < 4; b++) present[b] = mol && style[b] && lists[b] != nullptr;
+}
+
+/* ----------------------------------------------------------------------
+   inverse indices: for every local atom j, where it appears in the pair
+   list (row i, the raw entry with its special bits) and in the bonded
+   lists. O(list size), once per neighbor list build.
+------------------------------------------------------------------------- */
+
+void HSLocalForces::build_index()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  NeighList *L = force->pair ? force->pair->list : nullptr;
+  if (L) {
+    has_row_.assign(nall, 0);
+    pinv_off_.assign(nall + 1, 0);
+    for (int ii = 0; ii < L->inum; ii++) {
+      const int i = L->ilist[ii];
+      has_row_[i] = 1;
+      const int *jl = L->firstneigh[i];
+      for (int k = 0; k < L->numneigh[i]; k++) pinv_off_[(jl[k] & NEIGHMASK) + 1]++;
+    }
+    for (int j = 0; j < nall; j++) pinv_off_[j + 1] += pinv_off_[j];
+    pinv_row_.resize(pinv_off_[nall]);
+    pinv_val_.resize(pinv_off_[nall]);
+    std::vector<int> pos(pinv_off_.begin(), pinv_off_.end() - 1);
+    for (int ii = 0; ii < L->inum; ii++) {
+      const int i = L->ilist[ii];
+      const int *jl = L->firstneigh[i];
+      for (int k = 0; k < L->numneigh[i]; k++) {
+        const int p = pos[jl[k] & NEIGHMASK]++;
+        pinv_row_[p] = i;
+        pinv_val_[p] = jl[k];
+      }
+    }
+  }
+  // a list and its count are defined only when the style exists (the
+  // count of an absent style is never initialized)
+  bool present[4];
+  presence(present);
+  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
+                    neighbor->improperlist};
+  int counts[4] = {neighbor->nbondlist, neighbor->nanglelist, neighbor->ndihedrallist,
+                   neighbor->nimproperlist};
+  const int width[4] = {2, 3, 4, 4};
+  for (int b = 0; b < 4; b++) {
+    Bonded &B = bonded_[b];
+    B.off.assign(nall + 1, 0);
+    B.rows.clear();
+    if (!present[b]) counts[b] = 0;
+    B.stamp.assign(counts[b], 0u);
+    if (!present[b]) continue;
+    for (int r = 0; r < counts[b]; r++)
+      for (int k = 0; k < width[b]; k++) B.off[lists[b][r][k] + 1]++;
+    for (int j = 0; j < nall; j++) B.off[j + 1] += B.off[j];
+    B.rows.resize(B.off[nall]);
+    std::vector<int> pos(B.off.begin(), B.off.end() - 1);
+    for (int r = 0; r < counts[b]; r++)
+      for (int k = 0; k < width[b]; k++) B.rows[pos[lists[b][r][k]]++] = r;
+  }
+  built_ncalls_ = neighbor->ncalls;
+  built_nall_ = nall;
+  built_list_ = L;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void HSLocalForces::compute(const int *c, int nc)
+{
+  if (!initialized_) error->all(FLERR, "{}: local forces used before init()", owner_);
+  if (!exact())
+    error->all(FLERR, "{}: local forces are not exact with {}; use substep global", owner_, why_);
+
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const int nprocs = comm->nprocs;
+  grow();
+  if (++epoch_ == 0) {
+    std::fill(in_c_.begin(), in_c_.end(), 0u);
+    std::fill(zeroed_.begin(), zeroed_.end(), 0u);
+    for (auto &B : bonded_) std::fill(B.stamp.begin(), B.stamp.end(), 0u);
+    epoch_ = 1;
+  }
+  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  if (force->pair && force->pair->compute_flag && !L)
+    error->all(FLERR, "{}: pair style {} has no neighbor list to restrict", owner_,
+               force->pair_style);
+  if (neighbor->ncalls != built_ncalls_ || nall != built_nall_ || L != built_list_) build_index();
+
+  // ---- C and every image of it (all ranks: C's tags are gathered)
+  std::vector<int> marked;
+  auto mark_chain = [&](int i) {
+    for (; i >= 0; i = atom->sametag[i])
+      if (in_c_[i] != epoch_) {
+        in_c_[i] = epoch_;
+        marked.push_back(i);
+      }
+  };
+  for (int k = 0; k < nc; k++)
+    if (c[k] < 0 || c[k] >= nlocal)
+      error->one(FLERR, "{}: local forces asked for atom index {} which is not owned (nlocal {})",
+                 owner_, c[k], nlocal);
+  if (nprocs == 1) {
+    for (int k = 0; k < nc; k++) mark_chain(c[k]);
+  } else {
+    std::vector<tagint> mine(nc), all;
+    for (int k = 0; k < nc; k++) mine[k] = atom->tag[c[k]];
+    std::vector<int> counts(nprocs), displs(nprocs, 0);
+    MPI_Allgather(&nc, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+    for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+    all.resize(displs[nprocs - 1] + counts[nprocs - 1]);
+    MPI_Allgatherv(mine.data(), nc, MPI_LMP_TAGINT, all.data(), counts.data(), displs.data(),
+                   MPI_LMP_TAGINT, world);
+    for (tagint t : all) mark_chain(atom->map(t));
+  }
+
+  zero_list_.clear();
+  term_atoms_.clear();
+  term_off_.assign(1, 0);
+  // the owned copy of local atom j (-1: owned by another rank)
+  auto owner_of = [&](int j) -> int {
+    if (j < nlocal) return j;
+    const int o = atom->map(atom->tag[j]);
+    return (o >= 0 && o < nlocal) ? o : -1;
+  };
+  auto add_term = [&](const int *a, int k) {
+    for (int t = 0; t < k; t++) {
+      zero(a[t]);
+      term_atoms_.push_back(owner_of(a[t]));
+    }
+    term_off_.push_back((int) term_atoms_.size());
+  };
+
+  // ---- pair: full rows of C, and the entries of C's images in other rows
+  ilist_.clear();
+  neigh_.clear();
+  extra_.clear();
+  if (L) {
+    for (int a : marked) {
+      if (a < (int) has_row_.size() && has_row_[a]) {
+        ilist_.push_back(a);
+        numneigh_[a] = L->numneigh[a];
+        firstneigh_[a] = L->firstneigh[a];
+        const int *jl = L->firstneigh[a];
+        for (int k = 0; k < L->numneigh[a]; k++) {
+          const int pr[2] = {a, jl[k] & NEIGHMASK};
+          add_term(pr, 2);
+        }
+      }
+      for (int p = pinv_off_[a]; p < pinv_off_[a + 1]; p++)
+        if (!inC(pinv_row_[p])) extra_.emplace_back(pinv_row_[p], pinv_val_[p]);
+    }
+    std::sort(extra_.begin(), extra_.end());
+    std::vector<int> starts;
+    for (size_t k = 0; k < extra_.size(); k++) {
+      const int i = extra_[k].first;
+      if (k == 0 || extra_[k - 1].first != i) {
+        ilist_.push_back(i);
+        numneigh_[i] = 0;
+        starts.push_back((int) neigh_.size());
+      }
+      numneigh_[i]++;
+      neigh_.push_back(extra_[k].second);
+      const int pr[2] = {i, extra_[k].second & NEIGHMASK};
+      add_term(pr, 2);
+    }
+    // pointers into neigh_ only now that it no longer grows
+    for (size_t k = 0, s = 0; k < extra_.size(); k++)
+      if (k == 0 || extra_[k - 1].first != extra_[k].first)
+        firstneigh_[extra_[k].first] = neigh_.data() + starts[s++];
+    npair_terms += (double) (term_off_.size() - 1);
+  }
+
+  // ---- bonded: the entries with an atom of C (or an image)
+  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
+                    neighbor->improperlist};
+  const int width[4] = {2, 3, 4, 4};
+  bool present[4];
+  presence(present);
+  const size_t npair_t = term_off_.size();
+  for (int b = 0; b < 4; b++) {
+    Bonded &B = bonded_[b];
+    B.sub.clear();
+    if (!present[b]) continue;
+    for (int a : marked)
+      for (int p = B.off[a]; p < B.off[a + 1]; p++) {
+        const int r = B.rows[p];
+        if (B.stamp[r] == epoch_) continue;    // a term with two atoms of C
+        B.stamp[r] = epoch_;
+        int *row = lists[b][r];
+        B.sub.push_back(row);
+        add_term(row, width[b]);
+      }
+  }
+  nbonded_terms += (double) (term_off_.size() - npair_t);
+
+  // owners of the ghosts in the terms receive their forces: zeroed too
+  if (nprocs == 1) {
+    const size_t nz = zero_list_.size();
+    for (size_t k = 0; k < nz; k++)
+      if (zero_list_[k] >= nlocal) zero(owner_of(zero_list_[k]));
+    for (int k = 0; k < nc; k++) zero(c[k]);
+  }
+
+  // ---- the styles' own compute() on the restricted lists
+  Tally tal[5];
+  auto save = [](Tally &t, double e1, double e2, const double *v) {
+    t.e1 = e1;
+    t.e2 = e2;
+    for (int k = 0; k < 6; k++) t.v[k] = v[k];
+  };
+  auto put = [](const Tally &t, double &e1, double &e2, double *v) {
+    e1 = t.e1;
+    e2 = t.e2;
+    for (int k = 0; k < 6; k++) v[k] = t.v[k];
+  };
+  double d1 = 0.0, d2 = 0.0;
+  if (force->pair) save(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
+  if (force->bond) save(tal[1], force->bond->energy, d1, force->bond->virial);
+  if (force->angle) save(tal[2], force->angle->energy, d1, force->angle->virial);
+  if (force->dihedral) save(tal[3], force->dihedral->energy, d1, force->dihedral->virial);
+  if (force->improper) save(tal[4], force->improper->energy, d1, force->improper->virial);
+
+  // single rank: the styles write into fl_ through a swapped atom->f.
+  // Several ranks: comm->reverse_comm() packs through the atom style's own
+  // cached f pointer (AtomVec::f), not atom->f, so the evaluation runs in
+  // atom->f itself, saved to fl_ before and swapped back after (O(atoms);
+  // a reverse communication of only the touched ghosts needs a Fix's
+  // pack_reverse_comm(): the engine's job)
+  double **f_saved = atom->f;
+  const size_t nbytes = 3 * sizeof(double) * nall;
+  if (nprocs == 1)
+    atom->f = fl_;
+  else if (nall) {
+    memcpy(&fl_[0][0], &atom->f[0][0], nbytes);
+    memset(&atom->f[0][0], 0, nbytes);
+  }
+  if (L) {
+    const int inum0 = L->inum;
+    int *ilist0 = L->ilist, *numneigh0 = L->numneigh;
+    int **firstneigh0 = L->firstneigh;
+    L->inum = (int) ilist_.size();
+    L->ilist = ilist_.data();
+    L->numneigh = numneigh_;
+    L->firstneigh = firstneigh_;
+    force->pair->compute(0, 0);
+    L->inum = inum0;
+    L->ilist = ilist0;
+    L->numneigh = numneigh0;
+    L->firstneigh = firstneigh0;
+  }
+  int *nlist[4] = {&neighbor->nbondlist, &neighbor->nanglelist, &neighbor->ndihedrallist,
+                   &neighbor->nimproperlist};
+  int ***plist[4] = {&neighbor->bondlist, &neighbor->anglelist, &neighbor->dihedrallist,
+                     &neighbor->improperlist};
+  for (int b = 0; b < 4; b++) {
+    if (!present[b]) continue;
+    const int n0 = *nlist[b];
+    int **l0 = *plist[b];
+    *nlist[b] = (int) bonded_[b].sub.size();
+    *plist[b] = bonded_[b].sub.data();
+    if (b == 0) force->bond->compute(0, 0);
+    if (b == 1) force->angle->compute(0, 0);
+    if (b == 2) force->dihedral->compute(0, 0);
+    if (b == 3) force->improper->compute(0, 0);
+    *nlist[b] = n0;
+    *plist[b] = l0;
+  }
+  if (nprocs == 1)
+    atom->f = f_saved;
+  else if (nall) {
+    // NOTE: reverse_comm() also sums the atom style's torque and extra
+    // per-atom force arrays into the owners: point particles only
+    if (force->newton_pair || force->newton_bond) comm->reverse_comm();
+    for (int i = 0; i < nall; i++)
+      for (int k = 0; k < 3; k++) std::swap(fl_[i][k], atom->f[i][k]);
+  }
+
+  if (force->pair) put(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
+  if (force->bond) put(tal[1], force->bond->energy, d2, force->bond->virial);
+  if (force->angle) put(tal[2], force->angle->energy, d2, force->angle->virial);
+  if (force->dihedral) put(tal[3], force->dihedral->energy, d2, force->dihedral->virial);
+  if (force->improper) put(tal[4], force->improper->energy, d2, force->improper->virial);
+
+  // ---- ghosts' forces to their owners, the touched owned atoms
+  touched_owned_.clear();
+  if (nprocs == 1) {
+    for (int j : zero_list_)
+      if (j >= nlocal) {
+        const int o = owner_of(j);
+        for (int k = 0; k < 3; k++) fl_[o][k] += fl_[j][k];
+      }
+    for (int j : zero_list_)
+      if (j < nlocal) touched_owned_.push_back(j);
+  } else {
+    for (int i = 0; i < nlocal; i++)
+      if (zeroed_[i] == epoch_ || fl_[i][0] != 0.0 || fl_[i][1] != 0.0 || fl_[i][2] != 0.0)
+        touched_owned_.push_back(i);
+  }
+  std::sort(touched_owned_.begin(), touched_owned_.end());
+  ncalls += 1.0;
+}

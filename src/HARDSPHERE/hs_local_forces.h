@@ -1,0 +1,129 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: forces of V_C, the interaction terms that involve a
+   given set C of atoms, through LAMMPS' own styles (issue 10, the local
+   sub-stepping engine: Phi_C needs -grad V_C at every sub-step, at a cost
+   of O(the terms of C), not of a force evaluation of the whole system).
+
+   The styles' own compute() runs on sub-lists that hold only the terms of C:
+   pair: the rows of the neighbor list restricted to pairs (i,j) with i or j
+   (or an image of it) in C; bond/angle/dihedral/improper: the entries of
+   neighbor->bondlist, anglelist, ... with an atom (or an image) in C. The
+   list pointers (pair->list's inum/ilist/numneigh/firstneigh,
+   neighbor->bondlist/nbondlist, ...) and atom->f are swapped for the call
+   and restored after it, as are the styles' energy and virial tallies, so
+   the state of LAMMPS (f, tallies, lists) is bit-identical afterwards.
+   Because every term that acts on an atom of C involves it, the force on an
+   atom of C equals its force in a full evaluation; a partner (an atom that
+   shares a term with C) receives only the part of its force from V_C.
+
+   Exact only for styles whose energy is a sum of terms over the list
+   entries: unrestrictable() names the others (kspace, many-body pair
+   styles, pair styles with ghost neighbours, pair hybrid (its sub-styles
+   own their lists, not swapped here yet), accelerator variants with
+   thread-private force arrays); the engine then falls back to `global`.
+   Fixes' forces are not part of V_C here: the engine decides about them.
+
+   Version notes: compiled and tested against LAMMPS 29Sep2021 update 2
+   (Debian 20220106)
+   headers only; the members used are believed unchanged in 4Feb2025 (not
+   compiled against it here):
+   Pair::list, NeighList::{inum,ilist,numneigh,firstneigh}, Neighbor::
+   {bondlist,nbondlist,...,improperlist,nimproperlist,ncalls}, Atom::{map(),
+   sametag}, NEIGHMASK, the styles' tallies (Pair::eng_vdwl, eng_coul,
+   virial; Bond/Angle/...::energy, virial). No neighbor request is made (the
+   pair style's own list is used), so hs_compat.h is not needed.
+
+   MPI (compute() is collective): the tags of C are gathered on every rank
+   (MPI_Allgatherv, O(|C|)), each rank restricts its own lists to terms with
+   an owned or ghost copy of an atom of C. Single rank: the styles write
+   into a swapped atom->f and the ghosts' forces are folded into their owners
+   through atom->map(), O(terms). Several ranks: comm->reverse_comm() packs
+   through AtomVec's cached f pointer, not atom->f, so the evaluation runs in
+   atom->f itself (saved and restored: O(atoms) per call) and the ghosts'
+   forces go back by a full reverse communication (O(ghosts)). A local
+   engine wants instead a reverse communication of only the touched ghosts
+   through its Fix's pack_reverse_comm(). Tested on 1-4 ranks
+   (unittest/mpi/test_mpi_local_forces.sh).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_LOCAL_FORCES_H
+#define LMP_HS_LOCAL_FORCES_H
+
+#include "pointers.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class HSLocalForces : protected Pointers {
+ public:
+  // owner: for error messages, e.g. "fix hardsphere/cva"
+  HSLocalForces(class LAMMPS *, const std::string &owner);
+  ~HSLocalForces() override;
+
+  // call from the owner's init(): checks the styles and the atom map
+  void init();
+  // "" when every contribution can be restricted exactly, else why not
+  // (the styles named); valid after init()
+  const std::string &unrestrictable() const { return why_; }
+  bool exact() const { return why_.empty(); }
+
+  // -grad V_C at the current x (ghosts current), C = c[0..nc) (owned local
+  // indices; collective: every rank passes its own part of C). Afterwards
+  // forces()[i] holds it for every owned atom i in touched() (C and the
+  // partners); other entries are unspecified. atom->x, atom->f, the lists
+  // and the styles' tallies are left as they were.
+  void compute(const int *c, int nc);
+  double **forces() const { return fl_; }
+  const std::vector<int> &touched() const { return touched_owned_; }
+
+  // the terms of V_C of the last compute(), each as its atoms (local
+  // indices, ghosts mapped to their owned copy on a single rank; -1 for a
+  // ghost owned elsewhere): term t is terms()[off[t] .. off[t+1])
+  const std::vector<int> &term_atoms() const { return term_atoms_; }
+  const std::vector<int> &term_offsets() const { return term_off_; }
+
+  // counters: calls, and pair / bonded terms evaluated, since construction
+  double ncalls = 0, npair_terms = 0, nbonded_terms = 0;
+
+ private:
+  std::string owner_, why_;
+  int initialized_ = 0;
+
+  // stamps over nlocal + nghost
+  uint32_t epoch_ = 0;
+  std::vector<uint32_t> in_c_, zeroed_;
+  bool inC(int i) const { return in_c_[i] == epoch_; }
+
+  // inverse indices, rebuilt when the lists change (neighbor->ncalls)
+  int64_t built_ncalls_ = -1;
+  int built_nall_ = -1;
+  class NeighList *built_list_ = nullptr;
+  std::vector<int> pinv_off_, pinv_row_, pinv_val_;    // j -> (row i, raw j entry)
+  std::vector<char> has_row_;
+  struct Bonded {
+    std::vector<int> off, rows;    // atom -> rows of the list
+    std::vector<uint32_t> stamp;   // row already in sub in this call
+    std::vector<int *> sub;        // restricted list: row pointers
+  } bonded_[4];                    // bond, angle, dihedral, improper
+  void build_index();
+  void presence(bool present[4]) const;
+
+  // restricted pair list storage
+  std::vector<int> ilist_, neigh_;
+  std::vector<std::pair<int, int>> extra_;    // (row i, raw j) for rows i not in C
+  int nmax_ = 0;
+  int *numneigh_ = nullptr;
+  int **firstneigh_ = nullptr;
+  double **fl_ = nullptr;
+
+  std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_;
+  void zero(int i);
+  void grow();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

@@ -1,0 +1,401 @@
+// HSLocalForces (hs_local_forces.h): forces of V_C, the interaction terms
+// with an atom of C, through the styles' own compute() on restricted lists.
+// Exactness: every term acting on an atom of C involves it, so the restricted
+// force on each atom of C must equal LAMMPS' full force on it (to round-off,
+// the summation order differs). Partners: against an independent brute-force
+// sum over minimum-image LJ pairs with an atom of C (fluid), and the total
+// force of V_C vanishing (every term's forces sum to zero; melt). LAMMPS'
+// state (atom->f of owned and ghost atoms, the styles' tallies) must be
+// bit-identical after each call. Cases: LJ fluid with newton on / off,
+// bead-spring melt (bonds, angles, dihedrals) with chains across the
+// periodic boundary, random C of sizes 1 .. all, atoms near the boundaries;
+// styles that cannot be restricted are reported. Under mpirun (unittest/mpi/
+// test_mpi_local_forces.sh) every rank passes its own C; the checks on C,
+// the state and the vanishing total force hold on every rank count.
+
+#include "hs_test_main.h"
+
+#include "hs_local_forces.h"
+
+#include "angle.h"
+#include "atom.h"
+#include "bond.h"
+#include "comm.h"
+#include "dihedral.h"
+#include "domain.h"
+#include "force.h"
+#include "neighbor.h"
+#include "pair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+using LAMMPS_NS::HSLocalForces;
+
+namespace {
+
+struct Snapshot {
+  std::vector<double> f;
+  double tal[5][8];
+};
+
+void tallies(LAMMPS_NS::LAMMPS *lmp, double out[5][8])
+{
+  auto *force = lmp->force;
+  memset(out, 0, sizeof(double) * 40);
+  if (force->pair) {
+    out[0][0] = force->pair->eng_vdwl;
+    out[0][1] = force->pair->eng_coul;
+    for (int k = 0; k < 6; k++) out[0][2 + k] = force->pair->virial[k];
+  }
+  if (force->bond) {
+    out[1][0] = force->bond->energy;
+    for (int k = 0; k < 6; k++) out[1][2 + k] = force->bond->virial[k];
+  }
+  if (force->angle) {
+    out[2][0] = force->angle->energy;
+    for (int k = 0; k < 6; k++) out[2][2 + k] = force->angle->virial[k];
+  }
+  if (force->dihedral) {
+    out[3][0] = force->dihedral->energy;
+    for (int k = 0; k < 6; k++) out[3][2 + k] = force->dihedral->virial[k];
+  }
+}
+
+Snapshot snap(LAMMPS_NS::LAMMPS *lmp)
+{
+  Snapshot s;
+  auto *atom = lmp->atom;
+  const int nall = atom->nlocal + atom->nghost;
+  s.f.assign(&atom->f[0][0], &atom->f[0][0] + 3 * nall);
+  tallies(lmp, s.tal);
+  return s;
+}
+
+void expect_unchanged(LAMMPS_NS::LAMMPS *lmp, const Snapshot &s, const std::string &what)
+{
+  Snapshot t = snap(lmp);
+  ASSERT_EQ(s.f.size(), t.f.size());
+  EXPECT_EQ(0, memcmp(s.f.data(), t.f.data(), s.f.size() * sizeof(double)))
+      << what << ": atom->f changed";
+  EXPECT_EQ(0, memcmp(s.tal, t.tal, sizeof(s.tal))) << what << ": tallies changed";
+}
+
+// C: random owned atoms, plus (boundary) atoms within 0.6 of a box face
+std::vector<int> random_c(LAMMPS_NS::LAMMPS *lmp, int n, unsigned seed, bool boundary)
+{
+  auto *atom = lmp->atom;
+  auto *domain = lmp->domain;
+  std::mt19937 rng(seed);
+  std::vector<int> all(atom->nlocal);
+  for (int i = 0; i < atom->nlocal; i++) all[i] = i;
+  std::shuffle(all.begin(), all.end(), rng);
+  std::vector<int> c;
+  if (boundary) {
+    for (int i : all) {
+      const double *x = atom->x[i];
+      bool near = false;
+      for (int k = 0; k < 3; k++)
+        near = near || x[k] - domain->boxlo[k] < 0.6 || domain->boxhi[k] - x[k] < 0.6;
+      if (near && (int) c.size() < n) c.push_back(i);
+    }
+  } else {
+    c.assign(all.begin(), all.begin() + std::min<int>(n, atom->nlocal));
+  }
+  return c;
+}
+
+// forces on C equal the full forces; state unchanged; returns the largest
+// relative deviation
+double check_c(HSLammps &h, HSLocalForces &lf, const std::vector<int> &c, const std::string &what)
+{
+  auto *atom = h.lmp->atom;
+  const Snapshot before = snap(h.lmp);
+  lf.compute(c.data(), (int) c.size());
+  expect_unchanged(h.lmp, before, what);
+  double **fl = lf.forces();
+  double fscale = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) fscale = std::max(fscale, std::fabs(atom->f[i][k]));
+  std::set<int> touched(lf.touched().begin(), lf.touched().end());
+  double worst = 0.0;
+  for (int i : c) {
+    EXPECT_TRUE(touched.count(i)) << what << ": atom of C not reported";
+    for (int k = 0; k < 3; k++) {
+      const double d = std::fabs(fl[i][k] - atom->f[i][k]) / fscale;
+      worst = std::max(worst, d);
+      EXPECT_LT(d, 1e-13) << what << ": atom tag " << atom->tag[i] << " dim " << k << " local "
+                          << fl[i][k] << " full " << atom->f[i][k];
+    }
+  }
+  return worst;
+}
+
+std::string fluid_input(bool newton)
+{
+  return std::string("units lj\natom_style atomic\natom_modify map array\nboundary p p p\n") +
+      (newton ? "newton on\n" : "newton off\n") +
+      "lattice fcc 0.5729578\nregion box block 0 4 0 4 0 4\ncreate_box 1 box\n"
+      "create_atoms 1 box\nmass 1 1.0\n"
+      "displace_atoms all random 0.15 0.15 0.15 4711 units box\n"
+      "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0 2.5\npair_modify shift yes\n"
+      "neighbor 0.3 bin\nrun 0\n";
+}
+
+// -grad V_C by brute force: minimum-image LJ pairs (r < 2.5) with an atom of C
+std::vector<double> brute_lj(LAMMPS_NS::LAMMPS *lmp, const std::vector<int> &c)
+{
+  auto *atom = lmp->atom;
+  auto *domain = lmp->domain;
+  const int n = atom->nlocal;
+  std::vector<char> inc(n, 0);
+  for (int i : c) inc[i] = 1;
+  std::vector<double> f(3 * n, 0.0);
+  const double L[3] = {domain->xprd, domain->yprd, domain->zprd};
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      if (!inc[i] && !inc[j]) continue;
+      double d[3], r2 = 0.0;
+      for (int k = 0; k < 3; k++) {
+        d[k] = atom->x[i][k] - atom->x[j][k];
+        d[k] -= L[k] * std::round(d[k] / L[k]);
+        r2 += d[k] * d[k];
+      }
+      if (r2 >= 2.5 * 2.5) continue;
+      const double ir6 = 1.0 / (r2 * r2 * r2);
+      const double fr = 24.0 * ir6 * (2.0 * ir6 - 1.0) / r2;
+      for (int k = 0; k < 3; k++) {
+        f[3 * i + k] += fr * d[k];
+        f[3 * j + k] -= fr * d[k];
+      }
+    }
+  return f;
+}
+
+}    // namespace
+
+class LocalForcesFluid : public ::testing::TestWithParam<bool> {};
+
+TEST_P(LocalForcesFluid, ExactOnCAndPartners)
+{
+  const bool newton = GetParam();
+  HSLammps h;
+  h.lines(fluid_input(newton));
+  auto *atom = h.lmp->atom;
+  HSLocalForces lf(h.lmp, "test");
+  lf.init();
+  ASSERT_TRUE(lf.exact()) << lf.unrestrictable();
+  double worst = 0.0;
+  int cases = 0;
+  for (int n : {1, 2, 5, 20, 100, atom->nlocal})
+    for (unsigned seed = 1; seed <= 3; seed++)
+      for (bool boundary : {false, true}) {
+        const auto c = random_c(h.lmp, n, seed * 31 + n, boundary);
+        if (c.empty()) continue;
+        const std::string what = "newton " + std::to_string(newton) + " |C| " +
+            std::to_string(c.size()) + (boundary ? " boundary" : "");
+        worst = std::max(worst, check_c(h, lf, c, what));
+        ++cases;
+        // partners: against the brute-force -grad V_C on every owned atom
+        // (the brute force sees only this rank's atoms: serial runs only)
+        if (h.lmp->comm->nprocs > 1) continue;
+        const auto ref = brute_lj(h.lmp, c);
+        std::set<int> touched(lf.touched().begin(), lf.touched().end());
+        double fscale = 1.0;
+        for (double v : ref) fscale = std::max(fscale, std::fabs(v));
+        for (int i = 0; i < atom->nlocal; i++) {
+          const bool nonzero = ref[3 * i] != 0.0 || ref[3 * i + 1] != 0.0 || ref[3 * i + 2] != 0.0;
+          if (!touched.count(i)) {
+            EXPECT_FALSE(nonzero) << what << ": partner tag " << atom->tag[i] << " missing";
+            continue;
+          }
+          for (int k = 0; k < 3; k++)
+            EXPECT_NEAR(lf.forces()[i][k], ref[3 * i + k], 1e-12 * fscale)
+                << what << ": tag " << atom->tag[i] << " dim " << k;
+        }
+      }
+  EXPECT_GE(cases, 30);
+  EXPECT_LT(worst, 1e-13);
+  // the restricted evaluation is local: |C| = 1 evaluates O(neighbours) pairs
+  if (h.lmp->comm->nprocs > 1) return;
+  const double before = lf.npair_terms;
+  const auto one = random_c(h.lmp, 1, 5, false);
+  lf.compute(one.data(), 1);
+  EXPECT_LT(lf.npair_terms - before, 120.0);
+  EXPECT_GT(lf.npair_terms - before, 20.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Newton, LocalForcesFluid, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool> &i) {
+                           return std::string(i.param ? "on" : "off");
+                         });
+
+namespace {
+
+// bead-spring melt: NCH chains of NB beads on a simple cubic lattice
+// (spacing 1), along x and shifted by half the box so that every chain
+// crosses the periodic boundary; bonds, angles, dihedrals
+std::string melt_data(const std::string &path)
+{
+  const int NB = 8, NY = 5, NZ = 5;
+  const double Lx = NB, Ly = NY, Lz = NZ;
+  FILE *fp = fopen(path.c_str(), "w");
+  const int nat = NB * NY * NZ, nch = NY * NZ;
+  fprintf(fp, "melt\n\n%d atoms\n%d bonds\n%d angles\n%d dihedrals\n1 atom types\n1 bond types\n"
+              "1 angle types\n1 dihedral types\n\n0 %g xlo xhi\n0 %g ylo yhi\n0 %g zlo zhi\n\n"
+              "Masses\n\n1 1.0\n\nAtoms # molecular\n\n",
+          nat, nch * (NB - 1), nch * (NB - 2), nch * (NB - 3), Lx, Ly, Lz);
+  int tag = 0;
+  for (int k = 0; k < NZ; k++)
+    for (int j = 0; j < NY; j++)
+      for (int i = 0; i < NB; i++) {
+        ++tag;
+        double x = std::fmod(i + 0.5 + 0.5 * Lx, Lx);
+        fprintf(fp, "%d %d 1 %.10f %.10f %.10f\n", tag, 1 + (tag - 1) / NB, x, j + 0.5, k + 0.5);
+      }
+  fprintf(fp, "\nBonds\n\n");
+  int b = 0;
+  for (int c = 0; c < nch; c++)
+    for (int m = 0; m + 1 < NB; m++) fprintf(fp, "%d 1 %d %d\n", ++b, c * NB + m + 1, c * NB + m + 2);
+  fprintf(fp, "\nAngles\n\n");
+  b = 0;
+  for (int c = 0; c < nch; c++)
+    for (int m = 0; m + 2 < NB; m++)
+      fprintf(fp, "%d 1 %d %d %d\n", ++b, c * NB + m + 1, c * NB + m + 2, c * NB + m + 3);
+  fprintf(fp, "\nDihedrals\n\n");
+  b = 0;
+  for (int c = 0; c < nch; c++)
+    for (int m = 0; m + 3 < NB; m++)
+      fprintf(fp, "%d 1 %d %d %d %d\n", ++b, c * NB + m + 1, c * NB + m + 2, c * NB + m + 3,
+              c * NB + m + 4);
+  fclose(fp);
+  return path;
+}
+
+std::string melt_input(const std::string &data, bool newton)
+{
+  // the random displacements make the chains non-collinear (dihedrals defined)
+  return std::string("units lj\natom_style molecular\nboundary p p p\n") +
+      (newton ? "newton on\n" : "newton off\n") + "read_data " + data +
+      "\ndisplace_atoms all random 0.12 0.12 0.12 1234 units box\n"
+      "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0 2.5\npair_modify shift yes\n"
+      "bond_style harmonic\nbond_coeff 1 300.0 0.97\n"
+      "angle_style harmonic\nangle_coeff 1 5.0 120.0\n"
+      "dihedral_style harmonic\ndihedral_coeff 1 1.5 1 2\n"
+      "special_bonds lj 0.0 1.0 1.0\nneighbor 0.3 bin\ncomm_modify cutoff 4.0\nrun 0\n";
+}
+
+}    // namespace
+
+class LocalForcesMelt : public ::testing::TestWithParam<bool> {};
+
+TEST_P(LocalForcesMelt, BondedTermsExact)
+{
+  const bool newton = GetParam();
+  const std::string data = melt_data(scratch_name("melt.data"));
+  HSLammps h;
+  h.lines(melt_input(data, newton));
+  remove(data.c_str());
+  auto *atom = h.lmp->atom;
+  int ndih = h.lmp->neighbor->ndihedrallist, ndih_all = 0;
+  MPI_Allreduce(&ndih, &ndih_all, 1, MPI_INT, MPI_SUM, h.lmp->world);
+  ASSERT_GT(ndih_all, 0);
+  HSLocalForces lf(h.lmp, "test");
+  lf.init();
+  ASSERT_TRUE(lf.exact()) << lf.unrestrictable();
+  double worst = 0.0;
+  for (int n : {1, 3, 10, 50, atom->nlocal})
+    for (unsigned seed = 1; seed <= 3; seed++)
+      for (bool boundary : {false, true}) {
+        const auto c = random_c(h.lmp, n, seed * 7 + n, boundary);
+        if (c.empty()) continue;
+        const std::string what = "melt newton " + std::to_string(newton) + " |C| " +
+            std::to_string(c.size()) + (boundary ? " boundary" : "");
+        const double b0 = lf.nbonded_terms;
+        worst = std::max(worst, check_c(h, lf, c, what));
+        double nb = lf.nbonded_terms - b0, nb_all = 0.0;
+        MPI_Allreduce(&nb, &nb_all, 1, MPI_DOUBLE, MPI_SUM, h.lmp->world);
+        EXPECT_GT(nb_all, 0.0) << what << ": no bonded term restricted";
+        // every term's forces sum to zero, so V_C's total force vanishes:
+        // a partner's missing contribution would show here
+        double sum[3] = {0, 0, 0}, scale = 0.0;
+        for (int i : lf.touched())
+          for (int k = 0; k < 3; k++) {
+            sum[k] += lf.forces()[i][k];
+            scale = std::max(scale, std::fabs(lf.forces()[i][k]));
+          }
+        double all[4], one[4] = {sum[0], sum[1], sum[2], 0.0};
+        MPI_Allreduce(one, all, 3, MPI_DOUBLE, MPI_SUM, h.lmp->world);
+        MPI_Allreduce(&scale, &all[3], 1, MPI_DOUBLE, MPI_MAX, h.lmp->world);
+        for (int k = 0; k < 3; k++) EXPECT_LT(std::fabs(all[k]), 1e-11 * all[3]) << what;
+      }
+  EXPECT_LT(worst, 1e-13);
+  // C = all atoms: every atom's force is the full force
+  std::vector<int> all(atom->nlocal);
+  for (int i = 0; i < atom->nlocal; i++) all[i] = i;
+  check_c(h, lf, all, "melt all");
+}
+
+INSTANTIATE_TEST_SUITE_P(Newton, LocalForcesMelt, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool> &i) {
+                           return std::string(i.param ? "on" : "off");
+                         });
+
+// after atoms move and the lists are rebuilt, the inverse index follows
+TEST(LocalForces, AfterReneighboring)
+{
+  HSLammps h;
+  h.lines(fluid_input(true));
+  h.lines("velocity all create 2.0 5 mom yes\nfix 1 all nve\ntimestep 0.005\n"
+          "neigh_modify every 1 delay 0 check no\nrun 7\n");
+  HSLocalForces lf(h.lmp, "test");
+  lf.init();
+  check_c(h, lf, random_c(h.lmp, 20, 3, true), "after run 7");
+  h.lines("run 5\n");
+  check_c(h, lf, random_c(h.lmp, 20, 4, true), "after run 5 more");
+}
+
+TEST(LocalForces, ReportsUnrestrictableStyles)
+{
+  {
+    HSLammps h;
+    h.lines("units lj\natom_style charge\natom_modify map array\nregion box block 0 6 0 6 0 6\n"
+            "create_box 1 box\ncreate_atoms 1 random 20 5 NULL\nmass 1 1.0\nset group all charge 0.1\n"
+            "pair_style lj/cut/coul/long 2.5\npair_coeff 1 1 1.0 1.0\nkspace_style ewald 1e-4\n");
+    HSLocalForces lf(h.lmp, "test");
+    h.lines("run 0\n");
+    lf.init();
+    EXPECT_FALSE(lf.exact());
+    EXPECT_NE(lf.unrestrictable().find("kspace style ewald"), std::string::npos)
+        << lf.unrestrictable();
+  }
+  {
+    HSLammps h;
+    h.lines("units metal\natom_style atomic\natom_modify map array\nlattice fcc 4.05\n"
+            "region box block 0 3 0 3 0 3\ncreate_box 1 box\ncreate_atoms 1 box\nmass 1 27.0\n"
+            "pair_style tersoff\n");
+    // tersoff needs a potential file; its manybody flag is set at construction
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    EXPECT_FALSE(lf.exact());
+    EXPECT_NE(lf.unrestrictable().find("many-body"), std::string::npos) << lf.unrestrictable();
+  }
+  {
+    HSLammps h;
+    h.lines("units lj\natom_style atomic\natom_modify map array\nregion box block 0 6 0 6 0 6\n"
+            "create_box 2 box\ncreate_atoms 1 random 20 5 NULL\nmass * 1.0\n"
+            "pair_style hybrid lj/cut 2.5 soft 1.0\npair_coeff 1 1 lj/cut 1.0 1.0\n"
+            "pair_coeff 1 2 soft 1.0\npair_coeff 2 2 soft 1.0\n");
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    EXPECT_FALSE(lf.exact());
+    EXPECT_NE(lf.unrestrictable().find("hybrid"), std::string::npos) << lf.unrestrictable();
+  }
+}
