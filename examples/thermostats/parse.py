@@ -11,33 +11,42 @@ import numpy as np
 out = sys.argv[1]
 N = 500
 T0 = 1.5
-DOF = 3 * N / (3 * N - 3)    # langevin (zero no) thermalizes 3N components
-EXPECT = {
-    "langevin": T0 * DOF,
-    "langevin_zero": T0,
-    # drag adds up, noise is langevin's only: gamma_L = 1/0.5, viscous 1.0
-    "langevin_viscous": T0 * DOF * 2.0 / (2.0 + 1.0),
-    "berendsen": T0,
-    "rescale": T0,
-}
+def expected(th, n):
+    dof = 3 * n / (3 * n - 3)    # langevin (zero no) thermalizes 3N components
+    return {
+        "langevin": T0 * dof,
+        "langevin_zero": T0,
+        # drag adds up, noise is langevin's only: gamma_L = 1/0.5, viscous 1.0
+        "langevin_viscous": T0 * dof * 2.0 / (2.0 + 1.0),
+        "berendsen": T0,
+        "rescale": T0,
+    }[th]
+
+
 rows = []
 for f in sorted(glob.glob(os.path.join(out, "*.out"))):
-    m, th = os.path.basename(f)[:-4].split(".")
     txt = open(f).read()
-    r = re.search(r"RESULT method \S+ thermo \S+ T_mean (\S+) collisions_per_step (\S+)", txt)
+    r = re.search(r"RESULT method (\S+) thermo (\S+) T_mean (\S+) collisions_per_step (\S+) atoms (\d+)", txt)
     if not r:
+        m, th = os.path.basename(f)[:-4].split(".")
         rows.append((th, m, None))
         continue
-    blk = os.path.join(out, f"tblocks.{m}.{th}.txt")
+    m, th, n = r.group(1), r.group(2), int(r.group(5))
+    # a run of another size is kept under its own name (e.g. mcva108.langevin.out)
+    tag = os.path.basename(f)[:-4].split(".")[0]
+    blk = os.path.join(out, f"tblocks.{tag}.{th}.txt")
+    if not os.path.exists(blk):
+        blk = os.path.join(out, f"tblocks.{m}.{th}.txt")
     d = np.loadtxt(blk, comments="#")
     T = d[:, 1]
     se = T.std(ddof=1) / np.sqrt(len(T))
     sec = re.search(r"SECONDS (\d+)", txt)
-    steps = re.search(r"Loop time of \S+ on \d+ procs for (\d+) steps", txt.split("RESULT")[0][::-1][::-1])
-    rows.append((th, m, (T.mean(), se, float(r.group(2)), len(T), sec.group(1) if sec else "?")))
+    label = m if n == N else f"{m} ({n} atoms)"
+    rows.append((th, label, (T.mean(), se, float(r.group(4)), len(T), sec.group(1) if sec else "?",
+                             expected(th, n))))
 
 order = ["langevin", "langevin_zero", "langevin_viscous", "berendsen", "rescale"]
-mord = ["nve", "psa", "cva", "pcva", "vci", "mcva"]
+mord = ["nve", "psa", "cva", "pcva", "vci", "mcva", "mcva (108 atoms)"]
 print("# Thermostats beside the hard-sphere methods: measured\n")
 print("`bash examples/thermostats/run.sh` (input `in.lj-thermostat`: 500 atoms, fcc 0.8,")
 print("LJ 2.5 shifted, diameter 1.0, kT 1.5, dt 0.005, damp 0.5; `nve` is fix nve")
@@ -56,7 +65,6 @@ for th in order:
             if v is None:
                 print(f"| {th} | {m} | failed | | | | | |")
                 continue
-            Tm, se, cps, nb, sec = v
-            ex = EXPECT[th]
+            Tm, se, cps, nb, sec, ex = v
             print(f"| {th} | {m} | {Tm:.4f} +- {se:.4f} | {ex:.4f} | {100*(Tm/ex-1):+.2f} % "
                   f"({(Tm-ex)/se:+.1f} se) | {cps:.1f} | {nb} | {sec} |")
