@@ -124,6 +124,8 @@ fix int all hardsphere/)LMP" + method + R"LMP( diameter 1.05
 )LMP" + th + R"LMP(
 thermo 1000
 run )LMP" + std::to_string(equil) + R"LMP(
+# step 0 again: the 20 blocks of nrun/20 steps then end on multiples of it
+reset_timestep 0
 variable v2 atom (vx*vx+vy*vy+vz*vz)/3
 variable v4 atom (vx^4+vy^4+vz^4)/3
 compute r all reduce ave v_v2 v_v4
