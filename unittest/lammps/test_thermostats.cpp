@@ -23,7 +23,7 @@
 //
 // Kurtosis kappa = <v^4>/<v^2>^2 of the velocity components (x, y and z
 // pooled, by isotropy). A Maxwellian has 3. Bounds that statistical mechanics
-// gives for these thermostats, beyond the statistical error:
+// gives for these thermostats, widened by four error bars:
 // - LAMMPS' fix langevin draws uniform, not Gaussian, random numbers: one
 //   velocity component with no interactions is then the AR(1) process
 //   v' = rho v + e with rho = 1 - dt/damp and innovations of excess kurtosis
@@ -194,8 +194,11 @@ void check_run(const std::string &method, const std::string &thermo, double damp
   // about 0.5 %: the 1 % check is the damp 0.1 suite's)
   const double tol = strict_T ? 0.01 : std::max(0.01, 3.0 * Tse / Tx);
   EXPECT_NEAR(Tm / Tx, 1.0, tol) << "<T> " << Tm << " +- " << Tse << ", expected " << Tx;
-  EXPECT_GT(km, klo - 3.0 * kse);
-  EXPECT_LT(km, khi + 3.0 * kse);
+  // four error bars: 20 blocks give the error bar itself to ~16 %, and the
+  // short blocks of the berendsen/rescale runs (0.5 time units) are not
+  // quite independent
+  EXPECT_GT(km, klo - 4.0 * kse);
+  EXPECT_LT(km, khi + 4.0 * kse);
 }
 
 using Param = std::tuple<const char *, const char *>;
