@@ -216,18 +216,19 @@ TEST_P(Thermostat, TemperatureAndMaxwellian)
 {
   const std::string method = std::get<0>(GetParam()), thermo = std::get<1>(GetParam());
   // temp/berendsen and temp/rescale hold T close to its target: their error
-  // bar is ~0.03 % after 2000 steps. mcva costs ~40 ms per step here (~70
-  // force evaluations per collision; issue 11 replaces its fixed-point
-  // iteration): shorter runs, and <T> checked to 1 % or three error bars,
-  // whichever is wider (its error bar is ~0.8 %); its 1 % measurement is in
-  // examples/thermostats.
+  // bar is ~0.03 % after 2000 steps. mcva costs ~250 ms per step here (~70
+  // force evaluations per collision at 6.6 collisions per step; issue 11
+  // replaces its fixed-point iteration): one short run with fix langevin,
+  // the held path, checked to three error bars (about 2 %), which still
+  // tells the old behaviour (a third of the target for cva, a stop on step
+  // 10 for mcva) from the right one. Its 1 % measurement (12000 steps) is in
+  // examples/thermostats/results.md.
   const bool rescaling = thermo == "berendsen" || thermo == "rescale";
   const bool mcva = method == "mcva";
-  const int nrun = mcva ? (rescaling ? 1000 : (thermo == "langevin" ? 3000 : 2000))
-                        : (rescaling ? 2000 : 12000);
-  const double se_max = mcva ? 0.012 : 0.0045;
+  const int nrun = mcva ? 800 : (rescaling ? 2000 : 12000);
+  const double se_max = mcva ? 0.03 : 0.0045;
   const double damp = 0.1;
-  Blocks b = run_fluid(method, thermo, damp, nrun, 4711, mcva ? 300 : 1000);
+  Blocks b = run_fluid(method, thermo, damp, nrun, 4711, mcva ? 200 : 1000);
   check_run(method, thermo, damp, b, se_max, !mcva);
 }
 
@@ -237,12 +238,12 @@ INSTANTIATE_TEST_SUITE_P(
                        ::testing::Values("langevin", "langevin_zero", "langevin_viscous",
                                          "berendsen", "rescale")),
     case_name);
-INSTANTIATE_TEST_SUITE_P(
-    MCVA, Thermostat,
-    ::testing::Combine(::testing::Values("mcva"),
-                       ::testing::Values("langevin", "langevin_zero", "langevin_viscous",
-                                         "berendsen", "rescale")),
-    case_name);
+// mcva: the held path only (see above); berendsen and rescale act between
+// steps, outside any method, and are tested with the four others
+INSTANTIATE_TEST_SUITE_P(MCVA, Thermostat,
+                         ::testing::Combine(::testing::Values("mcva"),
+                                            ::testing::Values("langevin")),
+                         case_name);
 
 // the sharper kurtosis check: weak coupling (damp 0.5), where uniform random
 // numbers change the kurtosis by at most 0.012
