@@ -865,11 +865,12 @@ void FixHardSphere::kick(double tau)
 }
 
 // v += dtfk f / m, in the form of fix nve's kicks (dtf / m first), so a
-// kick with dtfk = dtf is bit for bit fix nve's
-void FixHardSphere::kick_dtf(double dtfk)
+// kick with dtfk = dtf is bit for bit fix nve's; force: atom->f unless given
+// (the held thermostat forces)
+void FixHardSphere::kick_dtf(double dtfk, double **force)
 {
   double **v = atom->v;
-  double **f = atom->f;
+  double **f = force ? force : atom->f;
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   const int *type = atom->type;
@@ -1126,21 +1127,6 @@ void FixHardSphere::split_held_forces()
     }
 }
 
-// v += dt/2 f_h / m on the group (fix nve's kick arithmetic)
-void FixHardSphere::kick_held()
-{
-  double **v = atom->v;
-  const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) {
-      const double dtfm = dtf / mass_of(i);
-      v[i][0] += dtfm * fheld[i][0];
-      v[i][1] += dtfm * fheld[i][1];
-      v[i][2] += dtfm * fheld[i][2];
-    }
-}
-
 void FixHardSphere::begin_held_split()
 {
   if (held_step == update->ntimestep) {
@@ -1150,7 +1136,7 @@ void FixHardSphere::begin_held_split()
       for (int k = 0; k < 3; k++) f[i][k] = fcons[i][k];
   } else
     split_held_forces();
-  kick_held();
+  kick_dtf(dtf, fheld);    // K_held(dt/2)
   step_split = 1;
 }
 
@@ -1159,7 +1145,7 @@ void FixHardSphere::end_held_split()
   split_held_forces();    // at the step's end
   kick_dtf(dtf_last);     // the method's closing kick, conservative forces
   if (step_substeps) end_collisional_step();
-  kick_held();
+  kick_dtf(dtf, fheld);    // K_held(dt/2)
   // LAMMPS' forces again, for output and the next step
   double **f = atom->f;
   for (int i = 0; i < atom->nlocal; i++)

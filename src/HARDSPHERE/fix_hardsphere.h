@@ -155,7 +155,6 @@ class FixHardSphere : public Fix {
   std::string unknown_told, held_told;    // fixes named in the log already
   void check_fixes_beside();
   void split_held_forces();
-  void kick_held();
   void begin_held_split();
   void end_held_split();
   int others_integrate = 0;       // another fix integrates atoms outside the group
@@ -181,7 +180,7 @@ class FixHardSphere : public Fix {
 
   // --- pieces of the sub-step loop (CVA) ---
   virtual void kick(double tau);
-  void kick_dtf(double dtfk);
+  void kick_dtf(double dtfk, double **force = nullptr);
   virtual void kick_drift(double tau);
   virtual void collide_pair(int i, int j, Impulse &);    // operator R at contact
   virtual void collide_wall(int i, const Wall &, Impulse &);
