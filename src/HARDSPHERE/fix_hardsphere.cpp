@@ -8,6 +8,7 @@
 #include "hs_compat.h"
 #include "hs_contact.h"
 #include "hs_fix_rule.h"
+#include "hs_local_engine.h"
 #include "hs_potential.h"
 
 #include "angle.h"
@@ -97,6 +98,15 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
       }
       walls.push_back(w);
       iarg += 3;
+    } else if (strcmp(arg[iarg], "substep") == 0) {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "Illegal fix {} command: substep needs local or global", style_name);
+      if (strcmp(arg[iarg + 1], "local") == 0) substep_mode = SUBSTEP_LOCAL;
+      else if (strcmp(arg[iarg + 1], "global") == 0) substep_mode = SUBSTEP_GLOBAL;
+      else
+        error->all(FLERR, "Fix {} substep must be local or global, got {}", style_name,
+                   arg[iarg + 1]);
+      iarg += 2;
     } else
       error->all(FLERR, "Unknown fix {} keyword: {}", style_name, arg[iarg]);
   }
@@ -124,6 +134,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
 
 FixHardSphere::~FixHardSphere()
 {
+  delete local_engine;
   delete pot;
   memory->destroy(xref);
   memory->destroy(gap);
@@ -139,6 +150,16 @@ FixHardSphere::~FixHardSphere()
 int FixHardSphere::setmask()
 {
   return INITIAL_INTEGRATE | FINAL_INTEGRATE | POST_NEIGHBOR;
+}
+
+/* ----------------------------------------------------------------------
+   the engine's counters follow the method's own output entries
+------------------------------------------------------------------------- */
+
+void FixHardSphere::post_constructor()
+{
+  local_vec_offset = size_vector;
+  size_vector += 6;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -226,7 +247,50 @@ void FixHardSphere::init()
       forces_present = 1;
 
   check_fixes_beside();
+  choose_engine();
   reset_dt();
+}
+
+/* ----------------------------------------------------------------------
+   the step engine of this run (doc "Step engines"): local where the method
+   and the set-up allow it, unless substep global was given; an explicit
+   substep local that cannot run is an error naming why
+------------------------------------------------------------------------- */
+
+void FixHardSphere::choose_engine()
+{
+  use_local = 0;
+  fallback_counting = 0;
+  const int support = engines_supported();
+  if (support == ENGINE_NONE || substep_mode == SUBSTEP_GLOBAL) return;
+  if (support == ENGINE_GLOBAL_ONLY) {
+    if (substep_mode == SUBSTEP_LOCAL)
+      error->all(FLERR,
+                 "Fix {} substep local is not available yet: only hardsphere/cva (and psa, "
+                 "local by construction) have the local engine; use substep global",
+                 style_name);
+    return;
+  }
+  if (!local_engine) local_engine = new HSLocalEngine(lmp, this);
+  const std::string why = local_engine->init();
+  if (why.empty()) {
+    use_local = 1;
+    if (comm->me == 0 && local_why_told != "local")
+      utils::logmesg(lmp, "fix {}: substep local (collisions sub-stepped per cluster)\n",
+                     style_name);
+    local_why_told = "local";
+    return;
+  }
+  if (substep_mode == SUBSTEP_LOCAL)
+    error->all(FLERR, "Fix {} substep local cannot run with {}: use substep global", style_name,
+               why);
+  fallback_counting = 1;
+  if (comm->me == 0 && local_why_told != why)
+    error->warning(FLERR,
+                   "Fix {}: substep local is not available with {}; this run falls back to "
+                   "substep global (a force evaluation of the whole system per collision)",
+                   style_name, why);
+  local_why_told = why;
 }
 
 /* ----------------------------------------------------------------------
@@ -508,6 +572,7 @@ void FixHardSphere::reset_reference(int at_setup)
     xref[i][2] = x[i][2];
   }
   for (int i = 0; i < nall; i++) gap[i] = skin;
+  ++cand_version;
   const size_t ncand_before = cand.size();
   cand.clear();
   cand.reserve(ncand_before + ncand_before / 4);
@@ -1017,6 +1082,19 @@ void FixHardSphere::initial_integrate(int)
     return;
   }
 
+  if (use_local) {    // the local engine (hs_local_engine.h)
+    if (local_engine->step()) {
+      local_step = 1;
+      step_substeps = 1;
+      if (step_collided) ncoll_steps += 1.0;
+    } else {    // no contact after all: fix nve's step
+      nve_initial();
+      dtf_last = dtf;
+    }
+    request_rebuild();
+    return;
+  }
+
   // the sub-steps evaluate forces of all atoms: keep those of atoms that
   // another integrator moves
   save_other_forces();
@@ -1088,6 +1166,7 @@ void FixHardSphere::initial_integrate(int)
     check_runaway(++nsub);
   }
   if (step_collided) ncoll_steps += 1.0;
+  if (contact_seen && fallback_counting) nfallback += 1.0;
   step_substeps = contact_seen;
   restore_other_forces();
   request_rebuild();
@@ -1213,6 +1292,13 @@ void FixHardSphere::end_collisional_step() {}
 
 void FixHardSphere::final_integrate()
 {
+  if (local_step) {    // the local engine's closing kick
+    local_engine->final_kick();
+    local_step = 0;
+    step_substeps = 0;
+    screened_step = -1;
+    return;
+  }
   if (step_split) {    // closing half kicks of a split step (doc: the rule)
     end_held_split();
     return;
@@ -1261,6 +1347,26 @@ void FixHardSphere::final_integrate()
 
 double FixHardSphere::compute_vector(int n)
 {
+  if (n >= local_vec_offset) {
+    // the step engine's counters (zero while the global engine runs)
+    const int k = n - local_vec_offset;
+    if (k == 4) return nfallback;
+    if (!local_engine) return 0.0;
+    const HardSphere::ClusterCounters &c = local_engine->counters();
+    switch (k) {
+      case 0:
+        return c.clusters;
+      case 1:
+        return c.mean_members();
+      case 2:
+        return c.max_members;
+      case 3:
+        return local_engine->nrounds;
+      case 5:
+        return local_engine->ncompute;
+    }
+    return 0.0;
+  }
   switch (n) {
     case 0:
       return ncoll_pair + ncoll_wall;

@@ -22,9 +22,12 @@
 namespace LAMMPS_NS {
 
 class FixHardSphere : public Fix {
+  friend class HSLocalEngine;
+
  public:
   FixHardSphere(class LAMMPS *, int, char **);
   ~FixHardSphere() override;
+  void post_constructor() override;
   int setmask() override;
   void init() override;
   void init_list(int, class NeighList *) override;
@@ -116,6 +119,23 @@ class FixHardSphere : public Fix {
   bool is_released(int type, tagint itag, tagint jtag, int wall) const;
   // a method's own counters, written to restart files after the base's
   virtual std::vector<double *> extra_counters() { return {}; }
+
+  // step engines (doc "Step engines"): how a step with contacts is
+  // sub-stepped. GLOBAL: the paper's algorithm (every atom to every
+  // contact); LOCAL: hs_local_engine.h. What a method supports:
+  enum { SUBSTEP_DEFAULT = 0, SUBSTEP_LOCAL = 1, SUBSTEP_GLOBAL = 2 };
+  enum { ENGINE_NONE = 0, ENGINE_GLOBAL_ONLY = 1, ENGINE_BOTH = 2 };
+  virtual int engines_supported() const { return ENGINE_GLOBAL_ONLY; }
+  int substep_mode = SUBSTEP_DEFAULT;    // the keyword
+  int use_local = 0;                     // decided in init()
+  int local_step = 0;                    // the current step ran locally
+  class HSLocalEngine *local_engine = nullptr;
+  bigint cand_version = 0;               // bumped at every candidate list build
+  double nfallback = 0.0;                // collisional steps run globally instead of locally
+  int fallback_counting = 0;             // 1: local was the default but is unavailable
+  int local_vec_offset = 5;              // first output entry of the engine's counters
+  std::string local_why_told;
+  void choose_engine();
 
   // keywords
   double diameter;

@@ -2,7 +2,9 @@
    HARDSPHERE package: fix hardsphere/cva, the collision Verlet algorithm
    (Bond & Leimkuhler 2007, section 2.2): Verlet sub-steps to and from each
    collision, elastic impulse R of section 2 at the collision. It is the
-   base class's sub-step loop unchanged.
+   base class's sub-step loop unchanged (substep global), or the same
+   sub-steps per collision cluster by the local engine (substep local,
+   hs_local_engine.h).
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -21,6 +23,10 @@ namespace LAMMPS_NS {
 class FixHardSphereCVA : public FixHardSphere {
  public:
   FixHardSphereCVA(class LAMMPS *lmp, int narg, char **arg) : FixHardSphere(lmp, narg, arg) {}
+
+ protected:
+  // substep local (the default where it applies) or global
+  int engines_supported() const override { return ENGINE_BOTH; }
 };
 
 }    // namespace LAMMPS_NS

@@ -644,7 +644,7 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
 
 double FixHardSphereMCVA::compute_vector(int n)
 {
-  if (n < NVEC_BASE) return FixHardSphere::compute_vector(n);
+  if (n < NVEC_BASE || n >= local_vec_offset) return FixHardSphere::compute_vector(n);
   switch (n - NVEC_BASE) {
     case 0:
       return gauss_iters;

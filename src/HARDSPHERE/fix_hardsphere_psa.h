@@ -39,6 +39,8 @@ class FixHardSpherePSA : public FixHardSphere {
 
  protected:
   void apply_impulse(const Impulse &) override;
+  // no sub-steps with forces: local by construction, substep has no effect
+  int engines_supported() const override { return ENGINE_NONE; }
 
  private:
   // a rank's earliest event, as reduced over all ranks (the earliest wins,

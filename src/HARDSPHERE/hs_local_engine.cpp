@@ -1,0 +1,840 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: the local step engine (`substep local`).
+   See hs_local_engine.h and doc/fix_hardsphere.rst, "Step engines".
+------------------------------------------------------------------------- */
+
+#include "hs_local_engine.h"
+
+#include "fix_hardsphere.h"
+#include "hs_contact.h"
+#include "hs_fix_rule.h"
+#include "hs_local_forces.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "update.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using HardSphere::Contact;
+
+// growth rounds of one step beyond which something is wrong
+static constexpr int MAX_ROUNDS = 10000;
+
+/* ---------------------------------------------------------------------- */
+
+HSLocalEngine::HSLocalEngine(LAMMPS *lmp, FixHardSphere *f) : Pointers(lmp), fix(f)
+{
+  locf = new HSLocalForces(lmp, "Fix " + f->style_name);
+}
+
+HSLocalEngine::~HSLocalEngine()
+{
+  delete locf;
+  memory->destroy(x0);
+  memory->destroy(v0);
+  memory->destroy(w);
+  memory->destroy(fcend);
+  memory->destroy(fc0);
+  memory->destroy(dvt);
+}
+
+/* ----------------------------------------------------------------------
+   can this set-up run locally? "" if yes, else the reasons
+------------------------------------------------------------------------- */
+
+std::string HSLocalEngine::init()
+{
+  std::string why;
+  auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
+  if (comm->nprocs > 1)
+    add(fmt::format("{} MPI ranks (the local engine runs on one rank so far)", comm->nprocs));
+  if (atom->map_style == Atom::MAP_NONE)
+    add("no atom map (use atom_modify map array or yes)");
+  else {
+    locf->init();
+    if (!locf->exact()) add(locf->unrestrictable());
+  }
+  // fixes with conservative forces: not part of the restricted V_C
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *other = modify->fix[k];
+    if (other == fix || !(modify->fmask[k] & FixConst::POST_FORCE)) continue;
+    const std::string base = HardSphere::base_style(other->style);
+    if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
+    const auto kind = HardSphere::fix_force_kind(other->style);
+    if (kind == HardSphere::FixForceKind::CONSERVATIVE || kind == HardSphere::FixForceKind::UNKNOWN)
+      add(fmt::format("fix {} {} (its forces are not restricted to the colliding spheres' "
+                      "terms)",
+                      other->id, other->style));
+  }
+  cand_version = -1;
+  local_step = 0;
+  return why;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void HSLocalEngine::grow_arrays()
+{
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(x0);
+    memory->destroy(v0);
+    memory->destroy(w);
+    memory->destroy(fcend);
+    memory->destroy(fc0);
+    memory->destroy(dvt);
+    memory->create(x0, nmax, 3, "hardsphere/local:x0");
+    memory->create(v0, nmax, 3, "hardsphere/local:v0");
+    memory->create(w, nmax, 3, "hardsphere/local:w");
+    memory->create(fcend, nmax, 3, "hardsphere/local:fcend");
+    memory->create(fc0, nmax, 3, "hardsphere/local:fc0");
+    memory->create(dvt, nmax, 3, "hardsphere/local:dvt");
+  }
+  if ((int) tstamp.size() < nmax) {
+    tstamp.resize(nmax, 0);
+    estamp.resize(nmax, 0);
+  }
+}
+
+void HSLocalEngine::bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp)
+{
+  if (++e == 0) {
+    std::fill(stamp.begin(), stamp.end(), 0u);
+    e = 1;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the contact candidates by owned atom, once per list build (one rank:
+   every ghost is an image of an owned atom)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::build_adjacency()
+{
+  if (fix->cand_version == cand_version) return;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  own.resize(nall);
+  for (int k = 0; k < nlocal; k++) own[k] = k;
+  for (int k = nlocal; k < nall; k++) {
+    const int o = atom->map(atom->tag[k]);
+    if (o < 0 || o >= nlocal)
+      error->one(FLERR, "Fix {} substep local: ghost atom {} has no owned copy on this rank",
+                 fix->style_name, atom->tag[k]);
+    own[k] = o;
+  }
+  const std::vector<int> &cand = fix->cand;
+  const int np = (int) cand.size() / 2;
+  adj_off.assign(nlocal + 1, 0);
+  for (int p = 0; p < np; p++) {
+    const int a = own[cand[2 * p]], b = own[cand[2 * p + 1]];
+    if (a == b) continue;
+    adj_off[a + 1]++;
+    adj_off[b + 1]++;
+  }
+  for (int i = 0; i < nlocal; i++) adj_off[i + 1] += adj_off[i];
+  adj.resize(adj_off[nlocal]);
+  std::vector<int> pos(adj_off.begin(), adj_off.end() - 1);
+  for (int p = 0; p < np; p++) {
+    const int a = own[cand[2 * p]], b = own[cand[2 * p + 1]];
+    if (a == b) continue;
+    adj[pos[a]++] = p;
+    adj[pos[b]++] = p;
+  }
+  pstamp.assign(np, 0u);
+  pepoch = 0;
+  cand_version = fix->cand_version;
+}
+
+/* ----------------------------------------------------------------------
+   move owned atom i (and its images) to xn, resp. give it velocity vn
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::set_x(int i, const double *xn)
+{
+  double **x = atom->x;
+  const double d[3] = {xn[0] - x[i][0], xn[1] - x[i][1], xn[2] - x[i][2]};
+  x[i][0] = xn[0];
+  x[i][1] = xn[1];
+  x[i][2] = xn[2];
+  for (int k = atom->sametag[i]; k >= 0; k = atom->sametag[k]) {
+    x[k][0] += d[0];
+    x[k][1] += d[1];
+    x[k][2] += d[2];
+  }
+}
+
+void HSLocalEngine::set_v(int i, const double *vn)
+{
+  double **v = atom->v;
+  for (int k = i; k >= 0; k = atom->sametag[k]) {
+    v[k][0] = vn[0];
+    v[k][1] = vn[1];
+    v[k][2] = vn[2];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   every contact of the step on the unsplit Verlet paths q + t v + t^2/2 a
+   (the first guess of C): walls of active spheres, candidate pairs with an
+   active sphere
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::predict_all(std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  double **x = atom->x, **v = atom->v, **acc = F.acc;
+  const double *active = F.active;
+  const int nlocal = atom->nlocal;
+  const double dt = F.dtv;
+  double c[5];
+  auto path = [&](int k) {
+    const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+    const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
+    return dt * vv + 0.5 * dt * dt * aa;
+  };
+  for (int i = 0; i < nlocal; i++) {
+    if (active[i] == 0.0) continue;
+    const double Di = path(i), r = F.radius_of(i);
+    for (int wl = 0; wl < (int) F.walls.size(); wl++) {
+      const FixHardSphere::Wall &W = F.walls[wl];
+      const double g = F.wall_gap(W, x[i], r);
+      if (g > Di) continue;
+      const double s = (W.side < 0) ? 1.0 : -1.0;
+      HardSphere::wall_gap_poly(g, s * v[i][W.dim], s * acc[i][W.dim], c);
+      const Contact ct = HardSphere::first_contact(c, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * r);
+      if (ct.status == HardSphere::OVERLAP)
+        error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was missed",
+                   F.style_name, atom->tag[i], -g, update->ntimestep);
+      if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
+    }
+  }
+  const std::vector<int> &cand = F.cand;
+  const int ncand = (int) cand.size();
+  for (int k = 0; k < ncand; k += 2) {
+    const int i = cand[k], j = cand[k + 1];
+    if (active[i] == 0.0 && active[j] == 0.0) continue;
+    if (own[i] == own[j]) continue;
+    const double sigma = F.radius_of(i) + F.radius_of(j);
+    const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+    const double reach = sigma + path(i) + path(j);
+    if (r2 > reach * reach) continue;
+    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+    const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
+    HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
+    const Contact ct =
+        HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
+    if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(i, j, sqrt(r2), sigma);
+    if (ct.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the terms of new members join V_C: members sharing a term are one
+   cluster (partners stay out: frozen-partner clusters)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::add_terms(const std::vector<int> &newm)
+{
+  if (newm.empty()) return;
+  locf->compute(newm.data(), (int) newm.size());
+  ncompute += 1.0;
+  const std::vector<int> &ta = locf->term_atoms();
+  const std::vector<int> &off = locf->term_offsets();
+  for (size_t t = 0; t + 1 < off.size(); t++) cs.add_term(ta.data() + off[t], off[t + 1] - off[t]);
+}
+
+void HSLocalEngine::grow(const std::vector<Hit> &hits)
+{
+  for (const Hit &h : hits) cs.grow_contact(h.i, h.j < 0 ? -1 : h.j);
+  const std::vector<int> newm = cs.new_members();
+  add_terms(newm);
+  const std::vector<int> redo = cs.rebuild();
+  for (int c : redo)
+    for (int m : cs.members(c)) runs.erase(m);
+  nrounds += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   Phi_H1(h) of one cluster: CVA sub-steps of its members under its terms
+   of V_C; everyone else stays put (members of other clusters are checked
+   afterwards, cross_check()). first_half: from the step's start (x0, v0
+   and the held half kick), else from the state after the first half with
+   the non-members at their end positions. Returns false (hits gets the
+   contact) if a member touches a non-member: C must grow.
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  const double ftm2v = force->ftm2v;
+  const std::vector<int> &M = r.members;
+  const int nm = (int) M.size();
+  const int c = cs.cluster_of(M[0]);
+
+  if (first_half)
+    for (int i : M) set_x(i, x0[i]);
+  else
+    for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
+  locf->compute(M.data(), nm);
+  ncompute += 1.0;
+  if (first_half) r.touched = locf->touched();
+  else if (locf->touched() != r.touched)
+    error->one(FLERR, "Fix {} substep local: the terms of a cluster changed within step {}",
+               F.style_name, update->ntimestep);
+  const std::vector<int> &T = r.touched;
+  const int nt = (int) T.size();
+  std::vector<Vec> fk(nt), fk1(nt);
+  double **fl = locf->forces();
+  for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
+  // where each member sits in T (both sorted)
+  std::vector<int> mi(nm);
+  for (int k = 0, t = 0; k < nm; k++) {
+    while (T[t] != M[k]) t++;
+    mi[k] = t;
+  }
+  if (first_half) {
+    r.fk0 = fk;
+    // the held forces' half kick (f - F_C: LAMMPS' forces minus V_C's)
+    for (int k = 0; k < nm; k++) {
+      const int i = M[k];
+      double vn[3] = {v0[i][0], v0[i][1], v0[i][2]};
+      if (F.nheld) {
+        const double dtfm = F.dtf / F.mass_of(i);
+        for (int d = 0; d < 3; d++) vn[d] += dtfm * (f[i][d] - fk[mi[k]][d]);
+      }
+      set_v(i, vn);
+    }
+  } else
+    for (int k = 0; k < nm; k++) set_v(M[k], r.vm[k].data());
+
+  std::vector<Vec> &dv = first_half ? r.dvA : r.dvB;
+  dv.assign(nt, Vec{0.0, 0.0, 0.0});
+  std::vector<std::vector<Seg>> &segs = first_half ? r.segsA : r.segsB;
+  segs.assign(nm, {});
+  std::vector<double> im(nm);
+  for (int k = 0; k < nm; k++) im[k] = ftm2v / F.mass_of(M[k]);
+  auto member_k = [&](int o) {    // index of owned o in M, -1 if not in this cluster
+    if (cs.cluster_of(o) != c) return -1;
+    return (int) (std::lower_bound(M.begin(), M.end(), o) - M.begin());
+  };
+
+  // this flow's collisions and impulse virial, kept apart from the fix's
+  const int half = first_half ? 0 : 1;
+  double vir_saved[6], npair_saved = F.ncoll_pair, nwall_saved = F.ncoll_wall;
+  for (int k = 0; k < 6; k++) vir_saved[k] = F.virial[k];
+  auto keep_counts = [&]() {
+    r.npair[half] = F.ncoll_pair - npair_saved;
+    r.nwall[half] = F.ncoll_wall - nwall_saved;
+    for (int k = 0; k < 6; k++) {
+      r.vir[half][k] = F.virial[k] - vir_saved[k];
+      F.virial[k] = vir_saved[k];
+    }
+    F.ncoll_pair = npair_saved;
+    F.ncoll_wall = nwall_saved;
+  };
+
+  const std::vector<int> &cand = F.cand;
+  double t = 0.0;
+  int stuck = 0;
+  bigint nsub = 0;
+  double cc[5];
+  while (true) {
+    const double tau = h - t;
+    double tbest = FixHardSphere::BIG;
+    int bi = -1, bj = -1, bwall = -1, bli = -1, blj = -1;
+    bool bstatic = false;
+    for (int k = 0; k < nm; k++) {
+      const int i = M[k];
+      const double *a = fk[mi[k]].data();
+      const double ai[3] = {a[0] * im[k], a[1] * im[k], a[2] * im[k]};
+      const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+      const double aa = sqrt(ai[0] * ai[0] + ai[1] * ai[1] + ai[2] * ai[2]);
+      const double Di = tau * vv + 0.5 * tau * tau * aa;
+      const double ri = F.radius_of(i);
+      for (int wl = 0; wl < (int) F.walls.size(); wl++) {
+        const FixHardSphere::Wall &W = F.walls[wl];
+        const double g = F.wall_gap(W, x[i], ri);
+        if (g > Di) continue;
+        const double s = (W.side < 0) ? 1.0 : -1.0;
+        HardSphere::wall_gap_poly(g, s * v[i][W.dim], s * ai[W.dim], cc);
+        const Contact ct =
+            HardSphere::first_contact(cc, 2, tau, FixHardSphere::TOUCH_TOL * 2.0 * ri);
+        if (ct.status == HardSphere::OVERLAP)
+          error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was "
+                     "missed", F.style_name, atom->tag[i], -g, update->ntimestep);
+        if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+          tbest = ct.t;
+          bi = i;
+          bj = -1;
+          bwall = wl;
+          bli = i;
+          bstatic = false;
+        }
+      }
+      for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
+        const int p = adj[e];
+        const int la = cand[2 * p], lb = cand[2 * p + 1];
+        const int mine = (own[la] == i) ? la : lb, theirs = (own[la] == i) ? lb : la;
+        const int o = own[theirs];
+        const int ko = member_k(o);
+        double vo[3] = {0.0, 0.0, 0.0}, ao[3] = {0.0, 0.0, 0.0}, Do = 0.0;
+        if (ko >= 0) {
+          if (o < i) continue;    // the pair is handled from its lower member
+          const double *b = fk[mi[ko]].data();
+          for (int d = 0; d < 3; d++) {
+            vo[d] = v[o][d];
+            ao[d] = b[d] * im[ko];
+          }
+          Do = tau * sqrt(vo[0] * vo[0] + vo[1] * vo[1] + vo[2] * vo[2]) +
+              0.5 * tau * tau * sqrt(ao[0] * ao[0] + ao[1] * ao[1] + ao[2] * ao[2]);
+        } else if (cs.is_member(o))
+          continue;    // another cluster's member: cross_check()
+        const double sigma = ri + F.radius_of(theirs);
+        const double dq[3] = {x[mine][0] - x[theirs][0], x[mine][1] - x[theirs][1],
+                              x[mine][2] - x[theirs][2]};
+        const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+        const double reach = sigma + Di + Do;
+        if (r2 > reach * reach) continue;
+        const double dvv[3] = {v[i][0] - vo[0], v[i][1] - vo[1], v[i][2] - vo[2]};
+        const double da[3] = {ai[0] - ao[0], ai[1] - ao[1], ai[2] - ao[2]};
+        HardSphere::pair_gap_poly(dq, dvv, da, sigma, cc);
+        const Contact ct =
+            HardSphere::first_contact(cc, 4, tau, FixHardSphere::TOUCH_TOL * sigma * sigma);
+        if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(mine, theirs, sqrt(r2), sigma);
+        if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+          tbest = ct.t;
+          bi = i;
+          bj = o;
+          bwall = -1;
+          bli = mine;
+          blj = theirs;
+          bstatic = ko < 0;
+        }
+      }
+    }
+    const bool hit = tbest <= tau;
+    if (hit && bstatic) {    // a non-member: it joins C, the cluster is redone
+      hits.push_back({bi, bj});
+      r.a_done = false;
+      keep_counts();
+      return false;
+    }
+    const double d = hit ? tbest : tau;
+    if (d > 0.0) {
+      const double dtfk = 0.5 * d * ftm2v;
+      for (int k = 0; k < nm; k++) {
+        const int i = M[k];
+        const double dtfm = dtfk / F.mass_of(i);
+        Seg s;
+        s.t0 = t;
+        s.t1 = t + d;
+        for (int dd = 0; dd < 3; dd++) {
+          s.q[dd] = x[i][dd];
+          s.v[dd] = v[i][dd];
+          s.a[dd] = fk[mi[k]][dd] * im[k];
+        }
+        segs[k].push_back(s);
+        double vn[3], xn[3];
+        for (int dd = 0; dd < 3; dd++) {
+          vn[dd] = v[i][dd] + dtfm * fk[mi[k]][dd];
+          xn[dd] = x[i][dd] + d * vn[dd];
+        }
+        set_v(i, vn);
+        set_x(i, xn);
+      }
+      locf->compute(M.data(), nm);
+      ncompute += 1.0;
+      fl = locf->forces();
+      for (int k = 0; k < nt; k++) fk1[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
+      for (int k = 0; k < nm; k++) {
+        const int i = M[k];
+        const double dtfm = dtfk / F.mass_of(i);
+        const double vn[3] = {v[i][0] + dtfm * fk1[mi[k]][0], v[i][1] + dtfm * fk1[mi[k]][1],
+                              v[i][2] + dtfm * fk1[mi[k]][2]};
+        set_v(i, vn);
+      }
+      // partners stay put and take V_C's momentum (trapezoid over the sub-step)
+      const int *mask = atom->mask;
+      for (int k = 0; k < nt; k++) {
+        const int p = T[k];
+        if (cs.is_member(p) || !(mask[p] & F.groupbit)) continue;
+        const double dtfm = dtfk / F.mass_of(p);
+        for (int dd = 0; dd < 3; dd++) dv[k][dd] += dtfm * (fk[k][dd] + fk1[k][dd]);
+      }
+      fk.swap(fk1);
+      stuck = 0;
+    }
+    if (!hit) break;
+
+    // the contact: the method's collision operator (CVA: R of section 2)
+    FixHardSphere::Impulse imp;
+    memset(&imp, 0, sizeof(imp));
+    imp.type = (bwall >= 0) ? FixHardSphere::WALL_EVENT : FixHardSphere::PAIR_EVENT;
+    imp.itag = atom->tag[bi];
+    imp.jtag = (bwall >= 0) ? 0 : atom->tag[bj];
+    imp.wall = bwall;
+    if (bwall >= 0) F.collide_wall(bli, F.walls[bwall], imp);
+    else F.collide_pair(bli, blj, imp);
+    if (imp.apply) F.modify_impulse(imp);
+    if (imp.apply) F.add_impulse_virial(imp);
+    F.apply_impulse(imp);
+    if (imp.apply) {
+      if (bwall >= 0) F.ncoll_wall += 1.0;
+      else F.ncoll_pair += 1.0;
+    } else if (d == 0.0 && ++stuck > FixHardSphere::MAX_STUCK)
+      F.resting_contact_error(imp);
+    t += d;
+    F.check_runaway(++nsub);
+  }
+
+  keep_counts();
+  if (first_half) {
+    r.xm.resize(nm);
+    r.vm.resize(nm);
+    for (int k = 0; k < nm; k++) {
+      const int i = M[k];
+      r.xm[k] = {x[i][0], x[i][1], x[i][2]};
+      r.vm[k] = {v[i][0], v[i][1], v[i][2]};
+    }
+    r.a_done = true;
+  } else
+    r.fend = fk;
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   contacts between members of two clusters, whose flows ran apart: on
+   their piecewise Verlet paths (the segments of the last flow)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::cross_check(bool first_half, std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  double **x = atom->x;
+  const std::vector<int> &cand = F.cand;
+  double cc[5];
+  auto pos = [](const Seg &s, double t, int d) {
+    const double h = t - s.t0;
+    return s.q[d] + h * s.v[d] + 0.5 * h * h * s.a[d];
+  };
+  auto vel = [](const Seg &s, double t, int d) { return s.v[d] + (t - s.t0) * s.a[d]; };
+  auto path = [](const std::vector<Seg> &S) {
+    double p = 0.0;
+    for (const Seg &s : S) {
+      const double d = s.t1 - s.t0;
+      p += d * sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]) +
+          0.5 * d * d * sqrt(s.a[0] * s.a[0] + s.a[1] * s.a[1] + s.a[2] * s.a[2]);
+    }
+    return p;
+  };
+  for (int c = 0; c < cs.nclusters(); c++) {
+    const std::vector<int> &M = cs.members(c);
+    const Run &r = runs.at(M[0]);
+    for (int k = 0; k < (int) M.size(); k++) {
+      const int i = M[k];
+      for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
+        const int p = adj[e];
+        const int la = cand[2 * p], lb = cand[2 * p + 1];
+        const int mine = (own[la] == i) ? la : lb, theirs = (own[la] == i) ? lb : la;
+        const int o = own[theirs];
+        if (!cs.is_member(o)) continue;
+        const int oc = cs.cluster_of(o);
+        if (oc <= c) continue;    // same cluster, or handled from the other one
+        const std::vector<int> &Mo = cs.members(oc);
+        const Run &ro = runs.at(Mo[0]);
+        const int ko = (int) (std::lower_bound(Mo.begin(), Mo.end(), o) - Mo.begin());
+        const std::vector<Seg> &si = first_half ? r.segsA[k] : r.segsB[k];
+        const std::vector<Seg> &sj = first_half ? ro.segsA[ko] : ro.segsB[ko];
+        if (si.empty() || sj.empty()) continue;
+        // image shifts (the current x of both are their flows' ends)
+        double sh[3];
+        for (int d = 0; d < 3; d++) sh[d] = (x[mine][d] - x[i][d]) - (x[theirs][d] - x[o][d]);
+        const double sigma = F.radius_of(i) + F.radius_of(o);
+        double dq0[3];
+        for (int d = 0; d < 3; d++) dq0[d] = si[0].q[d] - sj[0].q[d] + sh[d];
+        const double r0 = sqrt(dq0[0] * dq0[0] + dq0[1] * dq0[1] + dq0[2] * dq0[2]);
+        if (r0 > sigma + path(si) + path(sj)) continue;
+        // walk the common breakpoints
+        size_t a = 0, b = 0;
+        double t = si[0].t0;
+        const double tend_all = std::min(si.back().t1, sj.back().t1);
+        bool found = false;
+        while (!found && t < tend_all && a < si.size() && b < sj.size()) {
+          const double tend = std::min(si[a].t1, sj[b].t1);
+          if (tend > t) {
+            double dq[3], dv[3], da[3];
+            for (int d = 0; d < 3; d++) {
+              dq[d] = pos(si[a], t, d) - pos(sj[b], t, d) + sh[d];
+              dv[d] = vel(si[a], t, d) - vel(sj[b], t, d);
+              da[d] = si[a].a[d] - sj[b].a[d];
+            }
+            HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
+            const Contact ct = HardSphere::first_contact(cc, 4, tend - t,
+                                                         FixHardSphere::TOUCH_TOL * sigma * sigma);
+            if (ct.status != HardSphere::NO_CONTACT) found = true;
+          }
+          t = tend;
+          if (si[a].t1 <= t) a++;
+          if (b < sj.size() && sj[b].t1 <= t) b++;
+        }
+        if (found) hits.push_back({i, o});
+      }
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   sums over the clusters on the touched atoms: V_C's force at the step's
+   start (fc0) and the partners' velocity changes of the first half (dvt);
+   with_b: the end forces (fcend) and the second half's changes (dvt)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::totals(bool with_b)
+{
+  if (!with_b) bump_epoch(tepoch, tstamp);
+  else bump_epoch(eepoch, estamp);
+  for (int c = 0; c < cs.nclusters(); c++) {
+    const Run &r = runs.at(cs.members(c)[0]);
+    const std::vector<Vec> &dv = with_b ? r.dvB : r.dvA;
+    const std::vector<Vec> &fs = with_b ? r.fend : r.fk0;
+    double **fc = with_b ? fcend : fc0;
+    std::vector<uint32_t> &st = with_b ? estamp : tstamp;
+    const uint32_t ep = with_b ? eepoch : tepoch;
+    for (size_t k = 0; k < r.touched.size(); k++) {
+      const int p = r.touched[k];
+      if (st[p] != ep) {
+        st[p] = ep;
+        for (int d = 0; d < 3; d++) fc[p][d] = dvt[p][d] = 0.0;
+      }
+      for (int d = 0; d < 3; d++) {
+        fc[p][d] += fs[k][d];
+        dvt[p][d] += dv[k][d];
+      }
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Phi_H2(dt): the non-members' Verlet step under V_R and the held forces
+   (straight lines q0 + t w, w = v0 + dt/2 (f - F_C)/m + the first half's
+   partner kicks); members do not move. Any contact in it grows C.
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::h2_check(std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  double **x = atom->x, **f = atom->f;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double dt = F.dtv, skin = F.skin;
+  double **xref = F.xref;
+  const double *gap = F.gap;
+  totals(false);
+  std::vector<int> act;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & F.groupbit)) continue;
+    double D = 0.0;
+    if (!cs.is_member(i)) {
+      const double dtfm = F.dtf / F.mass_of(i);
+      if (tstamp[i] == tepoch)
+        for (int d = 0; d < 3; d++) w[i][d] = v0[i][d] + dtfm * (f[i][d] - fc0[i][d]) + dvt[i][d];
+      else
+        for (int d = 0; d < 3; d++) w[i][d] = v0[i][d] + dtfm * f[i][d];
+      D = dt * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
+    } else
+      w[i][0] = w[i][1] = w[i][2] = 0.0;
+    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
+    const double reach = sqrt(dx * dx + dy * dy + dz * dz) + D;
+    if (reach <= gap[i]) continue;
+    if (reach > skin)
+      error->one(FLERR,
+                 "Fix {}: atom {} may be {} away from where the neighbor list was built, "
+                 "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
+                 "timestep or a larger neighbor skin",
+                 F.style_name, atom->tag[i], reach, skin);
+    act.push_back(i);
+  }
+  bump_epoch(pepoch, pstamp);
+  const std::vector<int> &cand = F.cand;
+  double cc[5];
+  for (int i : act) {
+    const double ri = F.radius_of(i);
+    if (!cs.is_member(i))
+      for (int wl = 0; wl < (int) F.walls.size(); wl++) {
+        const FixHardSphere::Wall &W = F.walls[wl];
+        const double g = F.wall_gap(W, x[i], ri);
+        const double s = (W.side < 0) ? 1.0 : -1.0;
+        HardSphere::wall_gap_poly(g, s * w[i][W.dim], 0.0, cc);
+        const Contact ct =
+            HardSphere::first_contact(cc, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * ri);
+        if (ct.status == HardSphere::OVERLAP)
+          error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was "
+                     "missed", F.style_name, atom->tag[i], -g, update->ntimestep);
+        if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
+      }
+    for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
+      const int p = adj[e];
+      if (pstamp[p] == pepoch) continue;
+      pstamp[p] = pepoch;
+      const int la = cand[2 * p], lb = cand[2 * p + 1];
+      const int oa = own[la], ob = own[lb];
+      const bool ma = cs.is_member(oa), mb = cs.is_member(ob);
+      if (ma && mb) continue;    // both static
+      const double sigma = F.radius_of(la) + F.radius_of(lb);
+      const double dq[3] = {x[la][0] - x[lb][0], x[la][1] - x[lb][1], x[la][2] - x[lb][2]};
+      const double dv[3] = {w[oa][0] - w[ob][0], w[oa][1] - w[ob][1], w[oa][2] - w[ob][2]};
+      const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+      const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
+      if (r2 > reach * reach) continue;
+      const double da[3] = {0.0, 0.0, 0.0};
+      HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
+      const Contact ct =
+          HardSphere::first_contact(cc, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
+      if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(la, lb, sqrt(r2), sigma);
+      if (ct.status != HardSphere::NO_CONTACT) hits.push_back({oa, ob});
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   one step: Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2) with C grown until no
+   flow has a contact with a non-member
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::step()
+{
+  FixHardSphere &F = *fix;
+  grow_arrays();
+  build_adjacency();
+  F.comm_vel_acc();    // ghosts' v, a, active: the first guess needs them
+  std::vector<Hit> hits;
+  predict_all(hits);
+  if (hits.empty()) return false;
+
+  double **x = atom->x, **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double dt = F.dtv;
+  for (int i = 0; i < nlocal; i++)
+    for (int d = 0; d < 3; d++) {
+      x0[i][d] = x[i][d];
+      v0[i][d] = v[i][d];
+    }
+
+  cs.reset(nlocal);
+  cs.set_partners_join(false);
+  for (const Hit &h : hits) cs.add_contact(h.i, h.j < 0 ? -1 : h.j);
+  add_terms(std::vector<int>(cs.new_members()));
+  cs.build();
+  runs.clear();
+
+  for (int round = 0;; round++) {
+    if (round > MAX_ROUNDS)
+      error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
+                 "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
+    std::vector<Hit> ev;
+    // Phi_H1(dt/2), non-members at x0
+    for (int c = 0; c < cs.nclusters(); c++) {
+      Run &r = runs[cs.members(c)[0]];
+      if (r.a_done) continue;
+      r.members = cs.members(c);
+      flow(r, 0.5 * dt, true, ev);
+    }
+    if (ev.empty()) cross_check(true, ev);
+    if (!ev.empty()) {
+      grow(ev);
+      continue;
+    }
+    // Phi_H2(dt): members wait at their mid-step positions
+    for (int c = 0; c < cs.nclusters(); c++) {
+      const Run &r = runs.at(cs.members(c)[0]);
+      for (size_t k = 0; k < r.members.size(); k++) set_x(r.members[k], r.xm[k].data());
+    }
+    h2_check(ev);
+    if (!ev.empty()) {
+      grow(ev);
+      continue;
+    }
+    for (int i = 0; i < nlocal; i++)
+      if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
+        x[i][0] = x0[i][0] + dt * w[i][0];
+        x[i][1] = x0[i][1] + dt * w[i][1];
+        x[i][2] = x0[i][2] + dt * w[i][2];
+      }
+    comm->forward_comm();
+    // Phi_H1(dt/2), non-members at their end positions
+    for (int c = 0; c < cs.nclusters(); c++) flow(runs.at(cs.members(c)[0]), 0.5 * dt, false, ev);
+    if (ev.empty()) cross_check(false, ev);
+    if (!ev.empty()) {
+      for (int i = 0; i < nlocal; i++)
+        if ((mask[i] & F.groupbit) && !cs.is_member(i))
+          for (int d = 0; d < 3; d++) x[i][d] = x0[i][d];
+      comm->forward_comm();
+      grow(ev);
+      continue;
+    }
+    break;
+  }
+
+  // the collisions and impulse virial of the final clusters' flows
+  for (int c = 0; c < cs.nclusters(); c++) {
+    const Run &r = runs.at(cs.members(c)[0]);
+    for (int h = 0; h < 2; h++) {
+      F.ncoll_pair += r.npair[h];
+      F.ncoll_wall += r.nwall[h];
+      for (int k = 0; k < 6; k++) F.virial[k] += r.vir[h][k];
+      if (r.npair[h] + r.nwall[h] > 0.0) F.step_collided = 1;
+    }
+  }
+
+  // the non-members' velocities: w plus the second half's partner kicks
+  totals(true);
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & F.groupbit) || cs.is_member(i)) continue;
+    if (estamp[i] == eepoch)
+      for (int d = 0; d < 3; d++) v[i][d] = w[i][d] + dvt[i][d];
+    else
+      for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
+  }
+  cs.flush_counters();
+  local_step = 1;
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   closing half kick with f - F_C(end): V_R and held forces. Members' V_C
+   kick closed their last sub-step; without held forces they take none
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::final_kick()
+{
+  FixHardSphere &F = *fix;
+  double **v = atom->v, **f = atom->f;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & F.groupbit)) continue;
+    const double dtfm = F.dtf / F.mass_of(i);
+    if (estamp[i] == eepoch) {
+      if (cs.is_member(i) && !F.nheld) continue;
+      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fcend[i][d]);
+    } else
+      for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
+  }
+  local_step = 0;
+}
+
+const HardSphere::ClusterCounters &HSLocalEngine::counters()
+{
+  return cs.counters();
+}

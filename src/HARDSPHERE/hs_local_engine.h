@@ -1,0 +1,150 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the local step engine (`substep local`, issue 10).
+
+   The global engine (the paper's algorithm, FixHardSphere::initial_integrate)
+   sub-steps every atom to every contact with a full force evaluation, so a
+   step costs O(N) per collision. This engine makes a collision cost
+   O(its neighbours): per step, with C the spheres that collide in it
+   ("members"), V_C every interaction term with a member and V_R = V - V_C,
+
+     H = H1 + H2,  H1 = T_C + V_C,  H2 = T_N + V_R + (held forces),
+
+   (T_C: kinetic energy of the members, T_N: of everyone else), integrated
+   by the Strang splitting  Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2):
+
+   - Phi_H1(h): only members move, by the CVA flow (Bond & Leimkuhler 2007,
+     section 2.2: Verlet sub-steps to each contact, impulse R) of T_C + V_C;
+     the other atoms stay put and take V_C's momentum (trapezoid kicks of
+     the sub-steps). It splits into independent flows, one per cluster of
+     members that share a term or touch (hs_cluster.h, frozen partners):
+     two members that only share a partner do not interact, since the
+     partner does not move.
+   - Phi_H2(dt): one velocity-Verlet step of the non-members under V_R and
+     the held (thermostat) forces; members do not move (V_R does not act on
+     them). For an atom with no term in V_C this is fix nve's step.
+
+   Both flows are exact for H1 and H2 up to CVA's / Verlet's own error, so
+   the splitting is symmetric and second order. A contact found in either
+   flow with a non-member (or between members of two clusters) grows C and
+   the step is redone for the clusters that changed.
+
+   Why not the partners-join splitting K_R(dt/2) . Phi_C(dt) . K_R(dt/2)
+   of the issue: at rc = 2.5 in a fluid at packing fraction 0.3, its
+   clusters (members plus every atom in a term with one) percolate: one
+   cluster holds ~95 % of the members at every N, so its work grows like
+   (collisions per step)^2 (bench/scaling/README.md, cluster_stats.py).
+   The frozen-partner clusters stay at 12-22 members at every N. Both are
+   checked against brute force in unittest/math/test_local_splitting.cpp.
+
+   Held (thermostat) forces: f - F_C (LAMMPS' forces minus V_C's) is held
+   for the step: a member takes it as two half kicks at the step's start and
+   end (as the global engine's K_held(dt/2) . Phi . K_held(dt/2)), a
+   non-member with V_R in Phi_H2's kicks, as beside fix nve.
+
+   Restrictions (checked by FixHardSphere::init(), which falls back to the
+   global engine, or errors when `substep local` was given): one MPI rank;
+   pair, bond, angle, dihedral and improper styles HSLocalForces can
+   restrict exactly (no kspace, many-body or hybrid pair styles); no fix
+   with conservative forces except enforce2d (their forces are not in the
+   restricted evaluation of V_C).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_LOCAL_ENGINE_H
+#define LMP_HS_LOCAL_ENGINE_H
+
+#include "hs_cluster.h"
+#include "pointers.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixHardSphere;
+class HSLocalForces;
+
+class HSLocalEngine : protected Pointers {
+ public:
+  HSLocalEngine(class LAMMPS *, FixHardSphere *);
+  ~HSLocalEngine() override;
+
+  // from the fix's init(): "" if the engine can run this set-up, else why
+  // not (the styles or fixes named)
+  std::string init();
+
+  // a step in which screening found spheres that may touch. Returns false
+  // if no contact is predicted in the step at all (the caller takes fix
+  // nve's step); else the step is done up to the closing kick
+  bool step();
+  // the closing half kick (final_integrate) of a step step() took
+  void final_kick();
+
+  // counters for the output vector
+  const HardSphere::ClusterCounters &counters();
+  double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
+  double ncompute = 0.0;    // restricted force evaluations
+
+ private:
+  FixHardSphere *fix;
+  HSLocalForces *locf;
+  HardSphere::ClusterSet cs;
+
+  using Vec = std::array<double, 3>;
+  struct Seg {
+    double t0, t1;
+    Vec q, v, a;
+  };
+  // one cluster's flows; key: its smallest member
+  struct Run {
+    std::vector<int> members;    // owned indices, sorted
+    std::vector<int> touched;    // members and partners (owned)
+    std::vector<Vec> fk0;        // V_C's force of this cluster at the step's start, on touched
+    bool a_done = false;
+    std::vector<Vec> xm, vm;                 // members after Phi_H1(dt/2)
+    std::vector<Vec> dvA, dvB, fend;         // on touched: partner velocity changes, end forces
+    std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
+    // what each half's flow adds to the fix's counters and virial (only the
+    // flows of the final clusters count: redone ones are dropped)
+    double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
+  };
+  std::unordered_map<int, Run> runs;
+
+  // per owned atom, sized atom->nmax
+  int nmax = 0;
+  double **x0 = nullptr, **v0 = nullptr, **w = nullptr, **fcend = nullptr;
+  double **fc0 = nullptr, **dvt = nullptr;
+  std::vector<uint32_t> tstamp, estamp;    // touched this round / at the step's end
+  uint32_t tepoch = 0, eepoch = 0;
+  int local_step = 0;
+
+  // contact candidates by owned atom (pair indices into fix->cand / 2)
+  bigint cand_version = -1;
+  std::vector<int> own;                     // owner of each local index (owned, ghosts)
+  std::vector<int> adj_off, adj;            // owned atom -> candidate pairs
+  std::vector<uint32_t> pstamp;             // candidate pair seen
+  uint32_t pepoch = 0;
+  void build_adjacency();
+
+  struct Hit {
+    int i, j;    // owned indices; j < 0: wall -1 - j
+  };
+  void grow_arrays();
+  int owner(int k) const { return own[k]; }
+  void set_x(int i, const double *xn);
+  void set_v(int i, const double *vn);
+  void predict_all(std::vector<Hit> &hits);
+  void add_terms(const std::vector<int> &newm);
+  void grow(const std::vector<Hit> &hits);
+  bool flow(Run &r, double h, bool first_half, std::vector<Hit> &hits);
+  void cross_check(bool first_half, std::vector<Hit> &hits);
+  void h2_check(std::vector<Hit> &hits);
+  void totals(bool with_b);
+  void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
