@@ -16,17 +16,23 @@
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
+#include "pair.h"
 #include "update.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdio>
+#include <cstdlib>
 
 using namespace LAMMPS_NS;
 using HardSphere::Contact;
 
 // growth rounds of one step beyond which something is wrong
 static constexpr int MAX_ROUNDS = 10000;
+// a member may move UNITE_PATHS x the longest screened Verlet path of the
+// step before far pair terms must join clusters
+static constexpr double UNITE_PATHS = 2.0;
 
 /* ---------------------------------------------------------------------- */
 
@@ -37,6 +43,9 @@ HSLocalEngine::HSLocalEngine(LAMMPS *lmp, FixHardSphere *f) : Pointers(lmp), fix
 
 HSLocalEngine::~HSLocalEngine()
 {
+  if (getenv("HS_LOCAL_DEBUG"))
+    printf("HS_LOCAL_DEBUG growth A-flow %g A-cross %g H2 %g B-flow %g B-cross %g safe %g\n", dbg[0],
+           dbg[1], dbg[2], dbg[3], dbg[4], dbg[5]);
   delete locf;
   memory->destroy(x0);
   memory->destroy(v0);
@@ -101,6 +110,7 @@ void HSLocalEngine::grow_arrays()
   if ((int) tstamp.size() < nmax) {
     tstamp.resize(nmax, 0);
     estamp.resize(nmax, 0);
+    astamp.resize(nmax, 0);
   }
 }
 
@@ -192,6 +202,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   FixHardSphere &F = *fix;
   double **x = atom->x, **v = atom->v, **acc = F.acc;
   const double *active = F.active;
+  static const double margin = getenv("HS_MARGIN") ? atof(getenv("HS_MARGIN")) : 0.0;
   const int nlocal = atom->nlocal;
   const double dt = F.dtv;
   double c[5];
@@ -200,8 +211,14 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
     return dt * vv + 0.5 * dt * dt * aa;
   };
-  for (int i = 0; i < nlocal; i++) {
-    if (active[i] == 0.0) continue;
+  act0.clear();
+  pathmax = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    if (active[i] != 0.0) {
+      act0.push_back(i);
+      pathmax = std::max(pathmax, path(i));
+    }
+  for (int i : act0) {
     const double Di = path(i), r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
       const FixHardSphere::Wall &W = F.walls[wl];
@@ -216,25 +233,42 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
     }
   }
+  // candidate pairs with an active sphere (ghosts are active with their owner)
   const std::vector<int> &cand = F.cand;
-  const int ncand = (int) cand.size();
-  for (int k = 0; k < ncand; k += 2) {
-    const int i = cand[k], j = cand[k + 1];
-    if (active[i] == 0.0 && active[j] == 0.0) continue;
-    if (own[i] == own[j]) continue;
-    const double sigma = F.radius_of(i) + F.radius_of(j);
-    const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-    const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
-    const double reach = sigma + path(i) + path(j);
-    if (r2 > reach * reach) continue;
-    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
-    const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
-    HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
-    const Contact ct =
-        HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
-    if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(i, j, sqrt(r2), sigma);
-    if (ct.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
-  }
+  bump_epoch(pepoch, pstamp);
+  for (int a : act0)
+    for (int e = adj_off[a]; e < adj_off[a + 1]; e++) {
+      const int p = adj[e];
+      if (pstamp[p] == pepoch) continue;
+      pstamp[p] = pepoch;
+      const int i = cand[2 * p], j = cand[2 * p + 1];
+      const double sigma = F.radius_of(i) + F.radius_of(j);
+      const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+      const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+      const double reach = sigma + path(i) + path(j);
+      if (r2 > reach * reach) continue;
+      const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+      const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
+      HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
+      const Contact ct =
+          HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
+      if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(i, j, sqrt(r2), sigma);
+      if (ct.status != HardSphere::NO_CONTACT) {
+        hits.push_back({own[i], own[j]});
+        continue;
+      }
+      // near misses: the split flows' paths differ from these by O(dt^2 a)
+      if (margin > 0.0) {
+        const double sm = sigma * (1.0 + margin);
+        if (r2 < sm * sm) {
+          if (dq[0] * dv[0] + dq[1] * dv[1] + dq[2] * dv[2] < 0.0) hits.push_back({own[i], own[j]});
+          continue;
+        }
+        HardSphere::pair_gap_poly(dq, dv, da, sm, c);
+        const Contact cm = HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sm * sm);
+        if (cm.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
+      }
+    }
 }
 
 /* ----------------------------------------------------------------------
@@ -248,8 +282,54 @@ void HSLocalEngine::add_terms(const std::vector<int> &newm)
   locf->compute(newm.data(), (int) newm.size());
   ncompute += 1.0;
   const std::vector<int> &ta = locf->term_atoms();
+  const std::vector<int> &tl = locf->term_local();
   const std::vector<int> &off = locf->term_offsets();
-  for (size_t t = 0; t + 1 < off.size(); t++) cs.add_term(ta.data() + off[t], off[t + 1] - off[t]);
+  const int npair = locf->npair_last();
+  double **x = atom->x;
+  const int *type = atom->type;
+  double **cutsq = force->pair ? force->pair->cutsq : nullptr;
+  for (size_t t = 0; t + 1 < off.size(); t++) {
+    // a pair term of two members farther apart at the step's start than its
+    // cutoff plus twice the members' allowed path (checked after the flows)
+    // stays zero all step: it does not join their clusters
+    if (!safe_rule && (int) t < npair && cutsq) {
+      const int la = tl[off[t]], lb = tl[off[t] + 1];
+      const int oa = own[la], ob = own[lb];
+      if (oa != ob && cs.is_member(oa) && cs.is_member(ob)) {
+        double r2 = 0.0;
+        for (int d = 0; d < 3; d++) {
+          const double dd = (x0[oa][d] + (x[la][d] - x[oa][d])) - (x0[ob][d] + (x[lb][d] - x[ob][d]));
+          r2 += dd * dd;
+        }
+        const double reach = sqrt(cutsq[type[la]][type[lb]]) + 2.0 * dunite;
+        if (r2 > reach * reach) continue;
+      }
+    }
+    cs.add_term(ta.data() + off[t], off[t + 1] - off[t]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   did every member stay within dunite of its start position? (the far
+   pair terms add_terms() left out of the clusters are then zero all step)
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::paths_within()
+{
+  for (int c = 0; c < cs.nclusters(); c++) {
+    const Run &r = runs.at(cs.members(c)[0]);
+    for (size_t k = 0; k < r.members.size(); k++) {
+      double p = 0.0;
+      for (const auto *S : {&r.segsA[k], &r.segsB[k]})
+        for (const Seg &s : *S) {
+          const double d = s.t1 - s.t0;
+          p += d * sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]) +
+              0.5 * d * d * sqrt(s.a[0] * s.a[0] + s.a[1] * s.a[1] + s.a[2] * s.a[2]);
+        }
+      if (p > dunite) return false;
+    }
+  }
+  return true;
 }
 
 void HSLocalEngine::grow(const std::vector<Hit> &hits)
@@ -452,7 +532,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         set_v(i, vn);
         set_x(i, xn);
       }
-      locf->compute(M.data(), nm);
+      locf->recompute();    // the same terms: their restricted lists again
       ncompute += 1.0;
       fl = locf->forces();
       for (int k = 0; k < nt; k++) fk1[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
@@ -630,32 +710,45 @@ void HSLocalEngine::totals(bool with_b)
    partner kicks); members do not move. Any contact in it grows C.
 ------------------------------------------------------------------------- */
 
+// the velocity of Phi_H2's straight line (zero for a member)
+void HSLocalEngine::wvel(int i, double *wi) const
+{
+  if (cs.is_member(i)) {
+    wi[0] = wi[1] = wi[2] = 0.0;
+    return;
+  }
+  double **f = atom->f;
+  const double dtfm = fix->dtf / fix->mass_of(i);
+  if (tstamp[i] == tepoch)
+    for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * (f[i][d] - fc0[i][d]) + dvt[i][d];
+  else
+    for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * f[i][d];    // fix nve's kick
+}
+
 void HSLocalEngine::h2_check(std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
-  double **x = atom->x, **f = atom->f;
+  double **x = atom->x;
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
   const double dt = F.dtv, skin = F.skin;
   double **xref = F.xref;
   const double *gap = F.gap;
   totals(false);
+  // which spheres may touch something: an atom with no term in V_C moves
+  // on the straight line from x0 to fix nve's end point, within the
+  // screen's bound of its Verlet path, so only the screen's active ones
+  // and the atoms V_C touched (members at xm, partners kicked) can
+  bump_epoch(aepoch, astamp);
   std::vector<int> act;
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & F.groupbit)) continue;
-    double D = 0.0;
-    if (!cs.is_member(i)) {
-      const double dtfm = F.dtf / F.mass_of(i);
-      if (tstamp[i] == tepoch)
-        for (int d = 0; d < 3; d++) w[i][d] = v0[i][d] + dtfm * (f[i][d] - fc0[i][d]) + dvt[i][d];
-      else
-        for (int d = 0; d < 3; d++) w[i][d] = v0[i][d] + dtfm * f[i][d];
-      D = dt * sqrt(w[i][0] * w[i][0] + w[i][1] * w[i][1] + w[i][2] * w[i][2]);
-    } else
-      w[i][0] = w[i][1] = w[i][2] = 0.0;
+  auto consider = [&](int i) {
+    if (astamp[i] == aepoch || !(mask[i] & F.groupbit)) return;
+    astamp[i] = aepoch;
+    double wi[3];
+    wvel(i, wi);
+    const double D = dt * sqrt(wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]);
     const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
     const double reach = sqrt(dx * dx + dy * dy + dz * dz) + D;
-    if (reach <= gap[i]) continue;
+    if (reach <= gap[i]) return;
     if (reach > skin)
       error->one(FLERR,
                  "Fix {}: atom {} may be {} away from where the neighbor list was built, "
@@ -663,18 +756,23 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
                  "timestep or a larger neighbor skin",
                  F.style_name, atom->tag[i], reach, skin);
     act.push_back(i);
-  }
+  };
+  for (int i : act0) consider(i);
+  for (int c = 0; c < cs.nclusters(); c++)
+    for (int t : runs.at(cs.members(c)[0]).touched) consider(t);
   bump_epoch(pepoch, pstamp);
   const std::vector<int> &cand = F.cand;
   double cc[5];
   for (int i : act) {
     const double ri = F.radius_of(i);
+    double wi[3];
+    wvel(i, wi);
     if (!cs.is_member(i))
       for (int wl = 0; wl < (int) F.walls.size(); wl++) {
         const FixHardSphere::Wall &W = F.walls[wl];
         const double g = F.wall_gap(W, x[i], ri);
         const double s = (W.side < 0) ? 1.0 : -1.0;
-        HardSphere::wall_gap_poly(g, s * w[i][W.dim], 0.0, cc);
+        HardSphere::wall_gap_poly(g, s * wi[W.dim], 0.0, cc);
         const Contact ct =
             HardSphere::first_contact(cc, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * ri);
         if (ct.status == HardSphere::OVERLAP)
@@ -691,8 +789,11 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
       const bool ma = cs.is_member(oa), mb = cs.is_member(ob);
       if (ma && mb) continue;    // both static
       const double sigma = F.radius_of(la) + F.radius_of(lb);
+      double wa[3], wb[3];
+      wvel(oa, wa);
+      wvel(ob, wb);
       const double dq[3] = {x[la][0] - x[lb][0], x[la][1] - x[lb][1], x[la][2] - x[lb][2]};
-      const double dv[3] = {w[oa][0] - w[ob][0], w[oa][1] - w[ob][1], w[oa][2] - w[ob][2]};
+      const double dv[3] = {wa[0] - wb[0], wa[1] - wb[1], wa[2] - wb[2]};
       const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
       const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
       if (r2 > reach * reach) continue;
@@ -705,6 +806,81 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
     }
   }
 }
+
+/* ----------------------------------------------------------------------
+   the clusters of the step from the first guess hits, grown until no flow
+   has a contact with a non-member. False if a member left the reach that
+   the cluster rule assumed (then redo with every term joining)
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::settle(const std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double dt = F.dtv;
+  cs.reset(nlocal);
+  cs.set_partners_join(false);
+  for (const Hit &h : hits) cs.add_contact(h.i, h.j < 0 ? -1 : h.j);
+  add_terms(std::vector<int>(cs.new_members()));
+  cs.build();
+  runs.clear();
+
+  for (int round = 0;; round++) {
+    if (round > MAX_ROUNDS)
+      error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
+                 "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
+    std::vector<Hit> ev;
+    // Phi_H1(dt/2), non-members at x0
+    for (int c = 0; c < cs.nclusters(); c++) {
+      Run &r = runs[cs.members(c)[0]];
+      if (r.a_done) continue;
+      r.members = cs.members(c);
+      flow(r, 0.5 * dt, true, ev);
+    }
+    if (!ev.empty()) dbg[0] += 1;
+    if (ev.empty()) { cross_check(true, ev); if (!ev.empty()) dbg[1] += 1; }
+    if (!ev.empty()) {
+      grow(ev);
+      continue;
+    }
+    // Phi_H2(dt): members wait at their mid-step positions
+    for (int c = 0; c < cs.nclusters(); c++) {
+      const Run &r = runs.at(cs.members(c)[0]);
+      for (size_t k = 0; k < r.members.size(); k++) set_x(r.members[k], r.xm[k].data());
+    }
+    h2_check(ev);
+    if (!ev.empty()) {
+      dbg[2] += 1;
+      grow(ev);
+      continue;
+    }
+    for (int i = 0; i < nlocal; i++)
+      if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
+        wvel(i, w[i]);
+        x[i][0] = x0[i][0] + dt * w[i][0];
+        x[i][1] = x0[i][1] + dt * w[i][1];
+        x[i][2] = x0[i][2] + dt * w[i][2];
+      }
+    comm->forward_comm();
+    // Phi_H1(dt/2), non-members at their end positions
+    for (int c = 0; c < cs.nclusters(); c++) flow(runs.at(cs.members(c)[0]), 0.5 * dt, false, ev);
+    if (!ev.empty()) dbg[3] += 1;
+    if (ev.empty()) { cross_check(false, ev); if (!ev.empty()) dbg[4] += 1; }
+    if (!ev.empty()) {
+      for (int i = 0; i < nlocal; i++)
+        if ((mask[i] & F.groupbit) && !cs.is_member(i))
+          for (int d = 0; d < 3; d++) x[i][d] = x0[i][d];
+      comm->forward_comm();
+      grow(ev);
+      continue;
+    }
+    break;
+  }
+  return safe_rule || paths_within();
+}
+
 
 /* ----------------------------------------------------------------------
    one step: Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2) with C grown until no
@@ -731,59 +907,19 @@ bool HSLocalEngine::step()
       v0[i][d] = v[i][d];
     }
 
-  cs.reset(nlocal);
-  cs.set_partners_join(false);
-  for (const Hit &h : hits) cs.add_contact(h.i, h.j < 0 ? -1 : h.j);
-  add_terms(std::vector<int>(cs.new_members()));
-  cs.build();
-  runs.clear();
-
-  for (int round = 0;; round++) {
-    if (round > MAX_ROUNDS)
-      error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
-                 "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
-    std::vector<Hit> ev;
-    // Phi_H1(dt/2), non-members at x0
-    for (int c = 0; c < cs.nclusters(); c++) {
-      Run &r = runs[cs.members(c)[0]];
-      if (r.a_done) continue;
-      r.members = cs.members(c);
-      flow(r, 0.5 * dt, true, ev);
-    }
-    if (ev.empty()) cross_check(true, ev);
-    if (!ev.empty()) {
-      grow(ev);
-      continue;
-    }
-    // Phi_H2(dt): members wait at their mid-step positions
-    for (int c = 0; c < cs.nclusters(); c++) {
-      const Run &r = runs.at(cs.members(c)[0]);
-      for (size_t k = 0; k < r.members.size(); k++) set_x(r.members[k], r.xm[k].data());
-    }
-    h2_check(ev);
-    if (!ev.empty()) {
-      grow(ev);
-      continue;
-    }
-    for (int i = 0; i < nlocal; i++)
-      if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
-        x[i][0] = x0[i][0] + dt * w[i][0];
-        x[i][1] = x0[i][1] + dt * w[i][1];
-        x[i][2] = x0[i][2] + dt * w[i][2];
-      }
+  // far pair terms between members do not join clusters if every member
+  // stays within dunite of its start (checked; else the step is redone
+  // with every term joining)
+  dunite = UNITE_PATHS * pathmax;
+  safe_rule = false;
+  while (!settle(hits)) {
+    if (safe_rule)
+      error->one(FLERR, "Fix {} substep local: step {} could not be settled", F.style_name,
+                 update->ntimestep);
+    safe_rule = true;
+    dbg[5] += 1;
+    for (int i = 0; i < nlocal; i++) set_x(i, x0[i]), set_v(i, v0[i]);
     comm->forward_comm();
-    // Phi_H1(dt/2), non-members at their end positions
-    for (int c = 0; c < cs.nclusters(); c++) flow(runs.at(cs.members(c)[0]), 0.5 * dt, false, ev);
-    if (ev.empty()) cross_check(false, ev);
-    if (!ev.empty()) {
-      for (int i = 0; i < nlocal; i++)
-        if ((mask[i] & F.groupbit) && !cs.is_member(i))
-          for (int d = 0; d < 3; d++) x[i][d] = x0[i][d];
-      comm->forward_comm();
-      grow(ev);
-      continue;
-    }
-    break;
   }
 
   // the collisions and impulse virial of the final clusters' flows

@@ -86,6 +86,7 @@ class HSLocalEngine : protected Pointers {
   const HardSphere::ClusterCounters &counters();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
   double ncompute = 0.0;    // restricted force evaluations
+  double dbg[6] = {0, 0, 0, 0, 0, 0};
 
  private:
   FixHardSphere *fix;
@@ -125,6 +126,9 @@ class HSLocalEngine : protected Pointers {
   std::vector<int> own;                     // owner of each local index (owned, ghosts)
   std::vector<int> adj_off, adj;            // owned atom -> candidate pairs
   std::vector<uint32_t> pstamp;             // candidate pair seen
+  std::vector<int> act0;                    // owned atoms the screen marked active
+  std::vector<uint32_t> astamp;             // considered by h2_check
+  uint32_t aepoch = 0;
   uint32_t pepoch = 0;
   void build_adjacency();
 
@@ -141,7 +145,12 @@ class HSLocalEngine : protected Pointers {
   bool flow(Run &r, double h, bool first_half, std::vector<Hit> &hits);
   void cross_check(bool first_half, std::vector<Hit> &hits);
   void h2_check(std::vector<Hit> &hits);
+  void wvel(int i, double *wi) const;
   void totals(bool with_b);
+  bool settle(const std::vector<Hit> &hits);
+  bool paths_within();
+  double pathmax = 0.0, dunite = 0.0;
+  bool safe_rule = false;
   void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
 };
 

@@ -235,6 +235,7 @@ void HSLocalForces::compute(const int *c, int nc)
 
   zero_list_.clear();
   term_atoms_.clear();
+  term_local_.clear();
   term_off_.assign(1, 0);
   // the owned copy of local atom j (-1: owned by another rank)
   auto owner_of = [&](int j) -> int {
@@ -246,6 +247,7 @@ void HSLocalForces::compute(const int *c, int nc)
     for (int t = 0; t < k; t++) {
       zero(a[t]);
       term_atoms_.push_back(owner_of(a[t]));
+      term_local_.push_back(a[t]);
     }
     term_off_.push_back((int) term_atoms_.size());
   };
@@ -297,6 +299,7 @@ void HSLocalForces::compute(const int *c, int nc)
   bool present[4];
   presence(present);
   const size_t npair_t = term_off_.size();
+  npair_last_ = (int) npair_t - 1;
   for (int b = 0; b < 4; b++) {
     Bonded &B = bonded_[b];
     B.sub.clear();
@@ -321,7 +324,42 @@ void HSLocalForces::compute(const int *c, int nc)
     for (int k = 0; k < nc; k++) zero(c[k]);
   }
 
-  // ---- the styles' own compute() on the restricted lists
+  run_styles(L, present);
+  last_ncalls_ = neighbor->ncalls;
+  last_nc_ = nc;
+  ncalls += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   -grad V_C again for the C of the last compute(), at the current x: the
+   restricted lists are reused (one rank, no list build since)
+------------------------------------------------------------------------- */
+
+void HSLocalForces::recompute()
+{
+  if (comm->nprocs > 1 || last_ncalls_ != neighbor->ncalls || last_nc_ < 0)
+    error->all(FLERR, "{}: local forces recomputed without a compute() on this list", owner_);
+  for (int j : zero_list_) fl_[j][0] = fl_[j][1] = fl_[j][2] = 0.0;
+  bool present[4];
+  presence(present);
+  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  run_styles(L, present, false);
+  ncalls += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   the styles' own compute() on the restricted lists, then the ghosts'
+   forces to their owners
+------------------------------------------------------------------------- */
+
+void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const int nprocs = comm->nprocs;
+  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
+                    neighbor->improperlist};
+  (void) lists;
   Tally tal[5];
   auto save = [](Tally &t, double e1, double e2, const double *v) {
     t.e1 = e1;
@@ -402,11 +440,19 @@ void HSLocalForces::compute(const int *c, int nc)
   if (force->improper) put(tal[4], force->improper->energy, d2, force->improper->virial);
 
   // ---- ghosts' forces to their owners, the touched owned atoms
+  if (!first) {    // recompute(): same atoms as before
+    for (int j : zero_list_)
+      if (j >= nlocal) {
+        const int o = atom->map(atom->tag[j]);
+        for (int k = 0; k < 3; k++) fl_[o][k] += fl_[j][k];
+      }
+    return;
+  }
   touched_owned_.clear();
   if (nprocs == 1) {
     for (int j : zero_list_)
       if (j >= nlocal) {
-        const int o = owner_of(j);
+        const int o = atom->map(atom->tag[j]);    // one rank: the owned copy
         for (int k = 0; k < 3; k++) fl_[o][k] += fl_[j][k];
       }
     for (int j : zero_list_)
@@ -417,5 +463,4 @@ void HSLocalForces::compute(const int *c, int nc)
         touched_owned_.push_back(i);
   }
   std::sort(touched_owned_.begin(), touched_owned_.end());
-  ncalls += 1.0;
 }

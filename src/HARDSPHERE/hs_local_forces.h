@@ -77,6 +77,10 @@ class HSLocalForces : protected Pointers {
   // and the styles' tallies are left as they were.
   void compute(const int *c, int nc);
   double **forces() const { return fl_; }
+  // the same again at the current x, for the C of the last compute(), with
+  // its restricted lists (one rank; no list build since): O(its terms)
+  // without the bookkeeping of compute()
+  void recompute();
   const std::vector<int> &touched() const { return touched_owned_; }
 
   // the terms of V_C of the last compute(), each as its atoms (local
@@ -84,6 +88,10 @@ class HSLocalForces : protected Pointers {
   // ghost owned elsewhere): term t is terms()[off[t] .. off[t+1])
   const std::vector<int> &term_atoms() const { return term_atoms_; }
   const std::vector<int> &term_offsets() const { return term_off_; }
+  // the same terms as local indices (images as they are), and how many of
+  // them (the first ones) are pair terms
+  const std::vector<int> &term_local() const { return term_local_; }
+  int npair_last() const { return npair_last_; }
 
   // counters: calls, and pair / bonded terms evaluated, since construction
   double ncalls = 0, npair_terms = 0, nbonded_terms = 0;
@@ -119,9 +127,13 @@ class HSLocalForces : protected Pointers {
   int **firstneigh_ = nullptr;
   double **fl_ = nullptr;
 
-  std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_;
+  std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_, term_local_;
+  int npair_last_ = 0;
   void zero(int i);
   void grow();
+  void run_styles(class NeighList *L, const bool present[4], bool first = true);
+  int64_t last_ncalls_ = -1;
+  int last_nc_ = -1;
 };
 
 }    // namespace LAMMPS_NS
