@@ -95,10 +95,11 @@ EOF2
 
 run() {    # run <np> <input> <method>: prints the RESULT fields
   local np=$1 input=$2 m=$3 out=out.$2.$3.$1
+  local mv="$m$(global_substep "$m")"    # compare the global engine on 1 and 2 ranks
   if [ "$np" -eq 1 ]; then
-    "$LMP" -in "$input" -log none -echo none -var method "$m" -var np 1 > "$out" 2>&1
+    "$LMP" -in "$input" -log none -echo none -var method "$mv" -var np 1 > "$out" 2>&1
   else
-    mpirun -np "$np" --oversubscribe "$LMP" -in "$input" -log none -echo none -var method "$m" -var np "$np" > "$out" 2>&1
+    mpirun -np "$np" --oversubscribe "$LMP" -in "$input" -log none -echo none -var method "$mv" -var np "$np" > "$out" 2>&1
   fi
   local res
   res=$(grep '^RESULT ' "$out" | tail -1)

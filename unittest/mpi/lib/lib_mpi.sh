@@ -34,6 +34,14 @@ chain_input() {
   result_line "$@"
 }
 
+# global_substep <method>: " substep global" for the methods whose default
+# is the local engine, which runs on one rank only (on more it falls back to
+# global): these tests compare rank counts of the global engine
+global_substep() {
+  [ "$1" = cva ] && echo " substep global"
+  return 0
+}
+
 # lj_fluid_input <method> <k...>: a periodic 3-D fluid of hard spheres
 # (diameter 1) with LJ attraction (lj/cut 2.5) at density 0.6, 500 atoms,
 # ${nsteps} steps (-var nsteps), and the RESULT line. Velocities use "loop
@@ -54,7 +62,7 @@ pair_style  lj/cut 2.5
 pair_coeff  1 1 1.0 1.0 2.5
 neighbor    0.3 bin
 neigh_modify every 1 delay 0 check yes
-fix         hs all hardsphere/$method diameter 1.0
+fix         hs all hardsphere/$method diameter 1.0$(global_substep "$method")
 timestep    0.005
 thermo_style custom step pe ke etotal press f_hs[1]
 thermo_modify norm no

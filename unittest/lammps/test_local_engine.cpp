@@ -1,0 +1,276 @@
+// The local step engine (substep local, hs_local_engine.h) of
+// fix hardsphere/cva on a hard-core LJ fluid (500 spheres, packing fraction
+// 0.3, lj/smooth/linear 2.5, T = 1; about one collision per sphere every 40
+// steps at dt 0.005). Expected values come from the method's theory:
+// - the splitting Phi_H1(dt/2) Phi_H2(dt) Phi_H1(dt/2) is second order: the
+//   max energy error over a fixed time falls like dt^2 (fitted order >= 1.8);
+// - every piece conserves total momentum (internal forces, equal and
+//   opposite impulses): round-off only;
+// - local and global CVA approximate the same flow: their trajectories from
+//   one state differ by O(dt^2) after a fixed short time;
+// - both sample the same equilibrium: collision rate and pressure agree
+//   within block-average error bars;
+// - the keyword's errors and the fall-back to global name their cause.
+
+#include "hs_chain.h"
+#include "hs_errors.h"
+#include "hs_test_main.h"
+
+#include "atom.h"
+#include "domain.h"
+#include "lmptype.h"
+
+#include <array>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <regex>
+
+using hs_chain::f17;
+using hs_errors::expect_error;
+
+namespace {
+
+// the equilibrated fluid (psa, 200 steps), then timestep dt and the fix
+std::string fluid(const std::string &fix, double dt, int seed = 87287, int cells = 5)
+{
+  return R"LMP(
+units lj
+atom_style atomic
+atom_modify map array
+boundary p p p
+lattice fcc 0.5729578
+region box block 0 )LMP" +
+      std::to_string(cells) + " 0 " + std::to_string(cells) + " 0 " + std::to_string(cells) +
+      R"LMP(
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+pair_style lj/smooth/linear 2.5
+pair_coeff 1 1 1.0 1.0
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+velocity all create 1.0 )LMP" +
+      std::to_string(seed) + R"LMP( mom yes rot no dist gaussian
+fix hs all hardsphere/psa diameter 1.0
+timestep 0.005
+run 200
+unfix hs
+reset_timestep 0
+timestep )LMP" + f17(dt) + "\n" +
+      fix + "\n";
+}
+
+// max |E(t) - E(0)| per atom over time T (fix ave/histo's running maximum)
+double max_energy_error(const std::string &substep, double dt, double T, double *clusters = nullptr)
+{
+  HSLammps L;
+  L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep " + substep, dt));
+  L.lines(R"LMP(
+thermo_modify norm yes
+run 0
+variable E0 equal $(etotal:%.17g)
+variable dE equal abs(etotal-v_E0)
+fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
+)LMP");
+  L.cmd("run " + std::to_string((int) std::lround(T / dt)));
+  if (clusters) *clusters = L.fix_vector("hs", 5);
+  return L.fix_vector("mx", 3);    // running maximum of the histogrammed value
+}
+
+// least-squares slope of log y against log x
+double slope(const std::vector<double> &x, const std::vector<double> &y)
+{
+  const int n = (int) x.size();
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int k = 0; k < n; k++) {
+    const double a = std::log(x[k]), b = std::log(y[k]);
+    sx += a;
+    sy += b;
+    sxx += a * a;
+    sxy += a * b;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}    // namespace
+
+TEST(LocalEngine, EnergyErrorIsSecondOrder)
+{
+  const std::vector<double> dts = {0.01, 0.005, 0.0025, 0.00125};
+  std::vector<double> err;
+  for (double dt : dts) {
+    double clusters = 0.0;
+    err.push_back(max_energy_error("local", dt, 0.5, &clusters));
+    EXPECT_GT(clusters, 0.0) << "the local engine did not run at dt " << dt;
+    std::printf("local dt %g max|dE|/N %.3e clusters %g\n", dt, err.back(), clusters);
+  }
+  const double p = slope(dts, err);
+  std::printf("fitted order %.3f\n", p);
+  EXPECT_GE(p, 1.8);
+  for (size_t k = 1; k < err.size(); k++) EXPECT_LT(err[k], err[k - 1]);
+}
+
+TEST(LocalEngine, MomentumIsConserved)
+{
+  HSLammps L;
+  L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep local", 0.005));
+  L.lines(R"LMP(
+variable px equal vcm(all,x)*mass(all)
+variable py equal vcm(all,y)*mass(all)
+variable pz equal vcm(all,z)*mass(all)
+variable p1 equal sqrt(mass(all)*ke*2.0)
+run 400
+)LMP");
+  const double P = std::sqrt(std::pow(L.variable("px"), 2) + std::pow(L.variable("py"), 2) +
+                             std::pow(L.variable("pz"), 2));
+  // velocity create ... mom yes: P = 0 at the start; a scale: the root of 2 M KE
+  const double scale = L.variable("p1");
+  EXPECT_GT(L.fix_vector("hs", 0), 100.0);    // collisions happened
+  EXPECT_LT(P, 1e-11 * scale) << "P " << P << " scale " << scale;
+}
+
+namespace {
+// positions by atom ID after time T from the shared start, with substep s
+std::map<int, std::array<double, 3>> positions_after(const std::string &s, double dt, double T)
+{
+  HSLammps L;
+  L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep " + s, dt));
+  L.cmd("run " + std::to_string((int) std::lround(T / dt)));
+  std::map<int, std::array<double, 3>> out;
+  LAMMPS_NS::Atom *a = L.lmp->atom;
+  for (int i = 0; i < a->nlocal; i++) {
+    double x[3] = {a->x[i][0], a->x[i][1], a->x[i][2]};
+    L.lmp->domain->remap(x, a->image[i]);
+    int xbox = (a->image[i] & IMGMASK) - IMGMAX;
+    int ybox = (a->image[i] >> IMGBITS & IMGMASK) - IMGMAX;
+    int zbox = (a->image[i] >> IMG2BITS) - IMGMAX;
+    const double *prd = L.lmp->domain->prd;
+    out[(int) a->tag[i]] = {x[0] + xbox * prd[0], x[1] + ybox * prd[1], x[2] + zbox * prd[2]};
+  }
+  return out;
+}
+}    // namespace
+
+TEST(LocalEngine, ConvergesToTheGlobalTrajectory)
+{
+  const double T = 0.05;
+  const std::vector<double> dts = {0.0025, 0.00125, 0.000625};
+  std::vector<double> diff;
+  for (double dt : dts) {
+    const auto a = positions_after("local", dt, T), b = positions_after("global", dt, T);
+    double d = 0.0;
+    for (const auto &kv : a) {
+      const auto &q = b.at(kv.first);
+      for (int k = 0; k < 3; k++) d = std::max(d, std::fabs(kv.second[k] - q[k]));
+    }
+    diff.push_back(d);
+    std::printf("dt %g max |x_local - x_global| %.3e\n", dt, d);
+  }
+  // both are second order: their difference vanishes like dt^2
+  EXPECT_GE(slope(dts, diff), 1.6);
+  EXPECT_LT(diff.back(), 1e-5);
+}
+
+namespace {
+struct Stat {
+  double mean, se;
+};
+// block means of per-step collisions and of the pressure over 20 blocks
+void rate_and_pressure(const std::string &s, int seed, Stat &rate, Stat &press)
+{
+  const int nblock = 20, len = 150;
+  HSLammps L;
+  L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep " + s, 0.005, seed));
+  L.cmd("run 200");
+  std::vector<double> r, p;
+  for (int b = 0; b < nblock; b++) {
+    const double c0 = L.fix_vector("hs", 0);
+    L.cmd("fix ap all ave/time 1 1 1 c_thermo_press ave running");
+    L.cmd("run " + std::to_string(len));
+    r.push_back((L.fix_vector("hs", 0) - c0) / len);
+    auto *pv = (double *) lammps_extract_fix(L.lmp, "ap", 0, 0, 0, 0);
+    p.push_back(*pv);
+    lammps_free(pv);
+    L.cmd("unfix ap");
+  }
+  auto stat = [&](const std::vector<double> &v) {
+    double m = 0, q = 0;
+    for (double x : v) m += x;
+    m /= v.size();
+    for (double x : v) q += (x - m) * (x - m);
+    return Stat{m, std::sqrt(q / (v.size() - 1) / v.size())};
+  };
+  rate = stat(r);
+  press = stat(p);
+}
+}    // namespace
+
+TEST(LocalEngine, SameCollisionRateAndPressureAsGlobal)
+{
+  Stat rl, pl, rg, pg;
+  rate_and_pressure("local", 4711, rl, pl);
+  rate_and_pressure("global", 4713, rg, pg);
+  std::printf("collisions/step local %.3f +- %.3f global %.3f +- %.3f\n", rl.mean, rl.se,
+              rg.mean, rg.se);
+  std::printf("pressure local %.4f +- %.4f global %.4f +- %.4f\n", pl.mean, pl.se, pg.mean,
+              pg.se);
+  EXPECT_LT(std::fabs(rl.mean - rg.mean), 3.0 * std::hypot(rl.se, rg.se));
+  EXPECT_LT(std::fabs(pl.mean - pg.mean), 3.0 * std::hypot(pl.se, pg.se));
+  // the error bars make the check meaningful: below 5 % of the values
+  EXPECT_LT(rl.se, 0.05 * rl.mean);
+  EXPECT_LT(pl.se, 0.05 * std::fabs(pl.mean));
+}
+
+TEST(LocalEngine, OutputVector)
+{
+  HSLammps L;
+  L.lines(fluid("fix hs all hardsphere/cva diameter 1.0", 0.005, 87287, 6));
+  L.cmd("run 200");
+  const double clusters = L.fix_vector("hs", 5), mean = L.fix_vector("hs", 6),
+               largest = L.fix_vector("hs", 7), rounds = L.fix_vector("hs", 8),
+               fallback = L.fix_vector("hs", 9), evals = L.fix_vector("hs", 10);
+  std::printf("clusters %g mean %g largest %g rounds %g fallback %g restricted evals %g\n",
+              clusters, mean, largest, rounds, fallback, evals);
+  EXPECT_GT(clusters, 0.0);    // substep local is the default for cva
+  EXPECT_GE(mean, 1.0);
+  EXPECT_GE(largest, mean);
+  EXPECT_GT(rounds, 0.0);      // the growth path ran
+  EXPECT_EQ(fallback, 0.0);
+  EXPECT_GT(evals, clusters);
+  EXPECT_EQ(L.fix_vector("hs", 4), 0.0);    // no full force evaluation
+}
+
+TEST(LocalEngine, Errors)
+{
+  const std::string base = fluid("", 0.005, 1, 3);
+  expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep sideways\nrun 1\n",
+               {"substep must be local or global", "sideways"});
+  expect_error(base + "fix x all hardsphere/pcva diameter 1.0 substep local\nrun 1\n",
+               {"substep local is not available yet", "substep global"});
+  expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"
+                      "fix s all spring/self 1.0\nrun 1\n",
+               {"substep local cannot run with", "fix s spring/self"});
+  expect_error(base + "pair_style hybrid/overlay lj/smooth/linear 2.5 zero 2.5\n"
+                      "pair_coeff 1 1 lj/smooth/linear 1.0 1.0\npair_coeff 1 1 zero\n"
+                      "fix x all hardsphere/cva diameter 1.0 substep local\nrun 1\n",
+               {"substep local cannot run with", "hybrid"});
+}
+
+TEST(LocalEngine, FallsBackToGlobalWithAWarning)
+{
+  const std::string base = fluid("", 0.005, 1, 3);
+  RunResult r = run_lmp(base + "fix x all hardsphere/cva diameter 1.0\n"
+                               "fix s all spring/self 0.1\nrun 100\n"
+                               "print \"FALLBACK $(f_x[10]) COLL $(f_x[1])\"\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fix s spring/self"), std::string::npos) << r.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex("FALLBACK ([0-9.e+]+) COLL ([0-9.e+]+)")));
+  EXPECT_GT(std::stod(m[1]), 0.0);
+  // psa takes the keyword (its steps are local by construction)
+  RunResult p = run_lmp(base + "fix x all hardsphere/psa diameter 1.0 substep local\nrun 10\n");
+  EXPECT_EQ(p.exit_code, 0) << p.output;
+}
