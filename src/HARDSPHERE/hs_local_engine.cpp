@@ -53,6 +53,7 @@ HSLocalEngine::~HSLocalEngine()
   memory->destroy(fcend);
   memory->destroy(fc0);
   memory->destroy(dvt);
+  memory->destroy(dvb);
 }
 
 /* ----------------------------------------------------------------------
@@ -100,15 +101,27 @@ void HSLocalEngine::grow_arrays()
     memory->destroy(fcend);
     memory->destroy(fc0);
     memory->destroy(dvt);
+    memory->destroy(dvb);
     memory->create(x0, nmax, 3, "hardsphere/local:x0");
     memory->create(v0, nmax, 3, "hardsphere/local:v0");
     memory->create(w, nmax, 3, "hardsphere/local:w");
     memory->create(fcend, nmax, 3, "hardsphere/local:fcend");
     memory->create(fc0, nmax, 3, "hardsphere/local:fc0");
     memory->create(dvt, nmax, 3, "hardsphere/local:dvt");
+    memory->create(dvb, nmax, 3, "hardsphere/local:dvb");
   }
-  if ((int) tstamp.size() < nmax) {
-    tstamp.resize(nmax, 0);
+  if ((int) cnt.size() < nmax) {
+    // per-atom bookkeeping that refers to local indices: a new size means
+    // a new step's indices, so nothing of a previous step is kept
+    cnt.assign(nmax, 0);
+    in_sums.assign(nmax, 0);
+    sums_used.clear();
+    dstamp.assign(nmax, 0);
+    hstamp.assign(nmax, 0);
+    atom_runs.assign(nmax, {});
+    runs_used.clear();
+  }
+  if ((int) estamp.size() < nmax) {
     estamp.resize(nmax, 0);
     astamp.resize(nmax, 0);
   }
@@ -334,13 +347,72 @@ bool HSLocalEngine::paths_within()
 
 void HSLocalEngine::grow(const std::vector<Hit> &hits)
 {
-  for (const Hit &h : hits) cs.grow_contact(h.i, h.j < 0 ? -1 : h.j);
+  for (const Hit &h : hits) {
+    cs.grow_contact(h.i, h.j < 0 ? -1 : h.j);
+    mark_dirty(h.i);
+    if (h.j >= 0) mark_dirty(h.j);
+  }
   const std::vector<int> newm = cs.new_members();
   add_terms(newm);
   const std::vector<int> redo = cs.rebuild();
   for (int c : redo)
-    for (int m : cs.members(c)) runs.erase(m);
+    for (int m : cs.members(c)) {
+      auto it = runs.find(m);
+      if (it == runs.end()) continue;
+      retire(it->second);
+      runs.erase(it);
+    }
   nrounds += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   the sums over clusters of V_C's start forces and the partners' first-half
+   kicks (for Phi_H2's velocities), kept as clusters are run and dropped
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::contribute(Run &r, double sign)
+{
+  const int *mask = atom->mask;
+  for (size_t k = 0; k < r.touched.size(); k++) {
+    const int p = r.touched[k];
+    if (sign > 0.0 && cnt[p] == 0) {
+      for (int d = 0; d < 3; d++) fc0[p][d] = dvt[p][d] = 0.0;
+      if (!in_sums[p]) {
+        in_sums[p] = 1;
+        sums_used.push_back(p);
+      }
+    }
+    cnt[p] += (sign > 0.0) ? 1 : -1;
+    if (cnt[p] == 0) {    // no cluster left: exactly fix nve's kick again
+      for (int d = 0; d < 3; d++) fc0[p][d] = dvt[p][d] = 0.0;
+      continue;
+    }
+    for (int d = 0; d < 3; d++) fc0[p][d] += sign * r.fk0[k][d];
+    if (mask[p] & fix->groupbit)
+      for (int d = 0; d < 3; d++) dvt[p][d] += sign * r.dvA[k][d];
+  }
+  r.contributed = sign > 0.0;
+}
+
+// a run that is dropped: its contributions go, its atoms' paths change
+void HSLocalEngine::retire(Run &r)
+{
+  if (r.contributed) contribute(r, -1.0);
+  for (int t : r.touched) mark_dirty(t);
+  for (int e : r.env) mark_dirty(e);
+  for (int m : r.members) mark_dirty(m);
+}
+
+void HSLocalEngine::mark_dirty(int i)
+{
+  if (dstamp[i] != depoch) {    // for the drift and the second half
+    dstamp[i] = depoch;
+    dirty.push_back(i);
+  }
+  if (hstamp[i] != hepoch) {    // for Phi_H2's next check
+    hstamp[i] = hepoch;
+    hdirty.push_back(i);
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -367,8 +439,35 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
   locf->compute(M.data(), nm);
   ncompute += 1.0;
-  if (first_half) r.touched = locf->touched();
-  else if (locf->touched() != r.touched)
+  std::vector<Vec> env_saved;
+  if (first_half) {
+    r.touched = locf->touched();
+    // the static atoms of this flow: partners and contact candidates
+    r.env.clear();
+    const std::vector<int> &cand0 = F.cand;
+    for (int t : r.touched)
+      if (!cs.is_member(t)) r.env.push_back(t);
+    for (int i : M)
+      for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
+        const int p = adj[e];
+        const int o = (own[cand0[2 * p]] == i) ? own[cand0[2 * p + 1]] : own[cand0[2 * p]];
+        if (!cs.is_member(o)) r.env.push_back(o);
+      }
+    std::sort(r.env.begin(), r.env.end());
+    r.env.erase(std::unique(r.env.begin(), r.env.end()), r.env.end());
+    // after the drift of Phi_H2 (a later growth round) they wait at x0 for
+    // this flow, and go back to their end positions after it
+    if (drifted) {
+      env_saved.resize(r.env.size());
+      for (size_t k = 0; k < r.env.size(); k++) {
+        const int e = r.env[k];
+        env_saved[k] = {x[e][0], x[e][1], x[e][2]};
+        set_x(e, x0[e]);
+      }
+      locf->recompute();
+      ncompute += 1.0;
+    }
+  } else if (locf->touched() != r.touched)
     error->one(FLERR, "Fix {} substep local: the terms of a cluster changed within step {}",
                F.style_name, update->ntimestep);
   const std::vector<int> &T = r.touched;
@@ -507,6 +606,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       hits.push_back({bi, bj});
       r.a_done = false;
       keep_counts();
+      for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
       return false;
     }
     const double d = hit ? tbest : tau;
@@ -587,22 +687,40 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       r.vm[k] = {v[i][0], v[i][1], v[i][2]};
     }
     r.a_done = true;
-  } else
+    for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
+  } else {
+    // the end state is kept; the members wait at xm again (where Phi_H2's
+    // checks of later growth rounds see them)
     r.fend = fk;
+    r.xe.resize(nm);
+    r.ve.resize(nm);
+    for (int k = 0; k < nm; k++) {
+      const int i = M[k];
+      r.xe[k] = {x[i][0], x[i][1], x[i][2]};
+      r.ve[k] = {v[i][0], v[i][1], v[i][2]};
+      set_x(i, r.xm[k].data());
+      set_v(i, r.vm[k].data());
+    }
+    r.b_done = true;
+  }
   return true;
 }
 
 /* ----------------------------------------------------------------------
    contacts between members of two clusters, whose flows ran apart: on
-   their piecewise Verlet paths (the segments of the last flow)
+   their piecewise Verlet paths (the segments of the last flow). Only pairs
+   with a cluster in fresh (run in this round): the others were checked
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::cross_check(bool first_half, std::vector<Hit> &hits)
+void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
+                                std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
   double **x = atom->x;
   const std::vector<int> &cand = F.cand;
   double cc[5];
+  std::vector<char> isfresh(cs.nclusters(), 0);
+  for (int c : fresh) isfresh[c] = 1;
   auto pos = [](const Seg &s, double t, int d) {
     const double h = t - s.t0;
     return s.q[d] + h * s.v[d] + 0.5 * h * h * s.a[d];
@@ -617,7 +735,7 @@ void HSLocalEngine::cross_check(bool first_half, std::vector<Hit> &hits)
     }
     return p;
   };
-  for (int c = 0; c < cs.nclusters(); c++) {
+  for (int c : fresh) {
     const std::vector<int> &M = cs.members(c);
     const Run &r = runs.at(M[0]);
     for (int k = 0; k < (int) M.size(); k++) {
@@ -629,14 +747,18 @@ void HSLocalEngine::cross_check(bool first_half, std::vector<Hit> &hits)
         const int o = own[theirs];
         if (!cs.is_member(o)) continue;
         const int oc = cs.cluster_of(o);
-        if (oc <= c) continue;    // same cluster, or handled from the other one
+        if (oc == c || (isfresh[oc] && oc < c)) continue;    // same, or done from oc
         const std::vector<int> &Mo = cs.members(oc);
-        const Run &ro = runs.at(Mo[0]);
+        auto it = runs.find(Mo[0]);
+        if (it == runs.end()) continue;
+        const Run &ro = it->second;
         const int ko = (int) (std::lower_bound(Mo.begin(), Mo.end(), o) - Mo.begin());
-        const std::vector<Seg> &si = first_half ? r.segsA[k] : r.segsB[k];
-        const std::vector<Seg> &sj = first_half ? ro.segsA[ko] : ro.segsB[ko];
+        const std::vector<std::vector<Seg>> &Si = first_half ? r.segsA : r.segsB;
+        const std::vector<std::vector<Seg>> &Sj = first_half ? ro.segsA : ro.segsB;
+        if (k >= (int) Si.size() || ko >= (int) Sj.size()) continue;
+        const std::vector<Seg> &si = Si[k], &sj = Sj[ko];
         if (si.empty() || sj.empty()) continue;
-        // image shifts (the current x of both are their flows' ends)
+        // image shifts
         double sh[3];
         for (int d = 0; d < 3; d++) sh[d] = (x[mine][d] - x[i][d]) - (x[theirs][d] - x[o][d]);
         const double sigma = F.radius_of(i) + F.radius_of(o);
@@ -674,43 +796,11 @@ void HSLocalEngine::cross_check(bool first_half, std::vector<Hit> &hits)
 }
 
 /* ----------------------------------------------------------------------
-   sums over the clusters on the touched atoms: V_C's force at the step's
-   start (fc0) and the partners' velocity changes of the first half (dvt);
-   with_b: the end forces (fcend) and the second half's changes (dvt)
+   the velocity of Phi_H2's straight line: v0 + dt/2 (f - F_C(x0)) / m plus
+   the first half's partner kicks; zero for a member; fix nve's kick for an
+   atom in no term of V_C
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::totals(bool with_b)
-{
-  if (!with_b) bump_epoch(tepoch, tstamp);
-  else bump_epoch(eepoch, estamp);
-  for (int c = 0; c < cs.nclusters(); c++) {
-    const Run &r = runs.at(cs.members(c)[0]);
-    const std::vector<Vec> &dv = with_b ? r.dvB : r.dvA;
-    const std::vector<Vec> &fs = with_b ? r.fend : r.fk0;
-    double **fc = with_b ? fcend : fc0;
-    std::vector<uint32_t> &st = with_b ? estamp : tstamp;
-    const uint32_t ep = with_b ? eepoch : tepoch;
-    for (size_t k = 0; k < r.touched.size(); k++) {
-      const int p = r.touched[k];
-      if (st[p] != ep) {
-        st[p] = ep;
-        for (int d = 0; d < 3; d++) fc[p][d] = dvt[p][d] = 0.0;
-      }
-      for (int d = 0; d < 3; d++) {
-        fc[p][d] += fs[k][d];
-        dvt[p][d] += dv[k][d];
-      }
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   Phi_H2(dt): the non-members' Verlet step under V_R and the held forces
-   (straight lines q0 + t w, w = v0 + dt/2 (f - F_C)/m + the first half's
-   partner kicks); members do not move. Any contact in it grows C.
-------------------------------------------------------------------------- */
-
-// the velocity of Phi_H2's straight line (zero for a member)
 void HSLocalEngine::wvel(int i, double *wi) const
 {
   if (cs.is_member(i)) {
@@ -719,13 +809,21 @@ void HSLocalEngine::wvel(int i, double *wi) const
   }
   double **f = atom->f;
   const double dtfm = fix->dtf / fix->mass_of(i);
-  if (tstamp[i] == tepoch)
+  if (cnt[i] > 0)
     for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * (f[i][d] - fc0[i][d]) + dvt[i][d];
   else
-    for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * f[i][d];    // fix nve's kick
+    for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * f[i][d];
 }
 
-void HSLocalEngine::h2_check(std::vector<Hit> &hits)
+/* ----------------------------------------------------------------------
+   Phi_H2(dt): non-members on straight lines from x0 with velocity w,
+   members waiting at xm. Any contact in it grows C. full: every atom that
+   may touch something (the screen's active ones: an atom in no term of V_C
+   stays within the screen's bound of its Verlet path; and every atom V_C
+   touched); else only the atoms whose path changed since (dirty)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
   double **x = atom->x;
@@ -733,20 +831,33 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
   const double dt = F.dtv, skin = F.skin;
   double **xref = F.xref;
   const double *gap = F.gap;
-  totals(false);
-  // which spheres may touch something: an atom with no term in V_C moves
-  // on the straight line from x0 to fix nve's end point, within the
-  // screen's bound of its Verlet path, so only the screen's active ones
-  // and the atoms V_C touched (members at xm, partners kicked) can
+  // the position of local index l at the start of Phi_H2
+  auto P = [&](int l, double *q) {
+    const int o = own[l];
+    if (cs.is_member(o))
+      for (int d = 0; d < 3; d++) q[d] = x[l][d];
+    else
+      for (int d = 0; d < 3; d++) q[d] = x0[o][d] + (x[l][d] - x[o][d]);
+  };
   bump_epoch(aepoch, astamp);
   std::vector<int> act;
+  // w of every group atom is kept in w[] from the full check on; a later
+  // round updates the dirty atoms' (every atom whose w changed is dirty)
+  const int nlocal = atom->nlocal;
+  if (full) {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & F.groupbit) wvel(i, w[i]);
+  } else
+    for (int i : hdirty)
+      if (mask[i] & F.groupbit) wvel(i, w[i]);
   auto consider = [&](int i) {
     if (astamp[i] == aepoch || !(mask[i] & F.groupbit)) return;
     astamp[i] = aepoch;
-    double wi[3];
-    wvel(i, wi);
+    double q[3];
+    const double *wi = w[i];
+    P(i, q);
     const double D = dt * sqrt(wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]);
-    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
+    const double dx = q[0] - xref[i][0], dy = q[1] - xref[i][1], dz = q[2] - xref[i][2];
     const double reach = sqrt(dx * dx + dy * dy + dz * dz) + D;
     if (reach <= gap[i]) return;
     if (reach > skin)
@@ -757,20 +868,25 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
                  F.style_name, atom->tag[i], reach, skin);
     act.push_back(i);
   };
-  for (int i : act0) consider(i);
-  for (int c = 0; c < cs.nclusters(); c++)
-    for (int t : runs.at(cs.members(c)[0]).touched) consider(t);
+  if (full) {
+    for (int i : act0) consider(i);
+    for (auto &kv : runs)
+      for (int t : kv.second.touched) consider(t);
+  } else
+    for (int i : hdirty) consider(i);
+  bump_epoch(hepoch, hstamp);
+  hdirty.clear();
+
   bump_epoch(pepoch, pstamp);
   const std::vector<int> &cand = F.cand;
   double cc[5];
   for (int i : act) {
     const double ri = F.radius_of(i);
-    double wi[3];
-    wvel(i, wi);
+    const double *wi = w[i];
     if (!cs.is_member(i))
       for (int wl = 0; wl < (int) F.walls.size(); wl++) {
         const FixHardSphere::Wall &W = F.walls[wl];
-        const double g = F.wall_gap(W, x[i], ri);
+        const double g = F.wall_gap(W, x0[i], ri);
         const double s = (W.side < 0) ? 1.0 : -1.0;
         HardSphere::wall_gap_poly(g, s * wi[W.dim], 0.0, cc);
         const Contact ct =
@@ -786,13 +902,13 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
       pstamp[p] = pepoch;
       const int la = cand[2 * p], lb = cand[2 * p + 1];
       const int oa = own[la], ob = own[lb];
-      const bool ma = cs.is_member(oa), mb = cs.is_member(ob);
-      if (ma && mb) continue;    // both static
+      if (cs.is_member(oa) && cs.is_member(ob)) continue;    // both wait
+      double qa[3], qb[3];
+      const double *wa = w[oa], *wb = w[ob];
+      P(la, qa);
+      P(lb, qb);
       const double sigma = F.radius_of(la) + F.radius_of(lb);
-      double wa[3], wb[3];
-      wvel(oa, wa);
-      wvel(ob, wb);
-      const double dq[3] = {x[la][0] - x[lb][0], x[la][1] - x[lb][1], x[la][2] - x[lb][2]};
+      const double dq[3] = {qa[0] - qb[0], qa[1] - qb[1], qa[2] - qb[2]};
       const double dv[3] = {wa[0] - wb[0], wa[1] - wb[1], wa[2] - wb[2]};
       const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
       const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
@@ -809,8 +925,10 @@ void HSLocalEngine::h2_check(std::vector<Hit> &hits)
 
 /* ----------------------------------------------------------------------
    the clusters of the step from the first guess hits, grown until no flow
-   has a contact with a non-member. False if a member left the reach that
-   the cluster rule assumed (then redo with every term joining)
+   has a contact with a non-member. After the first round, a round redoes
+   only what a growth changed (its clusters, the paths of their atoms and
+   the clusters around them). False if a member left the reach the cluster
+   rule assumed (then redo with every term joining)
 ------------------------------------------------------------------------- */
 
 bool HSLocalEngine::settle(const std::vector<Hit> &hits)
@@ -820,6 +938,22 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   const double dt = F.dtv;
+
+  // per-atom bookkeeping of the previous attempt
+  for (int p : sums_used) {
+    cnt[p] = 0;
+    in_sums[p] = 0;
+  }
+  sums_used.clear();
+  for (int a : runs_used) atom_runs[a].clear();
+  runs_used.clear();
+  bump_epoch(depoch, dstamp);
+  dirty.clear();
+  bump_epoch(hepoch, hstamp);
+  hdirty.clear();
+  drifted = false;
+  bool checked = false;    // Phi_H2 checked in full once
+
   cs.reset(nlocal);
   cs.set_partners_join(false);
   for (const Hit &h : hits) cs.add_contact(h.i, h.j < 0 ? -1 : h.j);
@@ -827,52 +961,84 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
   cs.build();
   runs.clear();
 
+  auto enroll = [&](int a, int key) {
+    if (atom_runs[a].empty()) runs_used.push_back(a);
+    atom_runs[a].push_back(key);
+  };
+
   for (int round = 0;; round++) {
     if (round > MAX_ROUNDS)
       error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
                  "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
     std::vector<Hit> ev;
-    // Phi_H1(dt/2), non-members at x0
+    // Phi_H1(dt/2) of the clusters not run yet, their static atoms at x0
+    std::vector<int> fresh;
     for (int c = 0; c < cs.nclusters(); c++) {
-      Run &r = runs[cs.members(c)[0]];
+      const int key = cs.members(c)[0];
+      Run &r = runs[key];
       if (r.a_done) continue;
       r.members = cs.members(c);
-      flow(r, 0.5 * dt, true, ev);
+      r.b_done = false;
+      if (!flow(r, 0.5 * dt, true, ev)) continue;
+      contribute(r, 1.0);
+      for (int t : r.touched) mark_dirty(t);
+      for (int a : r.env) enroll(a, key);
+      for (int a : r.members) enroll(a, key);
+      fresh.push_back(c);
     }
     if (!ev.empty()) dbg[0] += 1;
-    if (ev.empty()) { cross_check(true, ev); if (!ev.empty()) dbg[1] += 1; }
+    if (ev.empty()) {
+      cross_check(true, fresh, ev);
+      if (!ev.empty()) dbg[1] += 1;
+    }
     if (!ev.empty()) {
       grow(ev);
       continue;
     }
-    // Phi_H2(dt): members wait at their mid-step positions
-    for (int c = 0; c < cs.nclusters(); c++) {
-      const Run &r = runs.at(cs.members(c)[0]);
-      for (size_t k = 0; k < r.members.size(); k++) set_x(r.members[k], r.xm[k].data());
-    }
-    h2_check(ev);
+    // Phi_H2(dt): its contacts; then the non-members' drift
+    h2_check(!checked, ev);
+    checked = true;
     if (!ev.empty()) {
       dbg[2] += 1;
       grow(ev);
       continue;
     }
-    for (int i = 0; i < nlocal; i++)
-      if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
-        wvel(i, w[i]);
-        x[i][0] = x0[i][0] + dt * w[i][0];
-        x[i][1] = x0[i][1] + dt * w[i][1];
-        x[i][2] = x0[i][2] + dt * w[i][2];
-      }
-    comm->forward_comm();
-    // Phi_H1(dt/2), non-members at their end positions
-    for (int c = 0; c < cs.nclusters(); c++) flow(runs.at(cs.members(c)[0]), 0.5 * dt, false, ev);
-    if (!ev.empty()) dbg[3] += 1;
-    if (ev.empty()) { cross_check(false, ev); if (!ev.empty()) dbg[4] += 1; }
-    if (!ev.empty()) {
+    if (!drifted) {
       for (int i = 0; i < nlocal; i++)
-        if ((mask[i] & F.groupbit) && !cs.is_member(i))
-          for (int d = 0; d < 3; d++) x[i][d] = x0[i][d];
+        if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
+          x[i][0] = x0[i][0] + dt * w[i][0];
+          x[i][1] = x0[i][1] + dt * w[i][1];
+          x[i][2] = x0[i][2] + dt * w[i][2];
+        }
       comm->forward_comm();
+      drifted = true;
+    } else
+      for (int i : dirty)
+        if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
+          const double xn[3] = {x0[i][0] + dt * w[i][0], x0[i][1] + dt * w[i][1],
+                                x0[i][2] + dt * w[i][2]};
+          set_x(i, xn);
+        }
+    // Phi_H1(dt/2) of the clusters whose start or surroundings changed
+    for (int a : dirty)
+      for (int key : atom_runs[a]) {
+        auto it = runs.find(key);
+        if (it != runs.end()) it->second.b_done = false;
+      }
+    bump_epoch(depoch, dstamp);
+    dirty.clear();
+    fresh.clear();
+    for (int c = 0; c < cs.nclusters(); c++) {
+      Run &r = runs.at(cs.members(c)[0]);
+      if (r.b_done) continue;
+      if (flow(r, 0.5 * dt, false, ev)) fresh.push_back(c);
+    }
+    if (!ev.empty()) dbg[3] += 1;
+    if (ev.empty()) {
+      cross_check(false, fresh, ev);
+      if (!ev.empty()) dbg[4] += 1;
+    }
+    if (!ev.empty()) {
       grow(ev);
       continue;
     }
@@ -880,7 +1046,6 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
   }
   return safe_rule || paths_within();
 }
-
 
 /* ----------------------------------------------------------------------
    one step: Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2) with C grown until no
@@ -900,7 +1065,6 @@ bool HSLocalEngine::step()
   double **x = atom->x, **v = atom->v;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const double dt = F.dtv;
   for (int i = 0; i < nlocal; i++)
     for (int d = 0; d < 3; d++) {
       x0[i][d] = x[i][d];
@@ -918,27 +1082,47 @@ bool HSLocalEngine::step()
                  update->ntimestep);
     safe_rule = true;
     dbg[5] += 1;
-    for (int i = 0; i < nlocal; i++) set_x(i, x0[i]), set_v(i, v0[i]);
+    for (int i = 0; i < nlocal; i++)
+      for (int d = 0; d < 3; d++) {
+        x[i][d] = x0[i][d];
+        v[i][d] = v0[i][d];
+      }
     comm->forward_comm();
   }
 
-  // the collisions and impulse virial of the final clusters' flows
+  // the final clusters: their end states, collisions, impulse virial, and
+  // on the touched atoms V_C's end forces and the partners' second-half kicks
+  bump_epoch(eepoch, estamp);
   for (int c = 0; c < cs.nclusters(); c++) {
     const Run &r = runs.at(cs.members(c)[0]);
+    for (size_t k = 0; k < r.members.size(); k++) {
+      set_x(r.members[k], r.xe[k].data());
+      set_v(r.members[k], r.ve[k].data());
+    }
     for (int h = 0; h < 2; h++) {
       F.ncoll_pair += r.npair[h];
       F.ncoll_wall += r.nwall[h];
       for (int k = 0; k < 6; k++) F.virial[k] += r.vir[h][k];
       if (r.npair[h] + r.nwall[h] > 0.0) F.step_collided = 1;
     }
+    for (size_t k = 0; k < r.touched.size(); k++) {
+      const int p = r.touched[k];
+      if (estamp[p] != eepoch) {
+        estamp[p] = eepoch;
+        for (int d = 0; d < 3; d++) fcend[p][d] = dvb[p][d] = 0.0;
+      }
+      for (int d = 0; d < 3; d++) {
+        fcend[p][d] += r.fend[k][d];
+        dvb[p][d] += r.dvB[k][d];
+      }
+    }
   }
 
   // the non-members' velocities: w plus the second half's partner kicks
-  totals(true);
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit) || cs.is_member(i)) continue;
     if (estamp[i] == eepoch)
-      for (int d = 0; d < 3; d++) v[i][d] = w[i][d] + dvt[i][d];
+      for (int d = 0; d < 3; d++) v[i][d] = w[i][d] + dvb[i][d];
     else
       for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
   }

@@ -103,8 +103,10 @@ class HSLocalEngine : protected Pointers {
     std::vector<int> members;    // owned indices, sorted
     std::vector<int> touched;    // members and partners (owned)
     std::vector<Vec> fk0;        // V_C's force of this cluster at the step's start, on touched
-    bool a_done = false;
+    bool a_done = false, b_done = false, contributed = false;
+    std::vector<int> env;                    // static atoms of its flows (partners, contact candidates)
     std::vector<Vec> xm, vm;                 // members after Phi_H1(dt/2)
+    std::vector<Vec> xe, ve;                 // members at the step's end
     std::vector<Vec> dvA, dvB, fend;         // on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     // what each half's flow adds to the fix's counters and virial (only the
@@ -116,9 +118,24 @@ class HSLocalEngine : protected Pointers {
   // per owned atom, sized atom->nmax
   int nmax = 0;
   double **x0 = nullptr, **v0 = nullptr, **w = nullptr, **fcend = nullptr;
-  double **fc0 = nullptr, **dvt = nullptr;
-  std::vector<uint32_t> tstamp, estamp;    // touched this round / at the step's end
-  uint32_t tepoch = 0, eepoch = 0;
+  double **fc0 = nullptr, **dvt = nullptr, **dvb = nullptr;
+  // sums over the clusters run so far (fc0: V_C's start force, dvt: first-half
+  // partner kicks) and how many clusters touch each atom
+  std::vector<int> cnt, sums_used;
+  std::vector<char> in_sums;
+  std::vector<uint32_t> estamp;    // in V_C at the step's end (fcend, dvb)
+  uint32_t eepoch = 0;
+  // atoms whose path changed since the last Phi_H2 check, and the clusters
+  // whose flows see each atom (for redoing only what a growth changed)
+  std::vector<uint32_t> dstamp;
+  uint32_t depoch = 0;
+  std::vector<int> dirty;
+  std::vector<uint32_t> hstamp;    // the same, since the last Phi_H2 check
+  uint32_t hepoch = 0;
+  std::vector<int> hdirty;
+  std::vector<std::vector<int>> atom_runs;
+  std::vector<int> runs_used;
+  bool drifted = false;
   int local_step = 0;
 
   // contact candidates by owned atom (pair indices into fix->cand / 2)
@@ -143,10 +160,12 @@ class HSLocalEngine : protected Pointers {
   void add_terms(const std::vector<int> &newm);
   void grow(const std::vector<Hit> &hits);
   bool flow(Run &r, double h, bool first_half, std::vector<Hit> &hits);
-  void cross_check(bool first_half, std::vector<Hit> &hits);
-  void h2_check(std::vector<Hit> &hits);
+  void cross_check(bool first_half, const std::vector<int> &fresh, std::vector<Hit> &hits);
+  void h2_check(bool full, std::vector<Hit> &hits);
+  void contribute(Run &r, double sign);
+  void retire(Run &r);
+  void mark_dirty(int i);
   void wvel(int i, double *wi) const;
-  void totals(bool with_b);
   bool settle(const std::vector<Hit> &hits);
   bool paths_within();
   double pathmax = 0.0, dunite = 0.0;
