@@ -28,6 +28,11 @@
 using namespace LAMMPS_NS;
 using HardSphere::Contact;
 
+// Phi_H2's lines of atoms near a cluster deviate from fix nve's by the V_C
+// kicks; pairs (walls) that pass fix nve's lines farther than this
+// (relative to the contact distance) need no check in Phi_H2 as long as
+// every deviation stays below half of it (checked, else all are checked)
+static constexpr double LINE_MARGIN = 1.0e-3;
 // growth rounds of one step beyond which something is wrong
 static constexpr int MAX_ROUNDS = 10000;
 // a member may move UNITE_PATHS x the longest screened Verlet path of the
@@ -44,8 +49,8 @@ HSLocalEngine::HSLocalEngine(LAMMPS *lmp, FixHardSphere *f) : Pointers(lmp), fix
 HSLocalEngine::~HSLocalEngine()
 {
   if (getenv("HS_LOCAL_DEBUG"))
-    printf("HS_LOCAL_DEBUG growth A-flow %g A-cross %g H2 %g B-flow %g B-cross %g safe %g\n", dbg[0],
-           dbg[1], dbg[2], dbg[3], dbg[4], dbg[5]);
+    printf("HS_LOCAL_DEBUG growth A-flow %g A-cross %g H2 %g B-flow %g B-cross %g safe %g act0 %g act %g nolist %g\n", dbg[0],
+           dbg[1], dbg[2], dbg[3], dbg[4], dbg[5], dbg[6] / dbg[8], dbg[7] / dbg[8], dbg[9]);
   delete locf;
   memory->destroy(x0);
   memory->destroy(v0);
@@ -215,8 +220,10 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   FixHardSphere &F = *fix;
   double **x = atom->x, **v = atom->v, **acc = F.acc;
   const double *active = F.active;
-  static const double margin = getenv("HS_MARGIN") ? atof(getenv("HS_MARGIN")) : 0.0;
   const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  double **xref = F.xref;
+  const double *gap = F.gap;
   const double dt = F.dtv;
   double c[5];
   auto path = [&](int k) {
@@ -224,13 +231,23 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
     return dt * vv + 0.5 * dt * dt * aa;
   };
+  // the screen's active spheres, and those within LINE_MARGIN / 2 of being
+  // active (Phi_H2's lines may deviate that much from fix nve's, below)
   act0.clear();
+  near_pairs.clear();
+  near_walls.clear();
   pathmax = 0.0;
-  for (int i = 0; i < nlocal; i++)
-    if (active[i] != 0.0) {
-      act0.push_back(i);
-      pathmax = std::max(pathmax, path(i));
+  const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & F.groupbit)) continue;
+    if (active[i] == 0.0) {
+      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
+                   dz = x[i][2] - xref[i][2];
+      if (sqrt(dx * dx + dy * dy + dz * dz) + path(i) + mhalf <= gap[i]) continue;
     }
+    act0.push_back(i);
+    pathmax = std::max(pathmax, path(i));
+  }
   for (int i : act0) {
     const double Di = path(i), r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
@@ -243,7 +260,22 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       if (ct.status == HardSphere::OVERLAP)
         error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was missed",
                    F.style_name, atom->tag[i], -g, update->ntimestep);
-      if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
+      if (ct.status != HardSphere::NO_CONTACT) {
+        hits.push_back({i, -1 - wl});
+        continue;
+      }
+      // fix nve's straight line (Phi_H2's, up to the V_C kicks): a contact
+      // joins the guess, a near miss is listed for Phi_H2's check
+      const double m = LINE_MARGIN * 2.0 * r;
+      const double wn = s * (v[i][W.dim] + 0.5 * dt * acc[i][W.dim]);
+      HardSphere::wall_gap_poly(g - m, wn, 0.0, c);
+      if (HardSphere::first_contact(c, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * r).status ==
+          HardSphere::NO_CONTACT)
+        continue;
+      HardSphere::wall_gap_poly(g, wn, 0.0, c);
+      const Contact cl = HardSphere::first_contact(c, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * r);
+      if (cl.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
+      else near_walls.push_back(i);
     }
   }
   // candidate pairs with an active sphere (ghosts are active with their owner)
@@ -258,7 +290,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       const double sigma = F.radius_of(i) + F.radius_of(j);
       const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
       const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
-      const double reach = sigma + path(i) + path(j);
+      const double sm = sigma * (1.0 + LINE_MARGIN);
+      const double reach = sm + path(i) + path(j);
       if (r2 > reach * reach) continue;
       const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
       const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
@@ -270,17 +303,23 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
         hits.push_back({own[i], own[j]});
         continue;
       }
-      // near misses: the split flows' paths differ from these by O(dt^2 a)
-      if (margin > 0.0) {
-        const double sm = sigma * (1.0 + margin);
-        if (r2 < sm * sm) {
-          if (dq[0] * dv[0] + dq[1] * dv[1] + dq[2] * dv[2] < 0.0) hits.push_back({own[i], own[j]});
+      // fix nve's straight lines (Phi_H2's, up to the V_C kicks of the
+      // partners): a contact joins the guess, a near miss within the margin
+      // is listed for Phi_H2's check
+      const double dw[3] = {dv[0] + 0.5 * dt * da[0], dv[1] + 0.5 * dt * da[1],
+                            dv[2] + 0.5 * dt * da[2]};
+      const double zero[3] = {0.0, 0.0, 0.0};
+      if (r2 >= sm * sm) {
+        HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
+        if (HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sm * sm).status ==
+            HardSphere::NO_CONTACT)
           continue;
-        }
-        HardSphere::pair_gap_poly(dq, dv, da, sm, c);
-        const Contact cm = HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sm * sm);
-        if (cm.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
       }
+      HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
+      const Contact cl =
+          HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
+      if (cl.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
+      else near_pairs.push_back(p);
     }
 }
 
@@ -437,10 +476,12 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int i : M) set_x(i, x0[i]);
   else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
-  locf->compute(M.data(), nm);
+  if (first_half) locf->compute(M.data(), nm);
+  else locf->recompute(r.snap);    // the lists of the first half
   ncompute += 1.0;
   std::vector<Vec> env_saved;
   if (first_half) {
+    locf->save(r.snap);
     r.touched = locf->touched();
     // the static atoms of this flow: partners and contact candidates
     r.env.clear();
@@ -832,13 +873,6 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
   double **xref = F.xref;
   const double *gap = F.gap;
   // the position of local index l at the start of Phi_H2
-  auto P = [&](int l, double *q) {
-    const int o = own[l];
-    if (cs.is_member(o))
-      for (int d = 0; d < 3; d++) q[d] = x[l][d];
-    else
-      for (int d = 0; d < 3; d++) q[d] = x0[o][d] + (x[l][d] - x[o][d]);
-  };
   bump_epoch(aepoch, astamp);
   std::vector<int> act;
   // w of every group atom is kept in w[] from the full check on; a later
@@ -850,16 +884,19 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
   } else
     for (int i : hdirty)
       if (mask[i] & F.groupbit) wvel(i, w[i]);
-  auto consider = [&](int i) {
+  // an atom that may touch something in Phi_H2. always: check all its
+  // pairs (its path changed while its partners' did not: only the pairs of
+  // an atom outside its gap can touch, and that may be the partner)
+  auto consider = [&](int i, bool always) {
     if (astamp[i] == aepoch || !(mask[i] & F.groupbit)) return;
     astamp[i] = aepoch;
     double q[3];
     const double *wi = w[i];
-    P(i, q);
+    h2_pos(i, q);
     const double D = dt * sqrt(wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]);
     const double dx = q[0] - xref[i][0], dy = q[1] - xref[i][1], dz = q[2] - xref[i][2];
     const double reach = sqrt(dx * dx + dy * dy + dz * dz) + D;
-    if (reach <= gap[i]) return;
+    if (!always && reach <= gap[i]) return;
     if (reach > skin)
       error->one(FLERR,
                  "Fix {}: atom {} may be {} away from where the neighbor list was built, "
@@ -868,58 +905,115 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
                  F.style_name, atom->tag[i], reach, skin);
     act.push_back(i);
   };
+  // full: if every line deviates from fix nve's by less than LINE_MARGIN / 2
+  // of the contact distance, only the pairs predict_all() listed as near
+  // misses and the pairs with a member (waiting at xm) can touch
+  bool lists = false;
   if (full) {
-    for (int i : act0) consider(i);
-    for (auto &kv : runs)
-      for (int t : kv.second.touched) consider(t);
+    double dev = 0.0;
+    for (int p : sums_used) {
+      if (cnt[p] == 0 || cs.is_member(p) || !(mask[p] & F.groupbit)) continue;
+      const double dtfm = F.dtf / F.mass_of(p);
+      double d2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        const double e = w[p][d] - (v0[p][d] + dtfm * atom->f[p][d]);
+        d2 += e * e;
+      }
+      dev = std::max(dev, sqrt(d2));
+    }
+    lists = dt * dev <= 0.5 * LINE_MARGIN * 2.0 * F.rmax * 0.999;
+    if (!lists) {
+      dbg[9] += 1;
+      for (int i : act0) consider(i, false);
+      for (auto &kv : runs)
+        for (int t : kv.second.touched) consider(t, false);
+    }
   } else
-    for (int i : hdirty) consider(i);
+    for (int i : hdirty) consider(i, true);
   bump_epoch(hepoch, hstamp);
   hdirty.clear();
+  if (lists) {
+    // members: every candidate pair; the listed near misses; walls
+    for (int c = 0; c < cs.nclusters(); c++)
+      for (int m : cs.members(c)) consider(m, true);
+    bump_epoch(pepoch, pstamp);
+    for (int p : near_pairs) pstamp[p] = pepoch;    // checked below, with act's
+    for (int p : near_pairs) check_pair(p, hits);
+    for (int i : near_walls)
+      if (!cs.is_member(i)) check_walls(i, hits);
+  } else
+    bump_epoch(pepoch, pstamp);
 
-  bump_epoch(pepoch, pstamp);
-  const std::vector<int> &cand = F.cand;
-  double cc[5];
+  if (full) {
+    dbg[6] += act0.size();
+    dbg[7] += act.size();
+    dbg[8] += 1;
+  }
   for (int i : act) {
-    const double ri = F.radius_of(i);
-    const double *wi = w[i];
-    if (!cs.is_member(i))
-      for (int wl = 0; wl < (int) F.walls.size(); wl++) {
-        const FixHardSphere::Wall &W = F.walls[wl];
-        const double g = F.wall_gap(W, x0[i], ri);
-        const double s = (W.side < 0) ? 1.0 : -1.0;
-        HardSphere::wall_gap_poly(g, s * wi[W.dim], 0.0, cc);
-        const Contact ct =
-            HardSphere::first_contact(cc, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * ri);
-        if (ct.status == HardSphere::OVERLAP)
-          error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was "
-                     "missed", F.style_name, atom->tag[i], -g, update->ntimestep);
-        if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
-      }
+    if (!cs.is_member(i)) check_walls(i, hits);
     for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
       const int p = adj[e];
       if (pstamp[p] == pepoch) continue;
       pstamp[p] = pepoch;
-      const int la = cand[2 * p], lb = cand[2 * p + 1];
-      const int oa = own[la], ob = own[lb];
-      if (cs.is_member(oa) && cs.is_member(ob)) continue;    // both wait
-      double qa[3], qb[3];
-      const double *wa = w[oa], *wb = w[ob];
-      P(la, qa);
-      P(lb, qb);
-      const double sigma = F.radius_of(la) + F.radius_of(lb);
-      const double dq[3] = {qa[0] - qb[0], qa[1] - qb[1], qa[2] - qb[2]};
-      const double dv[3] = {wa[0] - wb[0], wa[1] - wb[1], wa[2] - wb[2]};
-      const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
-      const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
-      if (r2 > reach * reach) continue;
-      const double da[3] = {0.0, 0.0, 0.0};
-      HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
-      const Contact ct =
-          HardSphere::first_contact(cc, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
-      if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(la, lb, sqrt(r2), sigma);
-      if (ct.status != HardSphere::NO_CONTACT) hits.push_back({oa, ob});
+      check_pair(p, hits);
     }
+  }
+}
+
+// the position of local index l at the start of Phi_H2 (members wait at xm)
+void HSLocalEngine::h2_pos(int l, double *q) const
+{
+  double **x = atom->x;
+  const int o = own[l];
+  if (cs.is_member(o))
+    for (int d = 0; d < 3; d++) q[d] = x[l][d];
+  else
+    for (int d = 0; d < 3; d++) q[d] = x0[o][d] + (x[l][d] - x[o][d]);
+}
+
+// a contact of candidate pair p on Phi_H2's lines
+void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  const std::vector<int> &cand = F.cand;
+  const int la = cand[2 * p], lb = cand[2 * p + 1];
+  const int oa = own[la], ob = own[lb];
+  if (cs.is_member(oa) && cs.is_member(ob)) return;    // both wait
+  const double dt = F.dtv;
+  double qa[3], qb[3], cc[5];
+  const double *wa = w[oa], *wb = w[ob];
+  h2_pos(la, qa);
+  h2_pos(lb, qb);
+  const double sigma = F.radius_of(la) + F.radius_of(lb);
+  const double dq[3] = {qa[0] - qb[0], qa[1] - qb[1], qa[2] - qb[2]};
+  const double dv[3] = {wa[0] - wb[0], wa[1] - wb[1], wa[2] - wb[2]};
+  const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+  const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
+  if (r2 > reach * reach) return;
+  const double da[3] = {0.0, 0.0, 0.0};
+  HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
+  const Contact ct =
+      HardSphere::first_contact(cc, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
+  if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(la, lb, sqrt(r2), sigma);
+  if (ct.status != HardSphere::NO_CONTACT) hits.push_back({oa, ob});
+}
+
+// wall contacts of non-member i on its Phi_H2 line
+void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
+{
+  FixHardSphere &F = *fix;
+  const double dt = F.dtv, ri = F.radius_of(i);
+  double cc[5];
+  for (int wl = 0; wl < (int) F.walls.size(); wl++) {
+    const FixHardSphere::Wall &W = F.walls[wl];
+    const double g = F.wall_gap(W, x0[i], ri);
+    const double s = (W.side < 0) ? 1.0 : -1.0;
+    HardSphere::wall_gap_poly(g, s * w[i][W.dim], 0.0, cc);
+    const Contact ct = HardSphere::first_contact(cc, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * ri);
+    if (ct.status == HardSphere::OVERLAP)
+      error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was "
+                 "missed", F.style_name, atom->tag[i], -g, update->ntimestep);
+    if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
   }
 }
 

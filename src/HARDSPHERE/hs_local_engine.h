@@ -53,6 +53,7 @@
 #define LMP_HS_LOCAL_ENGINE_H
 
 #include "hs_cluster.h"
+#include "hs_local_forces.h"
 #include "pointers.h"
 
 #include <array>
@@ -86,7 +87,7 @@ class HSLocalEngine : protected Pointers {
   const HardSphere::ClusterCounters &counters();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
   double ncompute = 0.0;    // restricted force evaluations
-  double dbg[6] = {0, 0, 0, 0, 0, 0};
+  double dbg[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 
  private:
   FixHardSphere *fix;
@@ -102,6 +103,7 @@ class HSLocalEngine : protected Pointers {
   struct Run {
     std::vector<int> members;    // owned indices, sorted
     std::vector<int> touched;    // members and partners (owned)
+    HSLocalForces::Snapshot snap;    // its restricted lists
     std::vector<Vec> fk0;        // V_C's force of this cluster at the step's start, on touched
     bool a_done = false, b_done = false, contributed = false;
     std::vector<int> env;                    // static atoms of its flows (partners, contact candidates)
@@ -166,6 +168,10 @@ class HSLocalEngine : protected Pointers {
   void retire(Run &r);
   void mark_dirty(int i);
   void wvel(int i, double *wi) const;
+  void h2_pos(int l, double *q) const;
+  void check_pair(int p, std::vector<Hit> &hits);
+  void check_walls(int i, std::vector<Hit> &hits);
+  std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   bool settle(const std::vector<Hit> &hits);
   bool paths_within();
   double pathmax = 0.0, dunite = 0.0;

@@ -347,6 +347,45 @@ void HSLocalForces::recompute()
   ncalls += 1.0;
 }
 
+void HSLocalForces::save(Snapshot &sn) const
+{
+  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  sn.ilist = ilist_;
+  sn.counts.resize(ilist_.size());
+  sn.offs.resize(ilist_.size());
+  for (size_t k = 0; k < ilist_.size(); k++) {
+    const int i = ilist_[k];
+    sn.counts[k] = numneigh_[i];
+    sn.offs[k] = (L && firstneigh_[i] == L->firstneigh[i]) ? -1
+                                                            : (int) (firstneigh_[i] - neigh_.data());
+  }
+  sn.neigh = neigh_;
+  for (int b = 0; b < 4; b++) sn.sub[b] = bonded_[b].sub;
+  sn.zero_list = zero_list_;
+  sn.touched = touched_owned_;
+  sn.ncalls = last_ncalls_;
+}
+
+void HSLocalForces::recompute(const Snapshot &sn)
+{
+  if (comm->nprocs > 1 || sn.ncalls != neighbor->ncalls)
+    error->all(FLERR, "{}: local forces recomputed from a snapshot of another list", owner_);
+  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  ilist_ = sn.ilist;
+  neigh_ = sn.neigh;
+  for (size_t k = 0; k < ilist_.size(); k++) {
+    const int i = ilist_[k];
+    numneigh_[i] = sn.counts[k];
+    firstneigh_[i] = (sn.offs[k] < 0) ? L->firstneigh[i] : neigh_.data() + sn.offs[k];
+  }
+  for (int b = 0; b < 4; b++) bonded_[b].sub = sn.sub[b];
+  zero_list_ = sn.zero_list;
+  touched_owned_ = sn.touched;
+  last_ncalls_ = sn.ncalls;
+  last_nc_ = 1;
+  recompute();
+}
+
 /* ----------------------------------------------------------------------
    the styles' own compute() on the restricted lists, then the ghosts'
    forces to their owners

@@ -81,6 +81,16 @@ class HSLocalForces : protected Pointers {
   // its restricted lists (one rank; no list build since): O(its terms)
   // without the bookkeeping of compute()
   void recompute();
+  // the restricted lists of the last compute(), kept by the caller to
+  // evaluate the same terms again later in the step without rebuilding them
+  // (one rank; no list build in between)
+  struct Snapshot {
+    std::vector<int> ilist, counts, offs, neigh, zero_list, touched;
+    std::vector<int *> sub[4];
+    int64_t ncalls = -1;
+  };
+  void save(Snapshot &) const;
+  void recompute(const Snapshot &);
   const std::vector<int> &touched() const { return touched_owned_; }
 
   // the terms of V_C of the last compute(), each as its atoms (local
