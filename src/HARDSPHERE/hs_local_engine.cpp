@@ -129,6 +129,8 @@ void HSLocalEngine::grow_arrays()
   if ((int) estamp.size() < nmax) {
     estamp.resize(nmax, 0);
     astamp.resize(nmax, 0);
+    astamp0.resize(nmax, 0);
+    pathv.resize(nmax, 0.0);
   }
 }
 
@@ -233,23 +235,34 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   };
   // the screen's active spheres, and those within LINE_MARGIN / 2 of being
   // active (Phi_H2's lines may deviate that much from fix nve's, below)
+  bump_epoch(pepoch0, astamp0);
   act0.clear();
   near_pairs.clear();
   near_walls.clear();
   pathmax = 0.0;
   const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
+  const double t2 = dt * dt, h4 = 0.25 * t2 * t2;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit)) continue;
     if (active[i] == 0.0) {
+      // as FixHardSphere::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
       const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
                    dz = x[i][2] - xref[i][2];
-      if (sqrt(dx * dx + dy * dy + dz * dz) + path(i) + mhalf <= gap[i]) continue;
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+      const double a2 =
+          h4 * (acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);
+      const double g = gap[i] - mhalf;
+      if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) continue;
+      if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) continue;
     }
     act0.push_back(i);
-    pathmax = std::max(pathmax, path(i));
+    astamp0[i] = pepoch0;
+    pathv[i] = path(i);
+    pathmax = std::max(pathmax, pathv[i]);
   }
   for (int i : act0) {
-    const double Di = path(i), r = F.radius_of(i);
+    const double Di = pathv[i], r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
       const FixHardSphere::Wall &W = F.walls[wl];
       const double g = F.wall_gap(W, x[i], r);
@@ -291,7 +304,10 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
       const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
       const double sm = sigma * (1.0 + LINE_MARGIN);
-      const double reach = sm + path(i) + path(j);
+      // the path bound of act0's atoms is kept; a pair may have one other end
+      const double pi = (astamp0[own[i]] == pepoch0) ? pathv[own[i]] : path(i);
+      const double pj = (astamp0[own[j]] == pepoch0) ? pathv[own[j]] : path(j);
+      const double reach = sm + pi + pj;
       if (r2 > reach * reach) continue;
       const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
       const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
@@ -331,8 +347,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
 void HSLocalEngine::add_terms(const std::vector<int> &newm)
 {
   if (newm.empty()) return;
-  locf->compute(newm.data(), (int) newm.size());
-  ncompute += 1.0;
+  locf->terms(newm.data(), (int) newm.size());
   const std::vector<int> &ta = locf->term_atoms();
   const std::vector<int> &tl = locf->term_local();
   const std::vector<int> &off = locf->term_offsets();

@@ -146,6 +146,9 @@ class HSLocalEngine : protected Pointers {
   std::vector<int> adj_off, adj;            // owned atom -> candidate pairs
   std::vector<uint32_t> pstamp;             // candidate pair seen
   std::vector<int> act0;                    // owned atoms the screen marked active
+  std::vector<uint32_t> astamp0;            // in act0 (pathv set)
+  uint32_t pepoch0 = 0;
+  std::vector<double> pathv;                // their Verlet path bound over the step
   std::vector<uint32_t> astamp;             // considered by h2_check
   uint32_t aepoch = 0;
   uint32_t pepoch = 0;

@@ -245,7 +245,7 @@ void HSLocalForces::compute(const int *c, int nc)
   };
   auto add_term = [&](const int *a, int k) {
     for (int t = 0; t < k; t++) {
-      zero(a[t]);
+      if (!terms_only_) zero(a[t]);
       term_atoms_.push_back(owner_of(a[t]));
       term_local_.push_back(a[t]);
     }
@@ -259,17 +259,25 @@ void HSLocalForces::compute(const int *c, int nc)
   if (L) {
     for (int a : marked) {
       if (a < (int) has_row_.size() && has_row_[a]) {
-        ilist_.push_back(a);
-        numneigh_[a] = L->numneigh[a];
-        firstneigh_[a] = L->firstneigh[a];
+        if (!terms_only_) {
+          ilist_.push_back(a);
+          numneigh_[a] = L->numneigh[a];
+          firstneigh_[a] = L->firstneigh[a];
+        }
         const int *jl = L->firstneigh[a];
         for (int k = 0; k < L->numneigh[a]; k++) {
           const int pr[2] = {a, jl[k] & NEIGHMASK};
           add_term(pr, 2);
         }
       }
-      for (int p = pinv_off_[a]; p < pinv_off_[a + 1]; p++)
-        if (!inC(pinv_row_[p])) extra_.emplace_back(pinv_row_[p], pinv_val_[p]);
+      for (int p = pinv_off_[a]; p < pinv_off_[a + 1]; p++) {
+        if (inC(pinv_row_[p])) continue;
+        if (terms_only_) {    // the term only, no restricted row
+          const int pr[2] = {pinv_row_[p], pinv_val_[p] & NEIGHMASK};
+          add_term(pr, 2);
+        } else
+          extra_.emplace_back(pinv_row_[p], pinv_val_[p]);
+      }
     }
     std::sort(extra_.begin(), extra_.end());
     std::vector<int> starts;
@@ -315,6 +323,7 @@ void HSLocalForces::compute(const int *c, int nc)
       }
   }
   nbonded_terms += (double) (term_off_.size() - npair_t);
+  if (terms_only_) return;
 
   // owners of the ghosts in the terms receive their forces: zeroed too
   if (nprocs == 1) {
@@ -328,6 +337,19 @@ void HSLocalForces::compute(const int *c, int nc)
   last_ncalls_ = neighbor->ncalls;
   last_nc_ = nc;
   ncalls += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   the terms of C only (term_atoms(), term_local(), npair_last()), without
+   building the restricted lists or evaluating them
+------------------------------------------------------------------------- */
+
+void HSLocalForces::terms(const int *c, int nc)
+{
+  terms_only_ = true;
+  compute(c, nc);
+  terms_only_ = false;
+  last_nc_ = -1;    // no restricted lists to recompute
 }
 
 /* ----------------------------------------------------------------------

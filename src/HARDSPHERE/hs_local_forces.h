@@ -81,6 +81,9 @@ class HSLocalForces : protected Pointers {
   // its restricted lists (one rank; no list build since): O(its terms)
   // without the bookkeeping of compute()
   void recompute();
+  // only the terms of C (term_atoms(), term_local(), npair_last()): no
+  // lists are built, no forces evaluated (invalidates recompute())
+  void terms(const int *c, int nc);
   // the restricted lists of the last compute(), kept by the caller to
   // evaluate the same terms again later in the step without rebuilding them
   // (one rank; no list build in between)
@@ -144,6 +147,7 @@ class HSLocalForces : protected Pointers {
   void run_styles(class NeighList *L, const bool present[4], bool first = true);
   int64_t last_ncalls_ = -1;
   int last_nc_ = -1;
+  bool terms_only_ = false;
 };
 
 }    // namespace LAMMPS_NS
