@@ -491,10 +491,11 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int i : M) set_x(i, x0[i]);
   else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
-  if (first_half) locf->compute(M.data(), nm);
+  if (first_half) locf->compute(M.data(), nm, false);
   else locf->recompute(r.snap);    // the lists of the first half
   ncompute += 1.0;
-  std::vector<Vec> env_saved;
+  std::vector<Vec> &env_saved = scratch_env;
+  env_saved.clear();
   if (first_half) {
     locf->save(r.snap);
     r.touched = locf->touched();
@@ -528,11 +529,14 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
                F.style_name, update->ntimestep);
   const std::vector<int> &T = r.touched;
   const int nt = (int) T.size();
-  std::vector<Vec> fk(nt), fk1(nt);
+  std::vector<Vec> &fk = scratch_fk, &fk1 = scratch_fk1;
+  fk.resize(nt);
+  fk1.resize(nt);
   double **fl = locf->forces();
   for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
   // where each member sits in T (both sorted)
-  std::vector<int> mi(nm);
+  std::vector<int> &mi = scratch_mi;
+  mi.resize(nm);
   for (int k = 0, t = 0; k < nm; k++) {
     while (T[t] != M[k]) t++;
     mi[k] = t;
@@ -555,8 +559,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   std::vector<Vec> &dv = first_half ? r.dvA : r.dvB;
   dv.assign(nt, Vec{0.0, 0.0, 0.0});
   std::vector<std::vector<Seg>> &segs = first_half ? r.segsA : r.segsB;
-  segs.assign(nm, {});
-  std::vector<double> im(nm);
+  segs.resize(nm);
+  for (auto &sg : segs) sg.clear();
+  std::vector<double> &im = scratch_im;
+  im.resize(nm);
   for (int k = 0; k < nm; k++) im[k] = ftm2v / F.mass_of(M[k]);
   auto member_k = [&](int o) {    // index of owned o in M, -1 if not in this cluster
     if (cs.cluster_of(o) != c) return -1;

@@ -175,6 +175,10 @@ class HSLocalEngine : protected Pointers {
   void check_pair(int p, std::vector<Hit> &hits);
   void check_walls(int i, std::vector<Hit> &hits);
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
+  // scratch of flow(), kept to avoid allocations
+  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1;
+  std::vector<int> scratch_mi;
+  std::vector<double> scratch_im;
   bool settle(const std::vector<Hit> &hits);
   bool paths_within();
   double pathmax = 0.0, dunite = 0.0;

@@ -184,7 +184,7 @@ void HSLocalForces::build_index()
 
 /* ---------------------------------------------------------------------- */
 
-void HSLocalForces::compute(const int *c, int nc)
+void HSLocalForces::compute(const int *c, int nc, bool record_terms)
 {
   if (!initialized_) error->all(FLERR, "{}: local forces used before init()", owner_);
   if (!exact())
@@ -243,9 +243,14 @@ void HSLocalForces::compute(const int *c, int nc)
     const int o = atom->map(atom->tag[j]);
     return (o >= 0 && o < nlocal) ? o : -1;
   };
+  int nterm = 0;
+  const bool record = record_terms || terms_only_;
   auto add_term = [&](const int *a, int k) {
+    ++nterm;
+    if (!terms_only_)
+      for (int t = 0; t < k; t++) zero(a[t]);
+    if (!record) return;
     for (int t = 0; t < k; t++) {
-      if (!terms_only_) zero(a[t]);
       term_atoms_.push_back(owner_of(a[t]));
       term_local_.push_back(a[t]);
     }
@@ -297,7 +302,7 @@ void HSLocalForces::compute(const int *c, int nc)
     for (size_t k = 0, s = 0; k < extra_.size(); k++)
       if (k == 0 || extra_[k - 1].first != extra_[k].first)
         firstneigh_[extra_[k].first] = neigh_.data() + starts[s++];
-    npair_terms += (double) (term_off_.size() - 1);
+    npair_terms += (double) nterm;
   }
 
   // ---- bonded: the entries with an atom of C (or an image)
@@ -306,8 +311,8 @@ void HSLocalForces::compute(const int *c, int nc)
   const int width[4] = {2, 3, 4, 4};
   bool present[4];
   presence(present);
-  const size_t npair_t = term_off_.size();
-  npair_last_ = (int) npair_t - 1;
+  const int npair_t = nterm;
+  npair_last_ = nterm;
   for (int b = 0; b < 4; b++) {
     Bonded &B = bonded_[b];
     B.sub.clear();
@@ -322,7 +327,7 @@ void HSLocalForces::compute(const int *c, int nc)
         add_term(row, width[b]);
       }
   }
-  nbonded_terms += (double) (term_off_.size() - npair_t);
+  nbonded_terms += (double) (nterm - npair_t);
   if (terms_only_) return;
 
   // owners of the ghosts in the terms receive their forces: zeroed too

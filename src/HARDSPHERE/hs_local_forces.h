@@ -75,7 +75,8 @@ class HSLocalForces : protected Pointers {
   // forces()[i] holds it for every owned atom i in touched() (C and the
   // partners); other entries are unspecified. atom->x, atom->f, the lists
   // and the styles' tallies are left as they were.
-  void compute(const int *c, int nc);
+  // record_terms false: term_atoms() etc. are not filled (faster)
+  void compute(const int *c, int nc, bool record_terms = true);
   double **forces() const { return fl_; }
   // the same again at the current x, for the C of the last compute(), with
   // its restricted lists (one rank; no list build since): O(its terms)
