@@ -291,15 +291,14 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       else near_walls.push_back(i);
     }
   }
-  // candidate pairs with an active sphere (ghosts are active with their owner)
+  // candidate pairs with an active sphere (ghosts are active with their
+  // owner): a sequential pass, as FixHardSphere::predict()
   const std::vector<int> &cand = F.cand;
-  bump_epoch(pepoch, pstamp);
-  for (int a : act0)
-    for (int e = adj_off[a]; e < adj_off[a + 1]; e++) {
-      const int p = adj[e];
-      if (pstamp[p] == pepoch) continue;
-      pstamp[p] = pepoch;
+  const int np = (int) cand.size() / 2;
+  for (int p = 0; p < np; p++) {
       const int i = cand[2 * p], j = cand[2 * p + 1];
+      if (astamp0[own[i]] != pepoch0 && astamp0[own[j]] != pepoch0) continue;
+      if (own[i] == own[j]) continue;
       const double sigma = F.radius_of(i) + F.radius_of(j);
       const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
       const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
