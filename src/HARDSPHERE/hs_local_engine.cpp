@@ -35,9 +35,6 @@ using HardSphere::Contact;
 static constexpr double LINE_MARGIN = 1.0e-3;
 // growth rounds of one step beyond which something is wrong
 static constexpr int MAX_ROUNDS = 10000;
-// a member may move UNITE_PATHS x the longest screened Verlet path of the
-// step before far pair terms must join clusters
-static constexpr double UNITE_PATHS = 2.0;
 
 /* ---------------------------------------------------------------------- */
 
@@ -59,6 +56,7 @@ HSLocalEngine::~HSLocalEngine()
   memory->destroy(fc0);
   memory->destroy(dvt);
   memory->destroy(dvb);
+  memory->destroy(held0);
 }
 
 /* ----------------------------------------------------------------------
@@ -91,6 +89,8 @@ std::string HSLocalEngine::init()
   }
   cand_version = -1;
   local_step = 0;
+  bonded = (atom->molecular != Atom::ATOMIC) &&
+      (force->bond || force->angle || force->dihedral || force->improper);
   return why;
 }
 
@@ -114,6 +114,8 @@ void HSLocalEngine::grow_arrays()
     memory->create(fc0, nmax, 3, "hardsphere/local:fc0");
     memory->create(dvt, nmax, 3, "hardsphere/local:dvt");
     memory->create(dvb, nmax, 3, "hardsphere/local:dvb");
+    memory->destroy(held0);
+    memory->create(held0, nmax, 3, "hardsphere/local:held0");
   }
   if ((int) cnt.size() < nmax) {
     // per-atom bookkeeping that refers to local indices: a new size means
@@ -130,6 +132,7 @@ void HSLocalEngine::grow_arrays()
     estamp.resize(nmax, 0);
     astamp.resize(nmax, 0);
     astamp0.resize(nmax, 0);
+    xstamp.resize(nmax, 0);
     pathv.resize(nmax, 0.0);
   }
 }
@@ -239,7 +242,6 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   act0.clear();
   near_pairs.clear();
   near_walls.clear();
-  pathmax = 0.0;
   const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
   const double t2 = dt * dt, h4 = 0.25 * t2 * t2;
   for (int i = 0; i < nlocal; i++) {
@@ -259,7 +261,6 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     act0.push_back(i);
     astamp0[i] = pepoch0;
     pathv[i] = path(i);
-    pathmax = std::max(pathmax, pathv[i]);
   }
   for (int i : act0) {
     const double Di = pathv[i], r = F.radius_of(i);
@@ -345,57 +346,95 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
 
 void HSLocalEngine::add_terms(const std::vector<int> &newm)
 {
-  if (newm.empty()) return;
+  // pair terms between members do not join clusters (cross terms: kicks
+  // in Phi_H2), bonded terms with two members do
+  if (newm.empty() || !bonded) return;
   locf->terms(newm.data(), (int) newm.size());
   const std::vector<int> &ta = locf->term_atoms();
-  const std::vector<int> &tl = locf->term_local();
   const std::vector<int> &off = locf->term_offsets();
   const int npair = locf->npair_last();
-  double **x = atom->x;
-  const int *type = atom->type;
-  double **cutsq = force->pair ? force->pair->cutsq : nullptr;
-  for (size_t t = 0; t + 1 < off.size(); t++) {
-    // a pair term of two members farther apart at the step's start than its
-    // cutoff plus twice the members' allowed path (checked after the flows)
-    // stays zero all step: it does not join their clusters
-    if (!safe_rule && (int) t < npair && cutsq) {
-      const int la = tl[off[t]], lb = tl[off[t] + 1];
-      const int oa = own[la], ob = own[lb];
-      if (oa != ob && cs.is_member(oa) && cs.is_member(ob)) {
-        double r2 = 0.0;
-        for (int d = 0; d < 3; d++) {
-          const double dd = (x0[oa][d] + (x[la][d] - x[oa][d])) - (x0[ob][d] + (x[lb][d] - x[ob][d]));
-          r2 += dd * dd;
-        }
-        const double reach = sqrt(cutsq[type[la]][type[lb]]) + 2.0 * dunite;
-        if (r2 > reach * reach) continue;
+  for (size_t t = npair; t + 1 < off.size(); t++) cs.add_term(ta.data() + off[t], off[t + 1] - off[t]);
+}
+
+// the cluster labels (key: smallest member) on every local copy of the
+// members, for HSLocalForces' cross terms
+void HSLocalEngine::label_members()
+{
+  for (int k : labelled) lab[k] = -1;
+  labelled.clear();
+  for (int c = 0; c < cs.nclusters(); c++) {
+    const int key = cs.members(c)[0];
+    for (int m : cs.members(c))
+      for (int k = m; k >= 0; k = atom->sametag[k]) {
+        lab[k] = key;
+        labelled.push_back(k);
       }
-    }
-    cs.add_term(ta.data() + off[t], off[t + 1] - off[t]);
   }
 }
 
+// the held (thermostat) force f - F(x0) of new members (nheld only):
+// their conservative force at the step's start from all their terms, with
+// every atom in them put back at x0 for the evaluation
+void HSLocalEngine::held_at_start(const std::vector<int> &newm)
+{
+  if (!fix->nheld || newm.empty()) return;
+  double **x = atom->x, **f = atom->f;
+  locf->set_labels(nullptr);
+  locf->compute(newm.data(), (int) newm.size(), false);
+  const std::vector<int> T = locf->touched();
+  std::vector<Vec> saved(T.size());
+  for (size_t k = 0; k < T.size(); k++) {
+    saved[k] = {x[T[k]][0], x[T[k]][1], x[T[k]][2]};
+    set_x(T[k], x0[T[k]]);
+  }
+  locf->recompute();
+  ncompute += 2.0;
+  double **fl = locf->forces();
+  for (int i : newm)
+    for (int d = 0; d < 3; d++) held0[i][d] = f[i][d] - fl[i][d];
+  for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
+  locf->set_labels(lab.data());
+}
+
 /* ----------------------------------------------------------------------
-   did every member stay within dunite of its start position? (the far
-   pair terms add_terms() left out of the clusters are then zero all step)
+   the cross terms (pair terms between members of two clusters) at the
+   members' current positions (xm): their kicks in Phi_H2, dt F / m in all
+   (two half kicks at the same positions: members do not move in it). A
+   cluster whose members' kicks changed redoes its second half
 ------------------------------------------------------------------------- */
 
-bool HSLocalEngine::paths_within()
+void HSLocalEngine::cross_kicks()
 {
+  if (!force->pair) return;
+  std::vector<int> all;
+  for (int c = 0; c < cs.nclusters(); c++)
+    for (int m : cs.members(c)) all.push_back(m);
+  if (all.empty()) return;
+  locf->set_labels(lab.data(), HSLocalForces::CROSS);
+  locf->compute(all.data(), (int) all.size(), false);
+  locf->set_labels(lab.data());
+  ncompute += 1.0;
+  double **fl = locf->forces();
+  const std::vector<int> &T = locf->touched();
+  bump_epoch(xepoch, xstamp);
+  for (int i : T) xstamp[i] = xepoch;    // the members with a cross force
+  const double ftm2v = force->ftm2v, dt = fix->dtv;
   for (int c = 0; c < cs.nclusters(); c++) {
-    const Run &r = runs.at(cs.members(c)[0]);
+    Run &r = runs.at(cs.members(c)[0]);
+    r.fx.resize(r.members.size());
+    bool changed = false;
     for (size_t k = 0; k < r.members.size(); k++) {
-      double p = 0.0;
-      for (const auto *S : {&r.segsA[k], &r.segsB[k]})
-        for (const Seg &s : *S) {
-          const double d = s.t1 - s.t0;
-          p += d * sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]) +
-              0.5 * d * d * sqrt(s.a[0] * s.a[0] + s.a[1] * s.a[1] + s.a[2] * s.a[2]);
-        }
-      if (p > dunite) return false;
+      const int i = r.members[k];
+      Vec d = {0.0, 0.0, 0.0};
+      if (xstamp[i] == xepoch) {
+        const double s = dt * ftm2v / fix->mass_of(i);
+        d = {s * fl[i][0], s * fl[i][1], s * fl[i][2]};
+      }
+      if (d != r.fx[k]) changed = true;
+      r.fx[k] = d;
     }
+    if (changed) r.b_done = false;
   }
-  return true;
 }
 
 void HSLocalEngine::grow(const std::vector<Hit> &hits)
@@ -408,6 +447,17 @@ void HSLocalEngine::grow(const std::vector<Hit> &hits)
   const std::vector<int> newm = cs.new_members();
   add_terms(newm);
   const std::vector<int> redo = cs.rebuild();
+  // a cluster whose flows saw a new member as a partner or a static atom
+  // is redone too: the terms between them are cross terms now
+  for (int m : newm)
+    for (int key : atom_runs[m]) {
+      auto it = runs.find(key);
+      if (it == runs.end() || it->second.members.empty()) continue;
+      retire(it->second);
+      runs.erase(it);
+    }
+  label_members();
+  held_at_start(newm);
   for (int c : redo)
     for (int m : cs.members(c)) {
       auto it = runs.find(m);
@@ -548,12 +598,16 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       double vn[3] = {v0[i][0], v0[i][1], v0[i][2]};
       if (F.nheld) {
         const double dtfm = F.dtf / F.mass_of(i);
-        for (int d = 0; d < 3; d++) vn[d] += dtfm * (f[i][d] - fk[mi[k]][d]);
+        for (int d = 0; d < 3; d++) vn[d] += dtfm * held0[i][d];
       }
       set_v(i, vn);
     }
   } else
-    for (int k = 0; k < nm; k++) set_v(M[k], r.vm[k].data());
+    for (int k = 0; k < nm; k++) {    // Phi_H2's cross-term kicks on top
+      const double vn[3] = {r.vm[k][0] + r.fx[k][0], r.vm[k][1] + r.fx[k][1],
+                            r.vm[k][2] + r.fx[k][2]};
+      set_v(M[k], vn);
+    }
 
   std::vector<Vec> &dv = first_half ? r.dvA : r.dvB;
   dv.assign(nt, Vec{0.0, 0.0, 0.0});
@@ -826,6 +880,8 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
         double dq0[3];
         for (int d = 0; d < 3; d++) dq0[d] = si[0].q[d] - sj[0].q[d] + sh[d];
         const double r0 = sqrt(dq0[0] * dq0[0] + dq0[1] * dq0[1] + dq0[2] * dq0[2]);
+        if (getenv("HS_LOCAL_CHECK") && ((atom->tag[i] == 2129 && atom->tag[o] == 2569) || (atom->tag[i] == 2569 && atom->tag[o] == 2129)))
+          printf("XC0 step %ld half %d r0 %g reach %g\n", (long) update->ntimestep, first_half ? 1 : 2, r0, sigma + path(si) + path(sj));
         if (r0 > sigma + path(si) + path(sj)) continue;
         // walk the common breakpoints
         size_t a = 0, b = 0;
@@ -850,6 +906,8 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
           if (si[a].t1 <= t) a++;
           if (b < sj.size() && sj[b].t1 <= t) b++;
         }
+        if (getenv("HS_LOCAL_CHECK") && ((atom->tag[i] == 2129 && atom->tag[o] == 2569) || (atom->tag[i] == 2569 && atom->tag[o] == 2129)))
+          printf("XC step %ld half %d found %d r0 %g si %zu sj %zu t0 %g %g end %g %g\n", (long) update->ntimestep, first_half ? 1 : 2, (int) found, r0, si.size(), sj.size(), si[0].t0, sj[0].t0, si.back().t1, sj.back().t1);
         if (found) hits.push_back({i, o});
       }
     }
@@ -1045,7 +1103,7 @@ void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
    rule assumed (then redo with every term joining)
 ------------------------------------------------------------------------- */
 
-bool HSLocalEngine::settle(const std::vector<Hit> &hits)
+void HSLocalEngine::settle(const std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
   double **x = atom->x;
@@ -1071,9 +1129,13 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
   cs.reset(nlocal);
   cs.set_partners_join(false);
   for (const Hit &h : hits) cs.add_contact(h.i, h.j < 0 ? -1 : h.j);
-  add_terms(std::vector<int>(cs.new_members()));
+  const std::vector<int> first = cs.new_members();
+  add_terms(first);
   cs.build();
   runs.clear();
+  label_members();
+  locf->set_labels(lab.data());
+  held_at_start(first);
 
   auto enroll = [&](int a, int key) {
     if (atom_runs[a].empty()) runs_used.push_back(a);
@@ -1098,12 +1160,19 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
       for (int t : r.touched) mark_dirty(t);
       for (int a : r.env) enroll(a, key);
       for (int a : r.members) enroll(a, key);
-      fresh.push_back(c);
+      r.a_unchecked = true;
     }
-    if (!ev.empty()) dbg[0] += 1;
+    if (!ev.empty()) { dbg[0] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 0 n %zu\n", (long) update->ntimestep, ev.size()); }
     if (ev.empty()) {
+      // the flows not yet checked against the others (a round that grew
+      // before its check leaves some)
+      for (int c = 0; c < cs.nclusters(); c++) {
+        Run &r = runs.at(cs.members(c)[0]);
+        if (r.a_unchecked) fresh.push_back(c);
+        r.a_unchecked = false;
+      }
       cross_check(true, fresh, ev);
-      if (!ev.empty()) dbg[1] += 1;
+      if (!ev.empty()) { dbg[1] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 1 n %zu\n", (long) update->ntimestep, ev.size()); }
     }
     if (!ev.empty()) {
       grow(ev);
@@ -1113,7 +1182,7 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
     h2_check(!checked, ev);
     checked = true;
     if (!ev.empty()) {
-      dbg[2] += 1;
+      dbg[2] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 2 n %zu\n", (long) update->ntimestep, ev.size());
       grow(ev);
       continue;
     }
@@ -1133,6 +1202,8 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
                                 x0[i][2] + dt * w[i][2]};
           set_x(i, xn);
         }
+    // Phi_H2's kicks of the cross terms, at the members' mid positions
+    cross_kicks();
     // Phi_H1(dt/2) of the clusters whose start or surroundings changed
     for (int a : dirty)
       for (int key : atom_runs[a]) {
@@ -1145,12 +1216,17 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
     for (int c = 0; c < cs.nclusters(); c++) {
       Run &r = runs.at(cs.members(c)[0]);
       if (r.b_done) continue;
-      if (flow(r, 0.5 * dt, false, ev)) fresh.push_back(c);
+      if (flow(r, 0.5 * dt, false, ev)) r.b_unchecked = true;
     }
-    if (!ev.empty()) dbg[3] += 1;
+    if (!ev.empty()) { dbg[3] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 3 n %zu\n", (long) update->ntimestep, ev.size()); }
     if (ev.empty()) {
+      for (int c = 0; c < cs.nclusters(); c++) {
+        Run &r = runs.at(cs.members(c)[0]);
+        if (r.b_unchecked) fresh.push_back(c);
+        r.b_unchecked = false;
+      }
       cross_check(false, fresh, ev);
-      if (!ev.empty()) dbg[4] += 1;
+      if (!ev.empty()) { dbg[4] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 4 n %zu\n", (long) update->ntimestep, ev.size()); }
     }
     if (!ev.empty()) {
       grow(ev);
@@ -1158,7 +1234,7 @@ bool HSLocalEngine::settle(const std::vector<Hit> &hits)
     }
     break;
   }
-  return safe_rule || paths_within();
+  locf->set_labels(nullptr);
 }
 
 /* ----------------------------------------------------------------------
@@ -1185,24 +1261,9 @@ bool HSLocalEngine::step()
       v0[i][d] = v[i][d];
     }
 
-  // far pair terms between members do not join clusters if every member
-  // stays within dunite of its start (checked; else the step is redone
-  // with every term joining)
-  dunite = UNITE_PATHS * pathmax;
-  safe_rule = false;
-  while (!settle(hits)) {
-    if (safe_rule)
-      error->one(FLERR, "Fix {} substep local: step {} could not be settled", F.style_name,
-                 update->ntimestep);
-    safe_rule = true;
-    dbg[5] += 1;
-    for (int i = 0; i < nlocal; i++)
-      for (int d = 0; d < 3; d++) {
-        x[i][d] = x0[i][d];
-        v[i][d] = v0[i][d];
-      }
-    comm->forward_comm();
-  }
+  const int nall = nlocal + atom->nghost;
+  if ((int) lab.size() < nall) lab.resize(nall, -1);
+  settle(hits);
 
   // the final clusters: their end states, collisions, impulse virial, and
   // on the touched atoms V_C's end forces and the partners' second-half kicks
@@ -1240,6 +1301,23 @@ bool HSLocalEngine::step()
     else
       for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
   }
+  if (getenv("HS_LOCAL_CHECK")) {
+    const std::vector<int> &cand = F.cand;
+    for (size_t k = 0; k < cand.size(); k += 2) {
+      const int i = cand[k], j = cand[k + 1];
+      const int oi = own[i], oj = own[j];
+      double dq[3];
+      for (int d = 0; d < 3; d++)
+        dq[d] = (x[oi][d] + (x[i][d] - x[oi][d])) - (x[oj][d] + (x[j][d] - x[oj][d]));
+      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
+      const double sg = F.radius_of(i) + F.radius_of(j);
+      if (r < sg * (1 - 1e-9))
+        printf("CHECK step %ld overlap %d %d r %g member %d %d cluster %d %d cnt %d %d\n",
+               (long) update->ntimestep, (int) atom->tag[oi], (int) atom->tag[oj], r,
+               (int) cs.is_member(oi), (int) cs.is_member(oj), cs.cluster_of(oi),
+               cs.cluster_of(oj), cnt[oi], cnt[oj]);
+    }
+  }
   cs.flush_counters();
   local_step = 1;
   return true;
@@ -1256,11 +1334,24 @@ void HSLocalEngine::final_kick()
   double **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  // members' held forces: f - their conservative force from all their terms
+  if (F.nheld) {
+    std::vector<int> all;
+    for (int c = 0; c < cs.nclusters(); c++)
+      for (int m : cs.members(c)) all.push_back(m);
+    locf->compute(all.data(), (int) all.size(), false);
+    ncompute += 1.0;
+    double **fl = locf->forces();
+    for (int i : all) {
+      const double dtfm = F.dtf / F.mass_of(i);
+      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fl[i][d]);
+    }
+  }
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit)) continue;
     const double dtfm = F.dtf / F.mass_of(i);
+    if (cs.is_member(i)) continue;    // above
     if (estamp[i] == eepoch) {
-      if (cs.is_member(i) && !F.nheld) continue;
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fcend[i][d]);
     } else
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];

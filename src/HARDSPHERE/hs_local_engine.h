@@ -106,9 +106,11 @@ class HSLocalEngine : protected Pointers {
     HSLocalForces::Snapshot snap;    // its restricted lists
     std::vector<Vec> fk0;        // V_C's force of this cluster at the step's start, on touched
     bool a_done = false, b_done = false, contributed = false;
+    bool a_unchecked = false, b_unchecked = false;    // flows not cross-checked yet
     std::vector<int> env;                    // static atoms of its flows (partners, contact candidates)
     std::vector<Vec> xm, vm;                 // members after Phi_H1(dt/2)
     std::vector<Vec> xe, ve;                 // members at the step's end
+    std::vector<Vec> fx;                     // members' cross-term kicks in Phi_H2 (velocity)
     std::vector<Vec> dvA, dvB, fend;         // on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     // what each half's flow adds to the fix's counters and virial (only the
@@ -179,10 +181,16 @@ class HSLocalEngine : protected Pointers {
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1;
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
-  bool settle(const std::vector<Hit> &hits);
-  bool paths_within();
-  double pathmax = 0.0, dunite = 0.0;
-  bool safe_rule = false;
+  void settle(const std::vector<Hit> &hits);
+  // cluster labels on the local copies of members (HSLocalForces' cross terms)
+  std::vector<int> lab, labelled;
+  void label_members();
+  void cross_kicks();
+  std::vector<uint32_t> xstamp;
+  uint32_t xepoch = 0;
+  void held_at_start(const std::vector<int> &newm);
+  double **held0 = nullptr;    // members' held force at the step's start
+  int bonded = 0;              // bonded styles present: their terms join clusters
   void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
 };
 

@@ -261,22 +261,44 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
   ilist_.clear();
   neigh_.clear();
   extra_.clear();
+  // labels (set_labels()): a pair of two atoms with different labels >= 0
+  // is a cross term, left out (NORMAL) or the only one kept (CROSS)
+  auto cross = [&](int a, int b) {
+    return label_ && label_[a] >= 0 && label_[b] >= 0 && label_[a] != label_[b];
+  };
+  const bool only_cross = (mode_ == CROSS);
   if (L) {
     for (int a : marked) {
       if (a < (int) has_row_.size() && has_row_[a]) {
-        if (!terms_only_) {
-          ilist_.push_back(a);
-          numneigh_[a] = L->numneigh[a];
-          firstneigh_[a] = L->firstneigh[a];
-        }
         const int *jl = L->firstneigh[a];
-        for (int k = 0; k < L->numneigh[a]; k++) {
-          const int pr[2] = {a, jl[k] & NEIGHMASK};
-          add_term(pr, 2);
-        }
+        const int nj = L->numneigh[a];
+        bool whole = !only_cross;
+        if (whole && label_ && label_[a] >= 0)
+          for (int k = 0; k < nj && whole; k++) whole = !cross(a, jl[k] & NEIGHMASK);
+        if (whole) {
+          if (!terms_only_) {
+            ilist_.push_back(a);
+            numneigh_[a] = nj;
+            firstneigh_[a] = L->firstneigh[a];
+          }
+          for (int k = 0; k < nj; k++) {
+            const int pr[2] = {a, jl[k] & NEIGHMASK};
+            add_term(pr, 2);
+          }
+        } else
+          // a row with some entries left out: rebuilt below from its kept ones
+          for (int k = 0; k < nj; k++)
+            if (cross(a, jl[k] & NEIGHMASK) == only_cross) {
+              if (terms_only_) {
+                const int pr[2] = {a, jl[k] & NEIGHMASK};
+                add_term(pr, 2);
+              } else
+                extra_.emplace_back(a, jl[k]);
+            }
       }
+      if (only_cross) continue;    // every cross pair is in a row of C
       for (int p = pinv_off_[a]; p < pinv_off_[a + 1]; p++) {
-        if (inC(pinv_row_[p])) continue;
+        if (inC(pinv_row_[p]) || cross(pinv_row_[p], a)) continue;
         if (terms_only_) {    // the term only, no restricted row
           const int pr[2] = {pinv_row_[p], pinv_val_[p] & NEIGHMASK};
           add_term(pr, 2);
@@ -316,7 +338,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
   for (int b = 0; b < 4; b++) {
     Bonded &B = bonded_[b];
     B.sub.clear();
-    if (!present[b]) continue;
+    if (!present[b] || only_cross) continue;
     for (int a : marked)
       for (int p = B.off[a]; p < B.off[a + 1]; p++) {
         const int r = B.rows[p];

@@ -75,6 +75,18 @@ class HSLocalForces : protected Pointers {
   // forces()[i] holds it for every owned atom i in touched() (C and the
   // partners); other entries are unspecified. atom->x, atom->f, the lists
   // and the styles' tallies are left as they were.
+  // labels over the local indices (owned and ghost; -1: none), or nullptr:
+  // with labels, a pair term of two atoms with different labels >= 0 is a
+  // "cross" term. NORMAL: compute() leaves cross terms out; CROSS: it keeps
+  // only them (pair terms; C should hold every labelled atom). Bonded terms
+  // are never left out. The caller keeps the array alive and unchanged
+  // while a snapshot of it is in use.
+  enum Mode { NORMAL = 0, CROSS = 1 };
+  void set_labels(const int *label, Mode mode = NORMAL)
+  {
+    label_ = label;
+    mode_ = mode;
+  }
   // record_terms false: term_atoms() etc. are not filled (faster)
   void compute(const int *c, int nc, bool record_terms = true);
   double **forces() const { return fl_; }
@@ -149,6 +161,8 @@ class HSLocalForces : protected Pointers {
   int64_t last_ncalls_ = -1;
   int last_nc_ = -1;
   bool terms_only_ = false;
+  const int *label_ = nullptr;
+  Mode mode_ = NORMAL;
 };
 
 }    // namespace LAMMPS_NS
