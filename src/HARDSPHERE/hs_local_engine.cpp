@@ -22,8 +22,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <cstdio>
-#include <cstdlib>
 
 using namespace LAMMPS_NS;
 using HardSphere::Contact;
@@ -45,9 +43,6 @@ HSLocalEngine::HSLocalEngine(LAMMPS *lmp, FixHardSphere *f) : Pointers(lmp), fix
 
 HSLocalEngine::~HSLocalEngine()
 {
-  if (getenv("HS_LOCAL_DEBUG"))
-    printf("HS_LOCAL_DEBUG growth A-flow %g A-cross %g H2 %g B-flow %g B-cross %g safe %g act0 %g act %g nolist %g\n", dbg[0],
-           dbg[1], dbg[2], dbg[3], dbg[4], dbg[5], dbg[6] / dbg[8], dbg[7] / dbg[8], dbg[9]);
   delete locf;
   memory->destroy(x0);
   memory->destroy(v0);
@@ -880,8 +875,6 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
         double dq0[3];
         for (int d = 0; d < 3; d++) dq0[d] = si[0].q[d] - sj[0].q[d] + sh[d];
         const double r0 = sqrt(dq0[0] * dq0[0] + dq0[1] * dq0[1] + dq0[2] * dq0[2]);
-        if (getenv("HS_LOCAL_CHECK") && ((atom->tag[i] == 2129 && atom->tag[o] == 2569) || (atom->tag[i] == 2569 && atom->tag[o] == 2129)))
-          printf("XC0 step %ld half %d r0 %g reach %g\n", (long) update->ntimestep, first_half ? 1 : 2, r0, sigma + path(si) + path(sj));
         if (r0 > sigma + path(si) + path(sj)) continue;
         // walk the common breakpoints
         size_t a = 0, b = 0;
@@ -906,8 +899,6 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
           if (si[a].t1 <= t) a++;
           if (b < sj.size() && sj[b].t1 <= t) b++;
         }
-        if (getenv("HS_LOCAL_CHECK") && ((atom->tag[i] == 2129 && atom->tag[o] == 2569) || (atom->tag[i] == 2569 && atom->tag[o] == 2129)))
-          printf("XC step %ld half %d found %d r0 %g si %zu sj %zu t0 %g %g end %g %g\n", (long) update->ntimestep, first_half ? 1 : 2, (int) found, r0, si.size(), sj.size(), si[0].t0, sj[0].t0, si.back().t1, sj.back().t1);
         if (found) hits.push_back({i, o});
       }
     }
@@ -1001,7 +992,6 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
     }
     lists = dt * dev <= 0.5 * LINE_MARGIN * 2.0 * F.rmax * 0.999;
     if (!lists) {
-      dbg[9] += 1;
       for (int i : act0) consider(i, false);
       for (auto &kv : runs)
         for (int t : kv.second.touched) consider(t, false);
@@ -1022,11 +1012,6 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
   } else
     bump_epoch(pepoch, pstamp);
 
-  if (full) {
-    dbg[6] += act0.size();
-    dbg[7] += act.size();
-    dbg[8] += 1;
-  }
   for (int i : act) {
     if (!cs.is_member(i)) check_walls(i, hits);
     for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
@@ -1162,7 +1147,6 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
       for (int a : r.members) enroll(a, key);
       r.a_unchecked = true;
     }
-    if (!ev.empty()) { dbg[0] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 0 n %zu\n", (long) update->ntimestep, ev.size()); }
     if (ev.empty()) {
       // the flows not yet checked against the others (a round that grew
       // before its check leaves some)
@@ -1172,7 +1156,6 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
         r.a_unchecked = false;
       }
       cross_check(true, fresh, ev);
-      if (!ev.empty()) { dbg[1] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 1 n %zu\n", (long) update->ntimestep, ev.size()); }
     }
     if (!ev.empty()) {
       grow(ev);
@@ -1182,7 +1165,6 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
     h2_check(!checked, ev);
     checked = true;
     if (!ev.empty()) {
-      dbg[2] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 2 n %zu\n", (long) update->ntimestep, ev.size());
       grow(ev);
       continue;
     }
@@ -1218,7 +1200,6 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
       if (r.b_done) continue;
       if (flow(r, 0.5 * dt, false, ev)) r.b_unchecked = true;
     }
-    if (!ev.empty()) { dbg[3] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 3 n %zu\n", (long) update->ntimestep, ev.size()); }
     if (ev.empty()) {
       for (int c = 0; c < cs.nclusters(); c++) {
         Run &r = runs.at(cs.members(c)[0]);
@@ -1226,7 +1207,6 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
         r.b_unchecked = false;
       }
       cross_check(false, fresh, ev);
-      if (!ev.empty()) { dbg[4] += 1; if (getenv("HS_LOCAL_CHECK")) printf("GROW step %ld type 4 n %zu\n", (long) update->ntimestep, ev.size()); }
     }
     if (!ev.empty()) {
       grow(ev);
@@ -1300,23 +1280,6 @@ bool HSLocalEngine::step()
       for (int d = 0; d < 3; d++) v[i][d] = w[i][d] + dvb[i][d];
     else
       for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
-  }
-  if (getenv("HS_LOCAL_CHECK")) {
-    const std::vector<int> &cand = F.cand;
-    for (size_t k = 0; k < cand.size(); k += 2) {
-      const int i = cand[k], j = cand[k + 1];
-      const int oi = own[i], oj = own[j];
-      double dq[3];
-      for (int d = 0; d < 3; d++)
-        dq[d] = (x[oi][d] + (x[i][d] - x[oi][d])) - (x[oj][d] + (x[j][d] - x[oj][d]));
-      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-      const double sg = F.radius_of(i) + F.radius_of(j);
-      if (r < sg * (1 - 1e-9))
-        printf("CHECK step %ld overlap %d %d r %g member %d %d cluster %d %d cnt %d %d\n",
-               (long) update->ntimestep, (int) atom->tag[oi], (int) atom->tag[oj], r,
-               (int) cs.is_member(oi), (int) cs.is_member(oj), cs.cluster_of(oi),
-               cs.cluster_of(oj), cnt[oi], cnt[oj]);
-    }
   }
   cs.flush_counters();
   local_step = 1;

@@ -4,49 +4,47 @@
    The global engine (the paper's algorithm, FixHardSphere::initial_integrate)
    sub-steps every atom to every contact with a full force evaluation, so a
    step costs O(N) per collision. This engine makes a collision cost
-   O(its neighbours): per step, with C the spheres that collide in it
-   ("members"), V_C every interaction term with a member and V_R = V - V_C,
+   O(its neighbours). Per step, C is the spheres that collide in it
+   ("members"), grouped into clusters (spheres that touch, or share a
+   bonded term); V_C is every interaction term with a member except the
+   pair terms between members of two clusters (cross terms V_X);
+   V_R = V - V_C. With T_C, T_N the kinetic energies of members and
+   non-members, H = H1 + H2, H1 = T_C + V_C, H2 = T_N + V_R, integrated as
 
-     H = H1 + H2,  H1 = T_C + V_C,  H2 = T_N + V_R + (held forces),
-
-   (T_C: kinetic energy of the members, T_N: of everyone else), integrated
-   by the Strang splitting  Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2):
+     Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2)
 
    - Phi_H1(h): only members move, by the CVA flow (Bond & Leimkuhler 2007,
-     section 2.2: Verlet sub-steps to each contact, impulse R) of T_C + V_C;
-     the other atoms stay put and take V_C's momentum (trapezoid kicks of
-     the sub-steps). It splits into independent flows, one per cluster of
-     members that share a term or touch (hs_cluster.h, frozen partners):
-     two members that only share a partner do not interact, since the
-     partner does not move.
-   - Phi_H2(dt): one velocity-Verlet step of the non-members under V_R and
-     the held (thermostat) forces; members do not move (V_R does not act on
-     them). For an atom with no term in V_C this is fix nve's step.
+     section 2.2) of T_C + V_C; other atoms stay put and take V_C's
+     momentum (trapezoid kicks of the sub-steps). No term of V_C couples
+     two clusters and partners do not move: one independent flow per
+     cluster, each with its own terms only (HSLocalForces).
+   - Phi_H2(dt): one velocity-Verlet step of the non-members under V_R;
+     members do not move and take the cross terms' kick dt F_X(q_mid) / m
+     (exact: V_X depends on member positions only). An atom in no term of
+     V_C takes fix nve's step.
 
-   Both flows are exact for H1 and H2 up to CVA's / Verlet's own error, so
-   the splitting is symmetric and second order. A contact found in either
-   flow with a non-member (or between members of two clusters) grows C and
-   the step is redone for the clusters that changed.
+   Each flow is exact for its Hamiltonian up to CVA's / Verlet's own error:
+   the splitting is symmetric and second order, and conserves momentum. A
+   contact found in either flow with a non-member, or between members of
+   two clusters, grows C; a growth round redoes only the clusters that
+   changed and the atoms around them.
 
    Why not the partners-join splitting K_R(dt/2) . Phi_C(dt) . K_R(dt/2)
-   of the issue: at rc = 2.5 in a fluid at packing fraction 0.3, its
-   clusters (members plus every atom in a term with one) percolate: one
-   cluster holds ~95 % of the members at every N, so its work grows like
-   (collisions per step)^2 (bench/scaling/README.md, cluster_stats.py).
-   The frozen-partner clusters stay at 12-22 members at every N. Both are
-   checked against brute force in unittest/math/test_local_splitting.cpp.
+   of the issue, or clusters joined by pair terms: both percolate in
+   dense fluids (bench/scaling/README.md; doc "Step engines"). Both
+   splittings are checked against brute force in
+   unittest/math/test_local_splitting.cpp.
 
-   Held (thermostat) forces: f - F_C (LAMMPS' forces minus V_C's) is held
-   for the step: a member takes it as two half kicks at the step's start and
-   end (as the global engine's K_held(dt/2) . Phi . K_held(dt/2)), a
-   non-member with V_R in Phi_H2's kicks, as beside fix nve.
+   Held (thermostat) forces: a member takes its held force (f minus the
+   conservative force of all its terms) as two half kicks at the step's
+   start and end (as the global engine's K_held(dt/2) . Phi . K_held(dt/2)),
+   a non-member with V_R in Phi_H2's kicks, as beside fix nve.
 
-   Restrictions (checked by FixHardSphere::init(), which falls back to the
-   global engine, or errors when `substep local` was given): one MPI rank;
-   pair, bond, angle, dihedral and improper styles HSLocalForces can
-   restrict exactly (no kspace, many-body or hybrid pair styles); no fix
-   with conservative forces except enforce2d (their forces are not in the
-   restricted evaluation of V_C).
+   Restrictions (FixHardSphere::choose_engine() falls back to the global
+   engine, or errors when `substep local` was given): one MPI rank; pair,
+   bond, angle, dihedral and improper styles HSLocalForces can restrict
+   exactly (no kspace, many-body or hybrid pair styles); no fix with
+   conservative forces except enforce2d.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LOCAL_ENGINE_H
@@ -87,7 +85,6 @@ class HSLocalEngine : protected Pointers {
   const HardSphere::ClusterCounters &counters();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
   double ncompute = 0.0;    // restricted force evaluations
-  double dbg[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 
  private:
   FixHardSphere *fix;
