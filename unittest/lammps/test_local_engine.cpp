@@ -280,3 +280,43 @@ TEST(LocalEngine, FallsBackToGlobalWithAWarning)
   RunResult p = run_lmp(base + "fix x all hardsphere/psa diameter 1.0 substep local\nrun 10\n");
   EXPECT_EQ(p.exit_code, 0) << p.output;
 }
+
+// A dense fluid (packing fraction 0.45, lj/cut 2.5, atom_style sphere,
+// fix langevin beside): about 1 collision per 20 spheres per step. The
+// clusters must stay small (contact components; cross terms between
+// clusters are kicks), not percolate through the LJ range; and no overlap
+// error (a missed contact stops the run). The thermostat statistics of the
+// local engine are tested in test_thermostats.cpp (cva's default).
+TEST(LocalEngine, DenseFluidClustersStaySmall)
+{
+  HSLammps L;
+  L.lines(R"LMP(
+units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+lattice fcc $(6*0.45/PI)
+region box block 0 6 0 6 0 6
+create_box 1 box
+create_atoms 1 box
+set group all diameter 1.0
+set group all mass 1.0
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+pair_modify shift yes
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+velocity all create 1.5 4928459 mom yes rot no dist gaussian
+fix hs all hardsphere/cva
+fix th all langevin 1.5 1.5 0.2 12345 zero yes
+timestep 0.005
+run 300
+)LMP");
+  const double coll = L.fix_vector("hs", 0), clusters = L.fix_vector("hs", 5),
+               mean = L.fix_vector("hs", 6), largest = L.fix_vector("hs", 7);
+  std::printf("dense: collisions/step %.1f clusters %g mean %.2f largest %g\n", coll / 300,
+              clusters, mean, largest);
+  EXPECT_GT(coll / 300.0, 20.0);    // the regime that percolated before
+  EXPECT_LT(mean, 4.0);
+  EXPECT_LT(largest, 30.0);
+}
