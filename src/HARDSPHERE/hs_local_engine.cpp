@@ -1110,6 +1110,7 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
   hdirty.clear();
   drifted = false;
   bool checked = false;    // Phi_H2 checked in full once
+  bool b_ran = false;      // a second half ran (its results may need redoing)
 
   cs.reset(nlocal);
   cs.set_partners_join(false);
@@ -1187,11 +1188,13 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
     // Phi_H2's kicks of the cross terms, at the members' mid positions
     cross_kicks();
     // Phi_H1(dt/2) of the clusters whose start or surroundings changed
-    for (int a : dirty)
-      for (int key : atom_runs[a]) {
-        auto it = runs.find(key);
-        if (it != runs.end()) it->second.b_done = false;
-      }
+    if (b_ran)    // (the first time there is nothing to invalidate)
+      for (int a : dirty)
+        for (int key : atom_runs[a]) {
+          auto it = runs.find(key);
+          if (it != runs.end()) it->second.b_done = false;
+        }
+    b_ran = true;
     bump_epoch(depoch, dstamp);
     dirty.clear();
     fresh.clear();
