@@ -599,8 +599,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     }
   } else
     for (int k = 0; k < nm; k++) {    // Phi_H2's cross-term kicks on top
-      const double vn[3] = {r.vm[k][0] + r.fx[k][0], r.vm[k][1] + r.fx[k][1],
-                            r.vm[k][2] + r.fx[k][2]};
+      const Vec &x = ((int) r.fx.size() == nm) ? r.fx[k] : Vec{0.0, 0.0, 0.0};
+      const double vn[3] = {r.vm[k][0] + x[0], r.vm[k][1] + x[1], r.vm[k][2] + x[2]};
       set_v(M[k], vn);
     }
 
