@@ -357,14 +357,17 @@ void HSLocalEngine::label_members()
 {
   for (int k : labelled) lab[k] = -1;
   labelled.clear();
-  for (int c = 0; c < cs.nclusters(); c++) {
-    const int key = cs.members(c)[0];
-    for (int m : cs.members(c))
-      for (int k = m; k >= 0; k = atom->sametag[k]) {
-        lab[k] = key;
-        labelled.push_back(k);
-      }
-  }
+  for (int c = 0; c < cs.nclusters(); c++) label_cluster(c);
+}
+
+void HSLocalEngine::label_cluster(int c)
+{
+  const int key = cs.members(c)[0];
+  for (int m : cs.members(c))
+    for (int k = m; k >= 0; k = atom->sametag[k]) {
+      lab[k] = key;
+      labelled.push_back(k);
+    }
 }
 
 // the held (thermostat) force f - F(x0) of new members (nheld only):
@@ -400,35 +403,76 @@ void HSLocalEngine::held_at_start(const std::vector<int> &newm)
 
 void HSLocalEngine::cross_kicks()
 {
-  if (!force->pair) return;
-  std::vector<int> all;
-  for (int c = 0; c < cs.nclusters(); c++)
-    for (int m : cs.members(c)) all.push_back(m);
-  if (all.empty()) return;
+  if (!force->pair) {
+    workX.clear();
+    return;
+  }
+  // the clusters whose members moved (ran their first half) and their
+  // cross neighbours before and after: one wave (the neighbours' members
+  // did not move, so their neighbours' kicks stay)
+  bump_epoch(xepoch, xstamp);
+  std::vector<int> wave;
+  for (int key : workX)
+    if (xstamp[key] != xepoch) {
+      xstamp[key] = xepoch;
+      wave.push_back(key);
+    }
+  workX.clear();
+  for (size_t w = 0; w < wave.size(); w++) {
+    const int key = wave[w];
+    const int c = cs.cluster_of(key);
+    if (c < 0 || cs.members(c)[0] != key) continue;
+    auto it = runs.find(key);
+    if (it == runs.end() || !it->second.a_done) continue;
+    Run &r = it->second;
+    std::vector<int> old = r.xnbrs;
+    cross_of(r);
+    for (const std::vector<int> *L : {&old, &r.xnbrs})
+        for (int k : *L)
+          if (xstamp[k] != xepoch) {
+            xstamp[k] = xepoch;
+            wave2.push_back(k);
+          }
+  }
+  for (int key : wave2) {
+    const int c = cs.cluster_of(key);
+    if (c < 0 || cs.members(c)[0] != key) continue;
+    auto it = runs.find(key);
+    if (it == runs.end() || !it->second.a_done) continue;
+    cross_of(it->second);
+  }
+  wave2.clear();
+}
+
+// the cross-term kicks of one cluster's members (dt F_X / m, from all their
+// cross terms at the members' current positions) and its cross neighbours
+void HSLocalEngine::cross_of(Run &r)
+{
+  const int nm = (int) r.members.size();
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
-  locf->compute(all.data(), (int) all.size(), false);
+  locf->compute(r.members.data(), nm, false);
   locf->set_labels(lab.data());
   ncompute += 1.0;
   double **fl = locf->forces();
-  const std::vector<int> &T = locf->touched();
-  bump_epoch(xepoch, xstamp);
-  for (int i : T) xstamp[i] = xepoch;    // the members with a cross force
+  const int key = r.members[0];
+  r.xnbrs.clear();
+  for (int t : locf->touched())
+    if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back(lab[t]);
+  std::sort(r.xnbrs.begin(), r.xnbrs.end());
+  r.xnbrs.erase(std::unique(r.xnbrs.begin(), r.xnbrs.end()), r.xnbrs.end());
   const double ftm2v = force->ftm2v, dt = fix->dtv;
-  for (int c = 0; c < cs.nclusters(); c++) {
-    Run &r = runs.at(cs.members(c)[0]);
-    r.fx.resize(r.members.size());
-    bool changed = false;
-    for (size_t k = 0; k < r.members.size(); k++) {
-      const int i = r.members[k];
-      Vec d = {0.0, 0.0, 0.0};
-      if (xstamp[i] == xepoch) {
-        const double s = dt * ftm2v / fix->mass_of(i);
-        d = {s * fl[i][0], s * fl[i][1], s * fl[i][2]};
-      }
-      if (d != r.fx[k]) changed = true;
-      r.fx[k] = d;
-    }
-    if (changed) r.b_done = false;
+  bool changed = (int) r.fx.size() != nm;
+  r.fx.resize(nm);
+  for (int k = 0; k < nm; k++) {
+    const int i = r.members[k];
+    const double s = dt * ftm2v / fix->mass_of(i);
+    const Vec d = {s * fl[i][0], s * fl[i][1], s * fl[i][2]};
+    if (d != r.fx[k]) changed = true;
+    r.fx[k] = d;
+  }
+  if (changed && r.b_done) {
+    r.b_done = false;
+    workB.push_back(key);
   }
 }
 
@@ -450,17 +494,28 @@ void HSLocalEngine::grow(const std::vector<Hit> &hits)
       if (it == runs.end() || it->second.members.empty()) continue;
       retire(it->second);
       runs.erase(it);
+      const int c = cs.cluster_of(key);
+      if (c >= 0) push_key(workA, cs.members(c)[0]);
     }
-  label_members();
-  held_at_start(newm);
-  for (int c : redo)
+  for (int c : redo) {
+    label_cluster(c);
+    push_key(workA, cs.members(c)[0]);
     for (int m : cs.members(c)) {
       auto it = runs.find(m);
       if (it == runs.end()) continue;
       retire(it->second);
       runs.erase(it);
     }
+  }
+  held_at_start(newm);
   nrounds += 1.0;
+}
+
+// a key to a work list (once per round of that list: duplicates are
+// harmless, the loops skip what is done)
+void HSLocalEngine::push_key(std::vector<int> &list, int key)
+{
+  list.push_back(key);
 }
 
 /* ----------------------------------------------------------------------
@@ -496,6 +551,7 @@ void HSLocalEngine::contribute(Run &r, double sign)
 void HSLocalEngine::retire(Run &r)
 {
   if (r.contributed) contribute(r, -1.0);
+  for (int k : r.xnbrs) workX.push_back(k);    // their cross terms with it change
   for (int t : r.touched) mark_dirty(t);
   for (int e : r.env) mark_dirty(e);
   for (int m : r.members) mark_dirty(m);
@@ -1128,14 +1184,41 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
     atom_runs[a].push_back(key);
   };
 
+  workA.clear();
+  workB.clear();
+  workX.clear();
+  uncheckedA.clear();
+  uncheckedB.clear();
+  for (int c = 0; c < cs.nclusters(); c++) workA.push_back(cs.members(c)[0]);
+  // the cluster index of a key, -1 if it is no longer a cluster's key
+  auto cluster_of_key = [&](int key) {
+    const int c = cs.cluster_of(key);
+    return (c >= 0 && cs.members(c)[0] == key) ? c : -1;
+  };
+  // keys -> cluster indices, once each
+  auto clusters_of = [&](std::vector<int> &keys) {
+    std::vector<int> out;
+    for (int key : keys) {
+      const int c = cluster_of_key(key);
+      if (c >= 0) out.push_back(c);
+    }
+    keys.clear();
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  };
+
+  // every round does only what the last growth changed: the clusters it
+  // made or that saw a new member (first half), the atoms whose paths
+  // changed (Phi_H2's check and drift), the kicks of their cross neighbours
+  // and the second halves whose start or surroundings changed
   for (int round = 0;; round++) {
     if (round > MAX_ROUNDS)
       error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
                  "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
     std::vector<Hit> ev;
     // Phi_H1(dt/2) of the clusters not run yet, their static atoms at x0
-    std::vector<int> fresh;
-    for (int c = 0; c < cs.nclusters(); c++) {
+    for (int c : clusters_of(workA)) {
       const int key = cs.members(c)[0];
       Run &r = runs[key];
       if (r.a_done) continue;
@@ -1146,18 +1229,13 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
       for (int t : r.touched) mark_dirty(t);
       for (int a : r.env) enroll(a, key);
       for (int a : r.members) enroll(a, key);
-      r.a_unchecked = true;
+      uncheckedA.push_back(key);
+      workX.push_back(key);
+      workB.push_back(key);
     }
-    if (ev.empty()) {
-      // the flows not yet checked against the others (a round that grew
-      // before its check leaves some)
-      for (int c = 0; c < cs.nclusters(); c++) {
-        Run &r = runs.at(cs.members(c)[0]);
-        if (r.a_unchecked) fresh.push_back(c);
-        r.a_unchecked = false;
-      }
-      cross_check(true, fresh, ev);
-    }
+    // the flows not yet checked against the others (a round that grew
+    // before its check leaves some for the next)
+    if (ev.empty()) cross_check(true, clusters_of(uncheckedA), ev);
     if (!ev.empty()) {
       grow(ev);
       continue;
@@ -1192,25 +1270,21 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
       for (int a : dirty)
         for (int key : atom_runs[a]) {
           auto it = runs.find(key);
-          if (it != runs.end()) it->second.b_done = false;
+          if (it != runs.end() && it->second.b_done) {
+            it->second.b_done = false;
+            workB.push_back(key);
+          }
         }
     b_ran = true;
     bump_epoch(depoch, dstamp);
     dirty.clear();
-    fresh.clear();
-    for (int c = 0; c < cs.nclusters(); c++) {
-      Run &r = runs.at(cs.members(c)[0]);
-      if (r.b_done) continue;
-      if (flow(r, 0.5 * dt, false, ev)) r.b_unchecked = true;
+    for (int c : clusters_of(workB)) {
+      const int key = cs.members(c)[0];
+      auto it = runs.find(key);
+      if (it == runs.end() || it->second.b_done || !it->second.a_done) continue;
+      if (flow(it->second, 0.5 * dt, false, ev)) uncheckedB.push_back(key);
     }
-    if (ev.empty()) {
-      for (int c = 0; c < cs.nclusters(); c++) {
-        Run &r = runs.at(cs.members(c)[0]);
-        if (r.b_unchecked) fresh.push_back(c);
-        r.b_unchecked = false;
-      }
-      cross_check(false, fresh, ev);
-    }
+    if (ev.empty()) cross_check(false, clusters_of(uncheckedB), ev);
     if (!ev.empty()) {
       grow(ev);
       continue;

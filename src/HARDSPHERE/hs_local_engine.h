@@ -103,11 +103,11 @@ class HSLocalEngine : protected Pointers {
     HSLocalForces::Snapshot snap;    // its restricted lists
     std::vector<Vec> fk0;        // V_C's force of this cluster at the step's start, on touched
     bool a_done = false, b_done = false, contributed = false;
-    bool a_unchecked = false, b_unchecked = false;    // flows not cross-checked yet
     std::vector<int> env;                    // static atoms of its flows (partners, contact candidates)
     std::vector<Vec> xm, vm;                 // members after Phi_H1(dt/2)
     std::vector<Vec> xe, ve;                 // members at the step's end
     std::vector<Vec> fx;                     // members' cross-term kicks in Phi_H2 (velocity)
+    std::vector<int> xnbrs;                  // clusters (keys) it has cross terms with
     std::vector<Vec> dvA, dvB, fend;         // on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     // what each half's flow adds to the fix's counters and virial (only the
@@ -182,7 +182,13 @@ class HSLocalEngine : protected Pointers {
   // cluster labels on the local copies of members (HSLocalForces' cross terms)
   std::vector<int> lab, labelled;
   void label_members();
+  void label_cluster(int c);
   void cross_kicks();
+  void cross_of(Run &r);
+  // work lists of cluster keys: first halves to run, second halves to run,
+  // cross kicks to recompute; flows not cross-checked yet
+  std::vector<int> workA, workB, workX, wave2, uncheckedA, uncheckedB;
+  void push_key(std::vector<int> &list, int key);
   std::vector<uint32_t> xstamp;
   uint32_t xepoch = 0;
   void held_at_start(const std::vector<int> &newm);

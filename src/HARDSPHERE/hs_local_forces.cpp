@@ -296,9 +296,8 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
                 extra_.emplace_back(a, jl[k]);
             }
       }
-      if (only_cross) continue;    // every cross pair is in a row of C
       for (int p = pinv_off_[a]; p < pinv_off_[a + 1]; p++) {
-        if (inC(pinv_row_[p]) || cross(pinv_row_[p], a)) continue;
+        if (inC(pinv_row_[p]) || cross(pinv_row_[p], a) != only_cross) continue;
         if (terms_only_) {    // the term only, no restricted row
           const int pr[2] = {pinv_row_[p], pinv_val_[p] & NEIGHMASK};
           add_term(pr, 2);
