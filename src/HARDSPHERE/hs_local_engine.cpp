@@ -423,8 +423,8 @@ void HSLocalEngine::cross_kicks()
     const int c = cs.cluster_of(key);
     if (c < 0 || cs.members(c)[0] != key) continue;
     auto it = runs.find(key);
-    if (it == runs.end() || !it->second.a_done) continue;
-    Run &r = it->second;
+    if (it == runs.end() || !it->second->a_done) continue;
+    Run &r = *it->second;
     std::vector<int> old = r.xnbrs;
     cross_of(r);
     for (const std::vector<int> *L : {&old, &r.xnbrs})
@@ -438,8 +438,8 @@ void HSLocalEngine::cross_kicks()
     const int c = cs.cluster_of(key);
     if (c < 0 || cs.members(c)[0] != key) continue;
     auto it = runs.find(key);
-    if (it == runs.end() || !it->second.a_done) continue;
-    cross_of(it->second);
+    if (it == runs.end() || !it->second->a_done) continue;
+    cross_of(*it->second);
   }
   wave2.clear();
 }
@@ -491,8 +491,8 @@ void HSLocalEngine::grow(const std::vector<Hit> &hits)
   for (int m : newm)
     for (int key : atom_runs[m]) {
       auto it = runs.find(key);
-      if (it == runs.end() || it->second.members.empty()) continue;
-      retire(it->second);
+      if (it == runs.end() || it->second->members.empty()) continue;
+      retire(*it->second);
       runs.erase(it);
       const int c = cs.cluster_of(key);
       if (c >= 0) push_key(workA, cs.members(c)[0]);
@@ -503,7 +503,7 @@ void HSLocalEngine::grow(const std::vector<Hit> &hits)
     for (int m : cs.members(c)) {
       auto it = runs.find(m);
       if (it == runs.end()) continue;
-      retire(it->second);
+      retire(*it->second);
       runs.erase(it);
     }
   }
@@ -903,7 +903,7 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
   };
   for (int c : fresh) {
     const std::vector<int> &M = cs.members(c);
-    const Run &r = runs.at(M[0]);
+    const Run &r = *runs.at(M[0]);
     for (int k = 0; k < (int) M.size(); k++) {
       const int i = M[k];
       for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
@@ -917,7 +917,7 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
         const std::vector<int> &Mo = cs.members(oc);
         auto it = runs.find(Mo[0]);
         if (it == runs.end()) continue;
-        const Run &ro = it->second;
+        const Run &ro = *it->second;
         const int ko = (int) (std::lower_bound(Mo.begin(), Mo.end(), o) - Mo.begin());
         const std::vector<std::vector<Seg>> &Si = first_half ? r.segsA : r.segsB;
         const std::vector<std::vector<Seg>> &Sj = first_half ? ro.segsA : ro.segsB;
@@ -1050,7 +1050,7 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
     if (!lists) {
       for (int i : act0) consider(i, false);
       for (auto &kv : runs)
-        for (int t : kv.second.touched) consider(t, false);
+        for (int t : kv.second->touched) consider(t, false);
     }
   } else
     for (int i : hdirty) consider(i, true);
@@ -1270,8 +1270,8 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
       for (int a : dirty)
         for (int key : atom_runs[a]) {
           auto it = runs.find(key);
-          if (it != runs.end() && it->second.b_done) {
-            it->second.b_done = false;
+          if (it != runs.end() && it->second->b_done) {
+            it->second->b_done = false;
             workB.push_back(key);
           }
         }
@@ -1281,8 +1281,8 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
     for (int c : clusters_of(workB)) {
       const int key = cs.members(c)[0];
       auto it = runs.find(key);
-      if (it == runs.end() || it->second.b_done || !it->second.a_done) continue;
-      if (flow(it->second, 0.5 * dt, false, ev)) uncheckedB.push_back(key);
+      if (it == runs.end() || it->second->b_done || !it->second->a_done) continue;
+      if (flow(*it->second, 0.5 * dt, false, ev)) uncheckedB.push_back(key);
     }
     if (ev.empty()) cross_check(false, clusters_of(uncheckedB), ev);
     if (!ev.empty()) {
@@ -1326,7 +1326,7 @@ bool HSLocalEngine::step()
   // on the touched atoms V_C's end forces and the partners' second-half kicks
   bump_epoch(eepoch, estamp);
   for (int c = 0; c < cs.nclusters(); c++) {
-    const Run &r = runs.at(cs.members(c)[0]);
+    const Run &r = *runs.at(cs.members(c)[0]);
     for (size_t k = 0; k < r.members.size(); k++) {
       set_x(r.members[k], r.xe[k].data());
       set_v(r.members[k], r.ve[k].data());

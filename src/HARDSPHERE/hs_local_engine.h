@@ -56,6 +56,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -113,8 +114,62 @@ class HSLocalEngine : protected Pointers {
     // what each half's flow adds to the fix's counters and virial (only the
     // flows of the final clusters count: redone ones are dropped)
     double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
+    // back to a new run, keeping the vectors' storage
+    void reset()
+    {
+      for (auto *v : {&members, &touched, &env, &xnbrs}) v->clear();
+      for (auto *v : {&fk0, &xm, &vm, &xe, &ve, &fx, &dvA, &dvB, &fend}) v->clear();
+      for (auto &sg : segsA) sg.clear();
+      for (auto &sg : segsB) sg.clear();
+      a_done = b_done = contributed = false;
+      for (int h = 0; h < 2; h++) {
+        npair[h] = nwall[h] = 0.0;
+        for (int k = 0; k < 6; k++) vir[h][k] = 0.0;
+      }
+    }
   };
-  std::unordered_map<int, Run> runs;
+  // the runs by key, their storage reused from step to step (a step makes
+  // and drops thousands of them in a large system)
+  class RunTable {
+   public:
+    using Map = std::unordered_map<int, Run *>;
+    Map::iterator find(int k) { return map_.find(k); }
+    Map::iterator begin() { return map_.begin(); }
+    Map::iterator end() { return map_.end(); }
+    Run *at(int k) { return map_.at(k); }
+    Run &operator[](int k)
+    {
+      auto it = map_.find(k);
+      if (it != map_.end()) return *it->second;
+      Run *r;
+      if (spare_.empty()) {
+        store_.emplace_back();
+        r = &store_.back();
+      } else {
+        r = spare_.back();
+        spare_.pop_back();
+      }
+      r->reset();
+      map_.emplace(k, r);
+      return *r;
+    }
+    void erase(Map::iterator it)
+    {
+      spare_.push_back(it->second);
+      map_.erase(it);
+    }
+    void clear()
+    {
+      for (auto &kv : map_) spare_.push_back(kv.second);
+      map_.clear();
+    }
+
+   private:
+    Map map_;
+    std::deque<Run> store_;
+    std::vector<Run *> spare_;
+  };
+  RunTable runs;
 
   // per owned atom, sized atom->nmax
   int nmax = 0;
