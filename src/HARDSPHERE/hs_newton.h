@@ -242,8 +242,11 @@ class GaussNewton2 {
       // first iteration): stop when that is a tenth of the tolerance, which
       // saves the iteration that would only confirm it (Hairer & Wanner,
       // ODEs II, IV.8)
-      double theta = (it >= 2 && prev > 0.0) ? d / prev : theta_last;
-      if (it >= 2 && prev > 0.0) theta_last = theta;
+      // (a ratio of corrections near round-off says nothing: kept only while
+      // both are far above it)
+      const bool measured = it >= 2 && prev > 0.0 && d > THETA_FLOOR;
+      const double theta = measured ? d / prev : theta_last;
+      if (measured) theta_last = theta;
       const bool predicted = opt.predict_stop && theta >= 0.0 && theta < 0.5 &&
           theta / (1.0 - theta) * d <= 0.1 * go.tol;
       if (d <= go.tol || predicted || (d >= prev && d <= go.stag_tol)) {
@@ -259,6 +262,7 @@ class GaussNewton2 {
  private:
   std::vector<double> Y, F1, F2, x1, x2, r1, r2, g1, g2;
   double theta_last = -1.0;    // the last measured contraction (< 0: none yet)
+  static constexpr double THETA_FLOOR = 1.0e-12;
 
   // x = (I + s (B (x) G))^-1 r by the Neumann series x <- r - s (B (x) G) x,
   // B = A^2; false if it does not contract
