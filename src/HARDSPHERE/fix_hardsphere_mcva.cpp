@@ -70,6 +70,7 @@ void FixHardSphereMCVA::init()
 {
   FixHardSphere::init();    // also sets up the derivative layer
   gauss_step = 0;
+  warned_drop = 0;
   if (comm->me == 0) {
     std::string how;
     if (!newton)
@@ -304,8 +305,8 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
     error->all(FLERR,
                "Fix {}: the Gauss stage equations did not converge in {} iterations on step {} "
                "(sub-step tau {}, relative change of the stage derivatives {}): use a smaller "
-               "timestep (or smooth forces: a pair style cut off without smoothing makes the "
-               "field jump at the cutoff)",
+               "timestep (or smooth forces: a style on the path of force differences cut off "
+               "without smoothing makes the field jump at its cutoff)",
                style_name, st.iterations, update->ntimestep, h, st.residual);
   K1p = K1;
   K2p = K2;
@@ -784,6 +785,7 @@ double FixHardSphereMCVA::memory_usage()
 // the counters after the base's in restart files
 std::vector<double *> FixHardSphereMCVA::extra_counters()
 {
-  return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves,
-          &nmissed,     &nreleased,      &ncross,      &nlin};
+  // entries 12 and 13 (ncross, nlin) are not stored: restart files keep the
+  // layout of the fix before them (the base reads as many as it expects)
+  return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed, &nreleased};
 }

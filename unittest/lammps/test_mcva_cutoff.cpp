@@ -157,18 +157,20 @@ static void fluid_run(const char *stages)
     const size_t at = input.find(anchor);
     ASSERT_NE(at, std::string::npos);
     input.insert(at + 1, std::string("fix_modify int stages ") + stages + "\n");
-    input += "print \"CUTOFF $(f_int[1]) $(f_int[8]) $(f_int[12]) $(f_int[6]) $(f_int[9])\"\n";
+    input += "print \"CUTOFF $(f_int[1]) $(f_int[8]) $(f_int[12]) $(f_int[6]) $(f_int[9]) "
+             "$(f_int[5]) $(f_int[7])\"\n";
     RunResult r = run_lmp(input, {"-var", "method", "mcva", "-var", "thermo", "langevin", "-var",
                                   "cells", "3", "-var", "equil", "250", "-var", "nrun", "100"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::smatch m;
-    const std::regex re(R"((?:^|\n)CUTOFF (\S+) (\S+) (\S+) (\S+) (\S+))");
+    const std::regex re(R"((?:^|\n)CUTOFF (\S+) (\S+) (\S+) (\S+) (\S+) (\S+) (\S+))");
     ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
     const double ncoll = std::stod(m[1]), maxit = std::stod(m[2]), ncross = std::stod(m[3]),
-                 iters = std::stod(m[4]), solves = std::stod(m[5]);
+                 iters = std::stod(m[4]), solves = std::stod(m[5]), nforce = std::stod(m[6]),
+                 nsub = std::stod(m[7]);
     printf("[ %s ] %g collisions, %g cutoff crossings in Gauss sub-steps, %.2f stage iterations "
-           "per solve, at most %g\n",
-           stages, ncoll, ncross, iters / solves, maxit);
+           "per solve (at most %g), %.1f per sub-step, %.1f force evaluations per collision\n",
+           stages, ncoll, ncross, iters / solves, maxit, iters / nsub, nforce / ncoll);
     EXPECT_GT(ncoll, 700.0);    // ~4 per step
     EXPECT_GT(ncross, 100.0) << "the case must have pairs crossing the cutoff";
     EXPECT_LE(maxit, 15.0);
