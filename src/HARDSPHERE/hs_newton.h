@@ -137,7 +137,7 @@ struct NewtonOptions {
   // contraction (~h dt^2 |V'''| |v|, or the change of V'' over the step)
   double lin_tol = 1.0e-6;
   int lin_maxit = 60;
-  // stop once the estimated remaining error is below tol / 10 (see solve())
+  // stop once the estimated remaining error is below tol (see solve())
   bool predict_stop = true;
 };
 
@@ -237,18 +237,18 @@ class GaussNewton2 {
       st.iterations = it;
       st.residual = d;
       if (!(d <= HUGE_VAL) || !std::isfinite(d)) return st;
-      // the error left after this correction is about theta d, theta the
-      // contraction (this solve's last ratio, or the previous solve's in its
-      // first iteration): stop when that is a tenth of the tolerance, which
-      // saves the iteration that would only confirm it (Hairer & Wanner,
-      // ODEs II, IV.8)
+      // the error left after this correction is about theta d / (1 - theta),
+      // theta the contraction (this solve's last ratio, or the last one
+      // measured before): stop when that is below the tolerance, which saves
+      // the iteration that would only confirm it (Hairer & Wanner, ODEs II,
+      // IV.8, eq. 8.10)
       // (a ratio of corrections near round-off says nothing: kept only while
       // both are far above it)
       const bool measured = it >= 2 && prev > 0.0 && d > THETA_FLOOR;
       const double theta = measured ? d / prev : theta_last;
       if (measured) theta_last = theta;
       const bool predicted = opt.predict_stop && theta >= 0.0 && theta < 0.5 &&
-          theta / (1.0 - theta) * d <= 0.1 * go.tol;
+          theta / (1.0 - theta) * d <= go.tol;
       if (d <= go.tol || predicted || (d >= prev && d <= go.stag_tol)) {
         st.converged = true;
         return st;

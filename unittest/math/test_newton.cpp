@@ -231,7 +231,9 @@ TEST(GaussNewton2, AgreesWithFixedPoint)
                                            B1.data(), B2.data(), NewtonOptions());
       ASSERT_TRUE(nt.converged) << "h " << h << " useG " << useG;
       EXPECT_FALSE(nt.lin_dropped);
-      EXPECT_LT(stage_residual(p, y0, h, B1, B2), 1e-14);
+      // the solver stops at an estimated remaining error of tol = 1e-14 (2-norm
+      // per block, relative); the max-norm residual is within a few of that
+      EXPECT_LT(stage_residual(p, y0, h, B1, B2), 5e-14);
       double scale = 0.0;
       for (int k = 0; k < n; ++k) scale = std::max(scale, std::fabs(A1[k]));
       for (int k = 0; k < n; ++k) {
