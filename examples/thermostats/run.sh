@@ -6,7 +6,9 @@
 #
 #   bash examples/thermostats/run.sh            # all methods, all thermostats
 #   METHODS="cva pcva" THERMOS="langevin" bash examples/thermostats/run.sh
-#   NRUN_MCVA=2000 ...                          # mcva costs ~1 s per step here
+#   NRUN_MCVA=2000 ...                          # mcva costs ~0.5 s per step here
+#   METHODS=mcva ALL_MCVA=1 CELLS_MCVA=3 NRUN_MCVA=4000 bash examples/thermostats/run.sh
+#                                               # mcva with 108 atoms (rows "mcva (108 atoms)")
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
@@ -19,19 +21,30 @@ NRUN_MCVA="${NRUN_MCVA:-2000}"
 OUT="$HERE/out"
 mkdir -p "$OUT"
 cd "$OUT"
+CELLS_MCVA="${CELLS_MCVA:-5}"
 for th in $THERMOS; do
   for m in $METHODS; do
-    f="$OUT/$m.$th.out"
+    # another size is kept under its own name: mcva108.<thermo>.out and
+    # tblocks.mcva108.<thermo>.txt (parse.py labels it "mcva (108 atoms)")
+    tag=$m; cells=5
+    if [ "$m" = mcva ] && [ "$CELLS_MCVA" != 5 ]; then
+      cells=$CELLS_MCVA; tag="mcva$(( 4 * cells * cells * cells ))"
+    fi
+    f="$OUT/$tag.$th.out"
     if [ -f "$f" ] && grep -q '^RESULT' "$f"; then continue; fi
     n=$NRUN; eq=1000
     if [ "$m" = mcva ]; then n=$NRUN_MCVA; eq=500; fi
-    # mcva only with langevin unless asked for: ~1 s per step
+    # mcva only with langevin unless asked for: ~0.5 s per step
     if [ "$m" = mcva ] && [ "$th" != langevin ] && [ -z "${ALL_MCVA:-}" ]; then continue; fi
-    echo "run: $m $th ($n steps)"
+    echo "run: $tag $th ($n steps)"
     start=$(date +%s)
     "$LMP" -in "$HERE/in.lj-thermostat" -var method "$m" -var thermo "$th" -var nrun "$n" \
-      -var equil "$eq" -echo none -log none > "$f" 2>&1 || { echo "FAILED: $m $th"; tail -3 "$f"; }
+      -var equil "$eq" -var cells "$cells" -echo none -log none > "$f" 2>&1 \
+      || { echo "FAILED: $tag $th"; tail -3 "$f"; }
     echo "SECONDS $(( $(date +%s) - start ))" >> "$f"
+    if [ "$tag" != "$m" ] && [ -f "tblocks.$m.$th.txt" ]; then
+      mv "tblocks.$m.$th.txt" "tblocks.$tag.$th.txt"
+    fi
   done
 done
 /usr/bin/python3 "$HERE/parse.py" "$OUT" > "$HERE/results.md"

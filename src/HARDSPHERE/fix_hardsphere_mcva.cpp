@@ -16,9 +16,11 @@
 #include "force.h"
 #include "memory.h"
 #include "update.h"
+#include "utils.h"
 
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 #include <mpi.h>
 
 using namespace LAMMPS_NS;
@@ -39,16 +41,17 @@ static constexpr int ROOT_MAXEVAL = 100;
 // gaps across periodic images, far below the base's touching tolerance
 static constexpr double OVERLAP_TOL = 1.0e-12;
 static constexpr int NVEC_BASE = 5;
+static constexpr int NVEC_OWN = 8;
 
 /* ---------------------------------------------------------------------- */
 
 FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
     FixHardSphere(lmp, narg, arg), gauss_step(0), cancel(0),
     gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0), nreleased(0.0),
-    hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
+    ncross(0.0), nlin(0.0), newton(1), useG(0), hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
     fhv(nullptr), ftv(nullptr), fha(nullptr)
 {
-  size_vector = NVEC_BASE + 6;
+  size_vector = NVEC_BASE + NVEC_OWN;
   derivs_needed = 1;
 }
 
@@ -67,6 +70,73 @@ void FixHardSphereMCVA::init()
 {
   FixHardSphere::init();    // also sets up the derivative layer
   gauss_step = 0;
+  warned_drop = 0;
+  if (comm->me == 0) {
+    std::string how;
+    if (!newton)
+      how = "fixed-point iteration (fix_modify stages fixed)";
+    else if (comm->nprocs > 1)
+      how = fmt::format("simplified Newton without V'' in the Jacobian on {} MPI ranks (no "
+                        "distributed assembly): it converges as two fixed-point sweeps per "
+                        "iteration",
+                        comm->nprocs);
+    else if (!pot->any_radial())
+      how = "simplified Newton without V'' in the Jacobian (no pair or bond style on the "
+            "single path): it converges as two fixed-point sweeps per iteration";
+    else if (!pot->radial_only())
+      how = "simplified Newton with V'' of the radial pair and bond styles in the Jacobian; "
+            "the parts of V known only as force differences converge as two fixed-point "
+            "sweeps per iteration";
+    else
+      how = "simplified Newton with V'' in the Jacobian";
+    utils::logmesg(lmp, "Fix {}: Gauss stage equations by {}\n", style_name, how);
+  }
+}
+
+// fix_modify ID stages newton|fixed
+int FixHardSphereMCVA::modify_param(int narg, char **arg)
+{
+  if (strcmp(arg[0], "stages") != 0) return 0;
+  if (narg < 2) error->all(FLERR, "Illegal fix_modify {} command: stages needs newton or fixed",
+                           style_name);
+  if (strcmp(arg[1], "newton") == 0) newton = 1;
+  else if (strcmp(arg[1], "fixed") == 0) newton = 0;
+  else
+    error->all(FLERR, "Illegal fix_modify {} command: stages {} (use newton or fixed)",
+               style_name, arg[1]);
+  return 2;
+}
+
+/* ----------------------------------------------------------------------
+   G = M^-1 V'' at the sub-step's start from the radial terms of the
+   derivative layer (frozen cutoff set), rows of the group's owned atoms:
+   the Jacobian of the Newton iteration (hs_newton.h). Serial only.
+------------------------------------------------------------------------- */
+
+void FixHardSphereMCVA::assemble_G()
+{
+  useG = 0;
+  if (!newton || comm->nprocs > 1 || !pot->any_radial()) return;
+  const int ng = (int) idx.size();
+  std::unordered_map<tagint, int> row;
+  row.reserve(2 * ng);
+  for (int k = 0; k < ng; k++) row[atom->tag[idx[k]]] = k;
+  const tagint *tag = atom->tag;
+  auto row_of = [&](int i) {
+    auto it = row.find(tag[i]);
+    return it == row.end() ? -1 : it->second;
+  };
+  Gmat.clear(ng);
+  const double ftm2v = force->ftm2v;
+  for (int k = 0; k < ng; k++) Gmat.set_row_scale(k, ftm2v / mass_of(idx[k]));
+  pot->use_frozen_set(true);
+  pot->radial_terms([&](int i, int j, const double *del, double d1, double d2, bool ui, bool uj) {
+    Gmat.add_radial(row_of(i), row_of(j), del, d1, d2, ui, uj);
+  });
+  pot->use_frozen_set(false);
+  gx.resize(3 * ng);
+  gy.resize(3 * ng);
+  useG = 1;
 }
 
 void FixHardSphereMCVA::grow_fields()
@@ -113,6 +183,10 @@ void FixHardSphereMCVA::save_start()
   work.resize(3 * n);
   hprev = 0.0;
   f0_valid = 0;
+  // every solve from this start integrates the potential of the pairs
+  // inside their cutoff here (see field())
+  pot->freeze_cutoff_set();
+  assemble_G();
 }
 
 void FixHardSphereMCVA::set_state(const std::vector<double> &y)
@@ -148,6 +222,11 @@ void FixHardSphereMCVA::field(const double *y, double *kout)
       x[idx[k]][d] = y[3 * k + d];
       fv[idx[k]][d] = y[3 * ng + 3 * k + d];
     }
+  // the pairs inside their cutoff at the sub-step's start (doc, "Pair
+  // styles cut off without smoothing"): the field is then smooth, and the
+  // stage equations have a solution even where a pair crosses a cutoff at
+  // which its force jumps
+  pot->use_frozen_set(true);
   pot->evaluate(0);    // F at the stage positions (ghosts forwarded)
   for (int k = 0; k < ng; k++) {
     const int i = idx[k];
@@ -156,6 +235,7 @@ void FixHardSphereMCVA::field(const double *y, double *kout)
   }
   pot->hess_third(fv, fhv, ftv);    // V'' v, V'''[v,v,.]
   pot->hess_vec(fa, fha);           // V'' a
+  pot->use_frozen_set(false);
   for (int k = 0; k < ng; k++) {
     const int i = idx[k];
     const double im = ftm2v / mass_of(i);
@@ -192,8 +272,26 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
   opt.tol = STAGE_TOL;
   opt.stag_tol = STAGE_STAG;
   opt.maxit = STAGE_MAXIT;
-  const HardSphere::GaussStatus st = HardSphere::gauss2_stages(
-      fn, reduce, y0.data(), n, 2, h, K1.data(), K2.data(), opt, work.data());
+  HardSphere::GaussStatus st;
+  if (newton) {
+    HardSphere::NewtonOptions nopt;
+    nopt.gauss = opt;
+    auto applyG = [this](const double *x, double *out) { Gmat.apply(x, out); };
+    const HardSphere::NewtonStatus ns = nsolver.solve(fn, reduce, applyG, useG != 0, y0.data(), n,
+                                                      h, K1.data(), K2.data(), nopt);
+    st = ns;
+    nlin += ns.lin_iters;
+    if (ns.lin_dropped && comm->me == 0 && !warned_drop) {
+      warned_drop = 1;
+      error->warning(FLERR,
+                     "Fix {}: on step {} the Newton iteration's linear solve did not contract "
+                     "(h^2 |V''|/m too large, beyond Verlet's stability); that solve went on "
+                     "without V'' in the Jacobian (warned once)",
+                     style_name, update->ntimestep);
+    }
+  } else
+    st = HardSphere::gauss2_stages(fn, reduce, y0.data(), n, 2, h, K1.data(), K2.data(), opt,
+                                   work.data());
   gauss_iters += st.iterations;
   gauss_solves += 1.0;
   gauss_maxit = MAX(gauss_maxit, (double) st.iterations);
@@ -207,13 +305,21 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
     error->all(FLERR,
                "Fix {}: the Gauss stage equations did not converge in {} iterations on step {} "
                "(sub-step tau {}, relative change of the stage derivatives {}): use a smaller "
-               "timestep (or smooth forces: a pair style cut off without smoothing makes the "
-               "field jump at the cutoff)",
+               "timestep (or smooth forces: a style on the path of force differences cut off "
+               "without smoothing makes the field jump at its cutoff)",
                style_name, st.iterations, update->ntimestep, h, st.residual);
   K1p = K1;
   K2p = K2;
   hprev = h;
   HardSphere::gauss2_update(y0.data(), n, h, K1.data(), K2.data(), out.data());
+}
+
+// pairs whose cutoff status at the sub-step's end differs from its start:
+// their force jump was integrated with the start's set (output entry 12)
+void FixHardSphereMCVA::count_crossings()
+{
+  double jump = 0.0;
+  ncross += pot->cutoff_crossings(jump);
 }
 
 /* ----------------------------------------------------------------------
@@ -505,7 +611,9 @@ void FixHardSphereMCVA::finish_step(double tleft)
     double T = tleft;
     Event ev;
     int rank = 0;
-    if (!earliest_crossing(T, ev, rank)) break;
+    const bool missed = earliest_crossing(T, ev, rank);
+    count_crossings();
+    if (!missed) break;
     if (guard > 1000)
       error->all(FLERR, "Fix {}: too many contacts missed by the prediction on step {}",
                  style_name, update->ntimestep);
@@ -533,7 +641,9 @@ bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impu
   // a contact the prediction missed may come first on the Gauss flow
   Event ev;
   int rank;
-  if (earliest_crossing(T, ev, rank)) {
+  const bool missed = earliest_crossing(T, ev, rank);
+  count_crossings();
+  if (missed) {
     // stop there and drop the predicted contact: the next prediction finds
     // the earlier one touching and approaching (CONTACT_NOW) and collides it
     tau = T;
@@ -658,6 +768,10 @@ double FixHardSphereMCVA::compute_vector(int n)
       return nmissed;
     case 5:
       return nreleased;
+    case 6:
+      return ncross;
+    case 7:
+      return nlin;
   }
   return 0.0;
 }
@@ -671,5 +785,7 @@ double FixHardSphereMCVA::memory_usage()
 // the counters after the base's in restart files
 std::vector<double *> FixHardSphereMCVA::extra_counters()
 {
+  // entries 12 and 13 (ncross, nlin) are not stored: restart files keep the
+  // layout of the fix before them (the base reads as many as it expects)
   return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed, &nreleased};
 }

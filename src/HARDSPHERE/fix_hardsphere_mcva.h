@@ -20,6 +20,7 @@ FixStyle(hardsphere/mcva,FixHardSphereMCVA);
 #define LMP_FIX_HARDSPHERE_MCVA_H
 
 #include "fix_hardsphere.h"
+#include "hs_newton.h"
 
 #include <string>
 #include <vector>
@@ -32,6 +33,7 @@ class FixHardSphereMCVA : public FixHardSphere {
   ~FixHardSphereMCVA() override;
   void init() override;
   double compute_vector(int) override;
+  int modify_param(int, char **) override;
   double memory_usage() override;
 
  protected:
@@ -49,6 +51,19 @@ class FixHardSphereMCVA : public FixHardSphere {
   double gauss_iters, gauss_substeps, gauss_maxit, gauss_solves;
   double nmissed;    // contacts of the Gauss flow the Verlet prediction missed
   double nreleased;  // touching contacts the Gauss flow separates: no impulse
+  double ncross;     // pairs that crossed their cutoff within a Gauss sub-step
+  double nlin;       // products with the assembled G = M^-1 V'' (Newton)
+
+  // stage equations: simplified Newton (1, default) or fixed point (0);
+  // fix_modify ID stages newton|fixed
+  int newton;
+  int useG;    // G assembled for the current sub-step start
+  int warned_drop = 0;
+  HardSphere::RadialHessian Gmat;
+  HardSphere::GaussNewton2 nsolver;
+  std::vector<double> gx, gy;    // G's operands in the atoms' layout
+  void assemble_G();
+  void count_crossings();
 
   // the state of a Gauss sub-step: owned group atoms idx[k], y = (q, v)
   std::vector<int> idx;

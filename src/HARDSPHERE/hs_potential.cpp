@@ -71,6 +71,10 @@ struct HSPotential::Impl : protected Pointers {
   int bond_harm = 0;        // harmonic: phi'' = 2K, phi''' = phi'''' = 0
   std::vector<double> bond_k;
   NeighList *list = nullptr;
+  // the frozen cutoff set: in_set[first[ii] + jj] for list entry (ii, jj)
+  std::vector<char> in_set;
+  std::vector<int> first;
+  int frozen_valid = 0, frozen_on = 0;
 
   // FDIFF path: which contributions the force evaluations include
   int fd_pair = 0, fd_bond = 0, fd_angle = 0, fd_dihedral = 0, fd_improper = 0, fd_kspace = 0;
@@ -509,7 +513,7 @@ struct HSPotential::Impl : protected Pointers {
           for (int k = 0; k < 3; k++) del[k] = x[i][k] - x[j][k];
           const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
           const int jtype = type[j];
-          if (rsq >= cutsq[itype][jtype]) continue;
+          if (frozen_on ? !in_set[first[ii] + jj] : rsq >= cutsq[itype][jtype]) continue;
           pair_phi(i, j, itype, jtype, rsq, fc, fl, order, phi);
           const bool full = newton_pair || j < nlocal;
           fn(i, j, del, phi, full ? 1.0 : 0.5, true, full);
@@ -536,6 +540,61 @@ struct HSPotential::Impl : protected Pointers {
   }
 
   bool any_single() const { return pair_single || bond_single; }
+
+  // calls fn(ii, jj, i, j, rsq, inside_now, in_set) for every pair of the
+  // single path's list (all pairs, as the pair style's compute() sees them)
+  template <class Fn> void for_each_listed(Fn fn)
+  {
+    double **x = atom->x;
+    const int *type = atom->type;
+    double **cutsq = force->pair->cutsq;
+    for (int ii = 0; ii < list->inum; ii++) {
+      const int i = list->ilist[ii];
+      const int *jlist = list->firstneigh[i];
+      const int jnum = list->numneigh[i];
+      for (int jj = 0; jj < jnum; jj++) {
+        const int j = jlist[jj] & NEIGHMASK;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        fn(ii, jj, i, j, rsq, rsq < cutsq[type[i]][type[j]]);
+      }
+    }
+  }
+
+  // with the frozen set on: the pair style's compute() took the pairs inside
+  // the cutoff now; add the frozen pairs that left it and remove the pairs
+  // that entered it (single()'s force; ghosts as compute() treats them)
+  void frozen_correction()
+  {
+    if (!frozen_on) return;
+    double **x = atom->x, **f = atom->f;
+    const int *type = atom->type;
+    const int nlocal = atom->nlocal, newton_pair = force->newton_pair;
+    Pair *pair = force->pair;
+    for (int ii = 0; ii < list->inum; ii++) {
+      const int i = list->ilist[ii];
+      const int *jlist = list->firstneigh[i];
+      const int jnum = list->numneigh[i];
+      for (int jj = 0; jj < jnum; jj++) {
+        int j = jlist[jj];
+        const double fl = force->special_lj[j >> SBBITS & 3];
+        const double fc = force->special_coul[j >> SBBITS & 3];
+        j &= NEIGHMASK;
+        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+        const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+        const bool now = rsq < pair->cutsq[type[i]][type[j]];
+        const bool frozen = in_set[first[ii] + jj];
+        if (now == frozen) continue;
+        double fpair = 0.0;
+        pair->single(i, j, type[i], type[j], rsq, fc, fl, fpair);
+        if (!frozen) fpair = -fpair;
+        for (int k = 0; k < 3; k++) {
+          f[i][k] += del[k] * fpair;
+          if (newton_pair || j < nlocal) f[j][k] -= del[k] * fpair;
+        }
+      }
+    }
+  }
 
   // fill ghost values of a masked field
   void ghosts(double **a) { comm->forward_comm_array(3, a); }
@@ -806,6 +865,7 @@ double HSPotential::evaluate(int eflag)
   impl->force_clear();
   if (modify->n_pre_force) modify->pre_force(0);
   impl->compute_styles(ef, false);
+  impl->frozen_correction();    // forces only; the tallies stay the style's
   if (modify->n_pre_reverse) modify->pre_reverse(ef, 0);
   if (force->newton) comm->reverse_comm();
   impl->post_force_conservative();
@@ -1004,4 +1064,85 @@ double HSPotential::d4(double **w)
   if (m.fd_any) sum += m.fd_d4(m.wl, wmax);
   m.restore();
   return sum;
+}
+
+/* ----------------------------------------------------------------------
+   the frozen cutoff set of the single pair path (see hs_potential.h)
+------------------------------------------------------------------------- */
+
+bool HSPotential::freeze_cutoff_set()
+{
+  Impl &m = *impl;
+  m.frozen_on = 0;
+  m.frozen_valid = 0;
+  if (!m.pair_single || !m.list || !force->pair) return false;
+  comm->forward_comm();
+  NeighList *l = m.list;
+  m.first.resize(l->inum + 1);
+  int tot = 0;
+  for (int ii = 0; ii < l->inum; ii++) {
+    m.first[ii] = tot;
+    tot += l->numneigh[l->ilist[ii]];
+  }
+  m.first[l->inum] = tot;
+  m.in_set.assign(tot, 0);
+  m.for_each_listed([&](int ii, int jj, int, int, double, bool in) {
+    m.in_set[m.first[ii] + jj] = in ? 1 : 0;
+  });
+  m.frozen_valid = 1;
+  return true;
+}
+
+void HSPotential::use_frozen_set(bool on)
+{
+  impl->frozen_on = (on && impl->frozen_valid) ? 1 : 0;
+}
+
+double HSPotential::cutoff_crossings(double &jump)
+{
+  Impl &m = *impl;
+  double loc[2] = {0.0, 0.0}, all[2] = {0.0, 0.0};
+  if (m.frozen_valid) {
+    comm->forward_comm();
+    Pair *pair = force->pair;
+    const int *type = atom->type;
+    m.for_each_listed([&](int ii, int jj, int i, int j, double, bool in) {
+      if (in == (m.in_set[m.first[ii] + jj] != 0)) return;
+      // with newton off a pair with a ghost is listed on two ranks
+      loc[0] += (force->newton_pair || j < atom->nlocal) ? 1.0 : 0.5;
+      double fpair = 0.0;
+      const double rc2 = pair->cutsq[type[i]][type[j]];
+      pair->single(i, j, type[i], type[j], rc2 * (1.0 - 1e-14), 1.0, 1.0, fpair);
+      loc[1] = MAX(loc[1], fabs(fpair) * sqrt(rc2));
+    });
+  }
+  MPI_Allreduce(&loc[0], &all[0], 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&loc[1], &all[1], 1, MPI_DOUBLE, MPI_MAX, world);
+  jump = all[1];
+  return all[0];
+}
+
+/* ----------------------------------------------------------------------
+   radial terms of the single path (see hs_potential.h)
+------------------------------------------------------------------------- */
+
+void HSPotential::radial_terms(
+    const std::function<void(int, int, const double *, double, double, bool, bool)> &fn)
+{
+  Impl &m = *impl;
+  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.any_single()) return;
+  comm->forward_comm();
+  m.for_each_radial(2, [&](int i, int j, const double *del, const double *phi, double, bool ui,
+                           bool uj) { fn(i, j, del, phi[1], phi[2], ui, uj); });
+}
+
+bool HSPotential::any_radial() const
+{
+  return impl->any_single();
+}
+
+bool HSPotential::radial_only() const
+{
+  return !impl->fd_any;
 }

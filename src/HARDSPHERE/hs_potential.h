@@ -25,6 +25,7 @@
 
 #include "pointers.h"
 
+#include <functional>
 #include <string>
 
 namespace LAMMPS_NS {
@@ -109,6 +110,33 @@ class HSPotential : protected Pointers {
   // of the natural scale), e.g. a pair within the steps of a cutoff at which
   // its force jumps
   double d4(double **w);
+
+  // --- the cutoff set of the single pair path, frozen (fix hardsphere/mcva).
+  // A pair style cut off without smoothing (lj/cut) makes F or V'' jump
+  // where a pair crosses its cutoff, so stage equations that move pairs
+  // across it can have no solution. freeze_cutoff_set() records, at the
+  // current x, which pairs of the list are inside their cutoff; while
+  // use_frozen_set(true) is on, evaluate() and the derivatives take exactly
+  // these pairs (with single()'s phi continued past the cutoff for pairs
+  // that left it), i.e. the smooth potential of that set. False if the
+  // pair style is not on the single path (then nothing is frozen).
+  bool freeze_cutoff_set();
+  void use_frozen_set(bool on);
+  // pairs whose inside/outside status at the current x differs from the
+  // frozen set (global count); jump: the largest |phi'(rc)| among them (the
+  // force the cutoff cuts off). Collective.
+  double cutoff_crossings(double &jump);
+
+  // --- the radial terms of the single path (pair and bond styles), for
+  // assembling V'' (fix hardsphere/mcva's Newton iteration): fn(i, j, del =
+  // x_i - x_j, phi'(r), phi''(r), upd_i, upd_j) for every term with an atom
+  // in the group (frozen cutoff set if on); upd_* says whether this rank owns
+  // that term's rows for atom i resp. j (i or j local, owned or ghost).
+  // radial_only(): true if V has no other (FDIFF) parts
+  void radial_terms(
+      const std::function<void(int, int, const double *, double, double, bool, bool)> &fn);
+  bool any_radial() const;
+  bool radial_only() const;
 
   // number of force evaluations done so far: evaluate(), energy() and those
   // of the FDIFF differences (for the owners' counters)

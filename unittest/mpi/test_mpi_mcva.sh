@@ -45,7 +45,38 @@ run         ${nsteps}
 print "RESULT $(etotal:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[2]) $(f_hs[3]) $(f_hs[4]) $(f_hs[7])"
 EOF
 
+# the LJ fluid of examples/thermostats (lj/cut 2.5 shifted: the force jumps
+# at the cutoff), 108 atoms: the Gauss sub-steps freeze the cutoff set at
+# their start (doc/fix_hardsphere_mcva.rst), with the pairs' ghosts on any
+# rank; about 14 pairs cross the cutoff per step inside Gauss sub-steps
+cat > in.mcva_ljcut <<'EOF'
+units       lj
+atom_style  atomic
+atom_modify map array
+lattice     fcc 0.8
+region      box block 0 3 0 3 0 3
+create_box  1 box
+create_atoms 1 box
+mass        1 1.0
+pair_style  lj/cut 2.5
+pair_coeff  1 1 1.0 1.0 2.5
+pair_modify shift yes
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+comm_modify cutoff 3.0
+velocity    all create 1.5 12345 dist gaussian loop geom
+timestep    0.005
+fix         hs all hardsphere/mcva diameter 1.0
+thermo_style custom step pe ke etotal f_hs[1] f_hs[12]
+thermo_modify norm no
+thermo      20
+run         ${nsteps}
+print "RESULT $(etotal:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[2]) $(f_hs[12]) $(f_hs[4]) $(f_hs[7])"
+EOF
+
 # the RESULT fields: the first two to RTOL relative, the counters exactly
+# (ljcut: the fifth is the cutoff crossings, entry 12, instead of the wall
+# collisions)
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "gauss.substeps")
 # the system must collide, and sub-step with Gauss
 REF_CHECK='$3 > 0 && $7 >= $3'
@@ -55,5 +86,7 @@ echo "pendulum chain (mcva, dt 0.02, T 40) on 1, 2, 4 ranks:"
 check_system chain in.mcva_chain "2 4" -var method mcva -var dt 0.02 -var T 40 -var seed 1 -var every 1000
 echo "periodic hard-sphere + LJ fluid (108 atoms, 40 steps) on 1, 2 ranks:"
 check_system fluid in.mcva_fluid "2" -var nsteps 40
+echo "LJ fluid with lj/cut (108 atoms, 40 steps) on 1, 2 ranks:"
+check_system ljcut in.mcva_ljcut "2" -var nsteps 40
 
 mpi_finish
