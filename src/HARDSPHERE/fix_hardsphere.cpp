@@ -1085,7 +1085,6 @@ void FixHardSphere::initial_integrate(int)
   if (use_local) {    // the local engine (hs_local_engine.h)
     if (local_engine->step()) {
       local_step = 1;
-      step_substeps = 1;
       if (step_collided) ncoll_steps += 1.0;
     } else {    // no contact after all: fix nve's step
       nve_initial();

@@ -44,14 +44,7 @@ HSLocalEngine::HSLocalEngine(LAMMPS *lmp, FixHardSphere *f) : Pointers(lmp), fix
 HSLocalEngine::~HSLocalEngine()
 {
   delete locf;
-  memory->destroy(x0);
-  memory->destroy(v0);
-  memory->destroy(w);
-  memory->destroy(fcend);
-  memory->destroy(fc0);
-  memory->destroy(dvt);
-  memory->destroy(dvb);
-  memory->destroy(held0);
+  for (double ***a : peratom()) memory->destroy(*a);
 }
 
 /* ----------------------------------------------------------------------
@@ -83,7 +76,6 @@ std::string HSLocalEngine::init()
                       other->id, other->style));
   }
   cand_version = -1;
-  local_step = 0;
   bonded = (atom->molecular != Atom::ATOMIC) &&
       (force->bond || force->angle || force->dihedral || force->improper);
   return why;
@@ -95,22 +87,10 @@ void HSLocalEngine::grow_arrays()
 {
   if (atom->nmax > nmax) {
     nmax = atom->nmax;
-    memory->destroy(x0);
-    memory->destroy(v0);
-    memory->destroy(w);
-    memory->destroy(fcend);
-    memory->destroy(fc0);
-    memory->destroy(dvt);
-    memory->destroy(dvb);
-    memory->create(x0, nmax, 3, "hardsphere/local:x0");
-    memory->create(v0, nmax, 3, "hardsphere/local:v0");
-    memory->create(w, nmax, 3, "hardsphere/local:w");
-    memory->create(fcend, nmax, 3, "hardsphere/local:fcend");
-    memory->create(fc0, nmax, 3, "hardsphere/local:fc0");
-    memory->create(dvt, nmax, 3, "hardsphere/local:dvt");
-    memory->create(dvb, nmax, 3, "hardsphere/local:dvb");
-    memory->destroy(held0);
-    memory->create(held0, nmax, 3, "hardsphere/local:held0");
+    for (double ***a : peratom()) {
+      memory->destroy(*a);
+      memory->create(*a, nmax, 3, "hardsphere/local:peratom");
+    }
   }
   if ((int) cnt.size() < nmax) {
     // per-atom bookkeeping that refers to local indices: a new size means
@@ -264,11 +244,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       const double g = F.wall_gap(W, x[i], r);
       if (g > Di) continue;
       const double s = (W.side < 0) ? 1.0 : -1.0;
-      HardSphere::wall_gap_poly(g, s * v[i][W.dim], s * acc[i][W.dim], c);
-      const Contact ct = HardSphere::first_contact(c, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * r);
-      if (ct.status == HardSphere::OVERLAP)
-        error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was missed",
-                   F.style_name, atom->tag[i], -g, update->ntimestep);
+      const Contact ct = wall_contact(i, wl, g, v[i][W.dim], acc[i][W.dim], dt);
       if (ct.status != HardSphere::NO_CONTACT) {
         hits.push_back({i, -1 - wl});
         continue;
@@ -306,10 +282,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       if (r2 > reach * reach) continue;
       const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
       const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
-      HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
-      const Contact ct =
-          HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
-      if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(i, j, sqrt(r2), sigma);
+      const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt);
       if (ct.status != HardSphere::NO_CONTACT) {
         hits.push_back({own[i], own[j]});
         continue;
@@ -495,11 +468,11 @@ void HSLocalEngine::grow(const std::vector<Hit> &hits)
       retire(*it->second);
       runs.erase(it);
       const int c = cs.cluster_of(key);
-      if (c >= 0) push_key(workA, cs.members(c)[0]);
+      if (c >= 0) workA.push_back(cs.members(c)[0]);
     }
   for (int c : redo) {
     label_cluster(c);
-    push_key(workA, cs.members(c)[0]);
+    workA.push_back(cs.members(c)[0]);
     for (int m : cs.members(c)) {
       auto it = runs.find(m);
       if (it == runs.end()) continue;
@@ -511,12 +484,6 @@ void HSLocalEngine::grow(const std::vector<Hit> &hits)
   nrounds += 1.0;
 }
 
-// a key to a work list (once per round of that list: duplicates are
-// harmless, the loops skip what is done)
-void HSLocalEngine::push_key(std::vector<int> &list, int key)
-{
-  list.push_back(key);
-}
 
 /* ----------------------------------------------------------------------
    the sums over clusters of V_C's start forces and the partners' first-half
@@ -581,7 +548,7 @@ void HSLocalEngine::mark_dirty(int i)
 bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
-  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **x = atom->x, **v = atom->v;
   const double ftm2v = force->ftm2v;
   const std::vector<int> &M = r.members;
   const int nm = (int) M.size();
@@ -692,7 +659,6 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   double t = 0.0;
   int stuck = 0;
   bigint nsub = 0;
-  double cc[5];
   while (true) {
     const double tau = h - t;
     double tbest = FixHardSphere::BIG;
@@ -710,13 +676,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         const FixHardSphere::Wall &W = F.walls[wl];
         const double g = F.wall_gap(W, x[i], ri);
         if (g > Di) continue;
-        const double s = (W.side < 0) ? 1.0 : -1.0;
-        HardSphere::wall_gap_poly(g, s * v[i][W.dim], s * ai[W.dim], cc);
-        const Contact ct =
-            HardSphere::first_contact(cc, 2, tau, FixHardSphere::TOUCH_TOL * 2.0 * ri);
-        if (ct.status == HardSphere::OVERLAP)
-          error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was "
-                     "missed", F.style_name, atom->tag[i], -g, update->ntimestep);
+        const Contact ct = wall_contact(i, wl, g, v[i][W.dim], ai[W.dim], tau);
         if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
           tbest = ct.t;
           bi = i;
@@ -752,10 +712,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         if (r2 > reach * reach) continue;
         const double dvv[3] = {v[i][0] - vo[0], v[i][1] - vo[1], v[i][2] - vo[2]};
         const double da[3] = {ai[0] - ao[0], ai[1] - ao[1], ai[2] - ao[2]};
-        HardSphere::pair_gap_poly(dq, dvv, da, sigma, cc);
-        const Contact ct =
-            HardSphere::first_contact(cc, 4, tau, FixHardSphere::TOUCH_TOL * sigma * sigma);
-        if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(mine, theirs, sqrt(r2), sigma);
+        const Contact ct = pair_contact(mine, theirs, dq, dvv, da, sigma, tau);
         if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
           tbest = ct.t;
           bi = i;
@@ -992,7 +949,6 @@ void HSLocalEngine::wvel(int i, double *wi) const
 void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
-  double **x = atom->x;
   const int *mask = atom->mask;
   const double dt = F.dtv, skin = F.skin;
   double **xref = F.xref;
@@ -1099,7 +1055,7 @@ void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
   const int oa = own[la], ob = own[lb];
   if (cs.is_member(oa) && cs.is_member(ob)) return;    // both wait
   const double dt = F.dtv;
-  double qa[3], qb[3], cc[5];
+  double qa[3], qb[3];
   const double *wa = w[oa], *wb = w[ob];
   h2_pos(la, qa);
   h2_pos(lb, qb);
@@ -1110,30 +1066,51 @@ void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
   const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
   if (r2 > reach * reach) return;
   const double da[3] = {0.0, 0.0, 0.0};
-  HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
-  const Contact ct =
-      HardSphere::first_contact(cc, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
-  if (ct.status == HardSphere::OVERLAP) F.pair_overlap_error(la, lb, sqrt(r2), sigma);
-  if (ct.status != HardSphere::NO_CONTACT) hits.push_back({oa, ob});
+  if (pair_contact(la, lb, dq, dv, da, sigma, dt).status != HardSphere::NO_CONTACT)
+    hits.push_back({oa, ob});
 }
 
 // wall contacts of non-member i on its Phi_H2 line
 void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
 {
   FixHardSphere &F = *fix;
-  const double dt = F.dtv, ri = F.radius_of(i);
-  double cc[5];
   for (int wl = 0; wl < (int) F.walls.size(); wl++) {
     const FixHardSphere::Wall &W = F.walls[wl];
-    const double g = F.wall_gap(W, x0[i], ri);
-    const double s = (W.side < 0) ? 1.0 : -1.0;
-    HardSphere::wall_gap_poly(g, s * w[i][W.dim], 0.0, cc);
-    const Contact ct = HardSphere::first_contact(cc, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * ri);
-    if (ct.status == HardSphere::OVERLAP)
-      error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was "
-                 "missed", F.style_name, atom->tag[i], -g, update->ntimestep);
-    if (ct.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
+    const double g = F.wall_gap(W, x0[i], F.radius_of(i));
+    if (wall_contact(i, wl, g, w[i][W.dim], 0.0, F.dtv).status != HardSphere::NO_CONTACT)
+      hits.push_back({i, -1 - wl});
   }
+}
+
+/* ----------------------------------------------------------------------
+   the first approaching contact in (0, tmax] of sphere i with wall W
+   (gap g now; velocity vd and acceleration ad along the wall's axis), resp.
+   of local atoms la, lb on the relative path dq + t dv + t^2/2 da; an
+   overlap now is the fix's missed-collision error
+------------------------------------------------------------------------- */
+
+Contact HSLocalEngine::wall_contact(int i, int wl, double g, double vd, double ad, double tmax)
+{
+  const double s = (fix->walls[wl].side < 0) ? 1.0 : -1.0, r = fix->radius_of(i);
+  double c[5];
+  HardSphere::wall_gap_poly(g, s * vd, s * ad, c);
+  const Contact ct = HardSphere::first_contact(c, 2, tmax, FixHardSphere::TOUCH_TOL * 2.0 * r);
+  if (ct.status == HardSphere::OVERLAP)
+    error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was missed",
+               fix->style_name, atom->tag[i], -g, update->ntimestep);
+  return ct;
+}
+
+Contact HSLocalEngine::pair_contact(int la, int lb, const double *dq, const double *dv,
+                                   const double *da, double sigma, double tmax)
+{
+  double c[5];
+  HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
+  const Contact ct =
+      HardSphere::first_contact(c, 4, tmax, FixHardSphere::TOUCH_TOL * sigma * sigma);
+  if (ct.status == HardSphere::OVERLAP)
+    fix->pair_overlap_error(la, lb, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
+  return ct;
 }
 
 /* ----------------------------------------------------------------------
@@ -1359,7 +1336,6 @@ bool HSLocalEngine::step()
       for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
   }
   cs.flush_counters();
-  local_step = 1;
   return true;
 }
 
@@ -1396,7 +1372,6 @@ void HSLocalEngine::final_kick()
     } else
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
   }
-  local_step = 0;
 }
 
 const HardSphere::ClusterCounters &HSLocalEngine::counters()

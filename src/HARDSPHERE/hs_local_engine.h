@@ -51,6 +51,7 @@
 #define LMP_HS_LOCAL_ENGINE_H
 
 #include "hs_cluster.h"
+#include "hs_contact.h"
 #include "hs_local_forces.h"
 #include "pointers.h"
 
@@ -192,7 +193,6 @@ class HSLocalEngine : protected Pointers {
   std::vector<std::vector<int>> atom_runs;
   std::vector<int> runs_used;
   bool drifted = false;
-  int local_step = 0;
 
   // contact candidates by owned atom (pair indices into fix->cand / 2)
   bigint cand_version = -1;
@@ -212,6 +212,11 @@ class HSLocalEngine : protected Pointers {
     int i, j;    // owned indices; j < 0: wall -1 - j
   };
   void grow_arrays();
+  // the per-atom [nmax][3] arrays, allocated together
+  std::array<double ***, 8> peratom()
+  {
+    return {&x0, &v0, &w, &fcend, &fc0, &dvt, &dvb, &held0};
+  }
   int owner(int k) const { return own[k]; }
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
@@ -228,6 +233,9 @@ class HSLocalEngine : protected Pointers {
   void h2_pos(int l, double *q) const;
   void check_pair(int p, std::vector<Hit> &hits);
   void check_walls(int i, std::vector<Hit> &hits);
+  HardSphere::Contact wall_contact(int i, int wl, double g, double vd, double ad, double tmax);
+  HardSphere::Contact pair_contact(int la, int lb, const double *dq, const double *dv,
+                                   const double *da, double sigma, double tmax);
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1;
@@ -243,7 +251,7 @@ class HSLocalEngine : protected Pointers {
   // work lists of cluster keys: first halves to run, second halves to run,
   // cross kicks to recompute; flows not cross-checked yet
   std::vector<int> workA, workB, workX, wave2, uncheckedA, uncheckedB;
-  void push_key(std::vector<int> &list, int key);
+
   std::vector<uint32_t> xstamp;
   uint32_t xepoch = 0;
   void held_at_start(const std::vector<int> &newm);

@@ -444,9 +444,6 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int nprocs = comm->nprocs;
-  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
-                    neighbor->improperlist};
-  (void) lists;
   Tally tal[5];
   auto save = [](Tally &t, double e1, double e2, const double *v) {
     t.e1 = e1;
