@@ -44,10 +44,9 @@ struct Morse {
     d1 = 2.0 * D * a * (u - u * u);
     d2 = 2.0 * D * a * a * u * (2.0 * u - 1.0);
   }
-  // F = -grad V at q (3N)
-  void forces(const double *q, double *F) const
+  // fn(i, j, del = q_i - q_j, r, phi'(r), phi''(r)) for every pair i < j
+  template <class Fn> void each_pair(const double *q, Fn fn) const
   {
-    for (int k = 0; k < 3 * N; ++k) F[k] = 0.0;
     for (int i = 0; i < N; ++i)
       for (int j = i + 1; j < N; ++j) {
         double del[3], rsq = 0.0;
@@ -58,28 +57,28 @@ struct Morse {
         const double r = std::sqrt(rsq);
         double d1, d2;
         dphi(r, d1, d2);
-        for (int d = 0; d < 3; ++d) {
-          F[3 * i + d] -= d1 * del[d] / r;
-          F[3 * j + d] += d1 * del[d] / r;
-        }
+        fn(i, j, del, r, d1, d2);
       }
+  }
+  // F = -grad V at q (3N)
+  void forces(const double *q, double *F) const
+  {
+    for (int k = 0; k < 3 * N; ++k) F[k] = 0.0;
+    each_pair(q, [&](int i, int j, const double *del, double r, double d1, double) {
+      for (int d = 0; d < 3; ++d) {
+        F[3 * i + d] -= d1 * del[d] / r;
+        F[3 * j + d] += d1 * del[d] / r;
+      }
+    });
   }
   // G = M^-1 V''(q) as block-sparse
   void hessian(const double *q, RadialHessian &G) const
   {
     G.clear(N);
     for (int i = 0; i < N; ++i) G.set_row_scale(i, 1.0 / mass[i]);
-    for (int i = 0; i < N; ++i)
-      for (int j = i + 1; j < N; ++j) {
-        double del[3], rsq = 0.0;
-        for (int d = 0; d < 3; ++d) {
-          del[d] = q[3 * i + d] - q[3 * j + d];
-          rsq += del[d] * del[d];
-        }
-        double d1, d2;
-        dphi(std::sqrt(rsq), d1, d2);
-        G.add_radial(i, j, del, d1, d2);
-      }
+    each_pair(q, [&](int i, int j, const double *del, double, double d1, double d2) {
+      G.add_radial(i, j, del, d1, d2);
+    });
   }
   // f(y) = (v, M^-1 F(q))
   void field(const double *y, double *k) const
