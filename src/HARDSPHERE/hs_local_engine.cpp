@@ -16,6 +16,7 @@
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "pair.h"
 #include "update.h"
 
@@ -1335,8 +1336,49 @@ bool HSLocalEngine::step()
     else
       for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
   }
+  // what the closing kick needs, by tag (see remap_after_rebuild())
+  const tagint *tag = atom->tag;
+  end_mtags.clear();
+  end_ptags.clear();
+  end_pfc.clear();
+  for (int c = 0; c < cs.nclusters(); c++)
+    for (int m : cs.members(c)) end_mtags.push_back(tag[m]);
+  for (int i = 0; i < nlocal; i++)
+    if (estamp[i] == eepoch && !cs.is_member(i)) {
+      end_ptags.push_back(tag[i]);
+      end_pfc.push_back({fcend[i][0], fcend[i][1], fcend[i][2]});
+    }
+  end_ncalls = neighbor->ncalls;
   cs.flush_counters();
   return true;
+}
+
+/* ----------------------------------------------------------------------
+   a neighbor list rebuild since step() may have sorted the atoms: the
+   members (kstamp) and partners (estamp, fcend) at their new indices
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::remap_after_rebuild()
+{
+  if ((int) kstamp.size() < atom->nmax) kstamp.resize(atom->nmax, 0u);
+  if ((int) estamp.size() < atom->nmax) estamp.resize(atom->nmax, 0u);
+  grow_arrays();
+  bump_epoch(kepoch, kstamp);
+  bump_epoch(eepoch, estamp);
+  const int nlocal = atom->nlocal;
+  auto local = [&](tagint t) {
+    const int i = atom->map(t);
+    if (i < 0 || i >= nlocal)
+      error->one(FLERR, "Fix {} substep local: atom {} of a collision cluster is not owned after "
+                 "the neighbor list rebuild", fix->style_name, t);
+    return i;
+  };
+  for (tagint t : end_mtags) kstamp[local(t)] = kepoch;
+  for (size_t k = 0; k < end_ptags.size(); k++) {
+    const int i = local(end_ptags[k]);
+    estamp[i] = eepoch;
+    for (int d = 0; d < 3; d++) fcend[i][d] = end_pfc[k][d];
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -1350,11 +1392,14 @@ void HSLocalEngine::final_kick()
   double **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  // indices as step() left them, or as a rebuild since (atom sort) made them
+  const bool remapped = neighbor->ncalls != end_ncalls;
+  if (remapped) remap_after_rebuild();
+  auto member = [&](int i) { return remapped ? kstamp[i] == kepoch : cs.is_member(i); };
   // members' held forces: f - their conservative force from all their terms
   if (F.nheld) {
     std::vector<int> all;
-    for (int c = 0; c < cs.nclusters(); c++)
-      for (int m : cs.members(c)) all.push_back(m);
+    for (tagint t : end_mtags) all.push_back(atom->map(t));
     locf->compute(all.data(), (int) all.size(), false);
     ncompute += 1.0;
     double **fl = locf->forces();
@@ -1366,11 +1411,21 @@ void HSLocalEngine::final_kick()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit)) continue;
     const double dtfm = F.dtf / F.mass_of(i);
-    if (cs.is_member(i)) continue;    // above
+    if (member(i)) continue;    // above
     if (estamp[i] == eepoch) {
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fcend[i][d]);
     } else
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
+  }
+}
+
+void HSLocalEngine::partner_kicks(int i, double *first, double *second) const
+{
+  const bool a = i < (int) cnt.size() && cnt[i] > 0 && (atom->mask[i] & fix->groupbit);
+  const bool b = i < (int) estamp.size() && estamp[i] == eepoch;
+  for (int d = 0; d < 3; d++) {
+    first[d] = a ? dvt[i][d] : 0.0;
+    second[d] = b ? dvb[i][d] : 0.0;
   }
 }
 

@@ -53,6 +53,7 @@
 #include "hs_cluster.h"
 #include "hs_contact.h"
 #include "hs_local_forces.h"
+#include "lmptype.h"
 #include "pointers.h"
 
 #include <array>
@@ -82,6 +83,17 @@ class HSLocalEngine : protected Pointers {
   bool step();
   // the closing half kick (final_integrate) of a step step() took
   void final_kick();
+
+  // the step's clusters and state, for a method's own bookkeeping
+  // (hs_local_modified.h); valid from step() to the end of final_kick()
+  int nclusters() const { return cs.nclusters(); }
+  const std::vector<int> &members(int c) const { return cs.members(c); }
+  const double *start_x(int i) const { return x0[i]; }
+  const double *start_v(int i) const { return v0[i]; }
+  // the V_C kicks non-member i took in the first, resp. second Phi_H1
+  void partner_kicks(int i, double *first, double *second) const;
+  HSLocalForces &local_forces() { return *locf; }
+  void put_v(int i, const double *vn) { set_v(i, vn); }
 
   // counters for the output vector
   const HardSphere::ClusterCounters &counters();
@@ -256,6 +268,15 @@ class HSLocalEngine : protected Pointers {
   uint32_t xepoch = 0;
   void held_at_start(const std::vector<int> &newm);
   double **held0 = nullptr;    // members' held force at the step's start
+  // the step's members and partners (with V_C's end force) by tag, for the
+  // closing kick: a neighbor list rebuild between step() and final_kick()
+  // may sort the atoms (atom_modify sort), which changes local indices
+  std::vector<tagint> end_mtags, end_ptags;
+  std::vector<Vec> end_pfc;
+  bigint end_ncalls = -1;
+  std::vector<uint32_t> kstamp;    // members after a remap
+  uint32_t kepoch = 0;
+  void remap_after_rebuild();
   int bonded = 0;              // bonded styles present: their terms join clusters
   void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
 };
