@@ -266,13 +266,15 @@ void FixHardSphere::choose_engine()
   if (support == ENGINE_GLOBAL_ONLY) {
     if (substep_mode == SUBSTEP_LOCAL)
       error->all(FLERR,
-                 "Fix {} substep local is not available yet: only hardsphere/cva (and psa, "
-                 "local by construction) have the local engine; use substep global",
+                 "Fix {} substep local is not available yet: only hardsphere/cva and /pcva "
+                 "(and psa, local by construction) have the local engine; use substep global",
                  style_name);
     return;
   }
   if (!local_engine) local_engine = new HSLocalEngine(lmp, this);
-  const std::string why = local_engine->init();
+  std::string why = local_engine->init();
+  const std::string own = local_limits();
+  if (!own.empty()) why += (why.empty() ? "" : "; ") + own;
   if (why.empty()) {
     use_local = 1;
     if (comm->me == 0 && local_why_told != "local")
@@ -1086,6 +1088,7 @@ void FixHardSphere::initial_integrate(int)
     if (local_engine->step()) {
       local_step = 1;
       if (step_collided) ncoll_steps += 1.0;
+      local_step_begun();
     } else {    // no contact after all: fix nve's step
       nve_initial();
       dtf_last = dtf;
@@ -1293,6 +1296,7 @@ void FixHardSphere::final_integrate()
 {
   if (local_step) {    // the local engine's closing kick
     local_engine->final_kick();
+    local_step_done();
     local_step = 0;
     step_substeps = 0;
     screened_step = -1;

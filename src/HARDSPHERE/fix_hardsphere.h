@@ -23,6 +23,7 @@ namespace LAMMPS_NS {
 
 class FixHardSphere : public Fix {
   friend class HSLocalEngine;
+  friend class HSLocalModified;
 
  public:
   FixHardSphere(class LAMMPS *, int, char **);
@@ -136,6 +137,12 @@ class FixHardSphere : public Fix {
   int local_vec_offset = 5;              // first output entry of the engine's counters
   std::string local_why_told;
   void choose_engine();
+  // a method's own reasons it cannot run locally with this set-up ("" if none)
+  virtual std::string local_limits() { return ""; }
+  // a step the local engine took: after its step() (x, v as the engine left
+  // them, f still the start forces), after its closing kick (all at the end)
+  virtual void local_step_begun() {}
+  virtual void local_step_done() {}
 
   // keywords
   double diameter;

@@ -5,6 +5,8 @@
 
 #include "fix_hardsphere_pcva.h"
 
+#include "hs_local_engine.h"
+#include "hs_local_modified.h"
 #include "hs_potential.h"
 #include "hs_projection.h"
 
@@ -34,7 +36,10 @@ FixHardSpherePCVA::FixHardSpherePCVA(LAMMPS *lmp, int narg, char **arg) :
   derivs_needed = 1;
 }
 
-/* ---------------------------------------------------------------------- */
+FixHardSpherePCVA::~FixHardSpherePCVA()
+{
+  delete lmod;
+}
 
 /* ----------------------------------------------------------------------
    H_[2,VV] = K~ + U at the current state (section 3; hs_projection.h),
@@ -83,19 +88,10 @@ void FixHardSpherePCVA::project(const char *where)
   double alpha;
   const HardSphere::ScaleStatus st = HardSphere::pcva_scale(Ht0, U, Kt, alpha);
   if (st != HardSphere::SCALE_OK) {
-    // no real alpha > 0: leave this sub-step unprojected (counted, f_ID[7])
-    nskip += 1.0;
-    if (!warned && comm->me == 0)
-      error->warning(FLERR,
-                     "Fix {}: no momentum scaling restores H_[2,VV] {} on step {} ({}: "
-                     "target {}, U {}, K~ {}); the sub-step is left unprojected. Such "
-                     "sub-steps are counted in f_{}[7]; this warning is printed once",
-                     style_name, where, update->ntimestep,
-                     st == HardSphere::SCALE_NO_ROOT ? "target - U <= 0 or not a number"
-                                                     : "K~ <= 0 or not a number",
-                     Ht0, U, Kt,
-                     id);
-    warned = 1;
+    skipped(st, fmt::format("{} ({}: target {}, U {}, K~ {})", where,
+                            st == HardSphere::SCALE_NO_ROOT ? "target - U <= 0 or not a number"
+                                                            : "K~ <= 0 or not a number",
+                            Ht0, U, Kt));
     return;
   }
 
@@ -112,6 +108,65 @@ void FixHardSpherePCVA::project(const char *where)
     }
   nproj += 1.0;
   maxdev = MAX(maxdev, fabs(alpha - 1.0));
+}
+
+// no real scaling: the sub-step (step) is left unprojected, counted in f_ID[7]
+void FixHardSpherePCVA::skipped(int, const std::string &what)
+{
+  nskip += 1.0;
+  if (!warned && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix {}: no momentum scaling restores H_[2,VV] {} on step {}; it is left "
+                   "unprojected. Such sub-steps are counted in f_{}[7]; this warning is "
+                   "printed once",
+                   style_name, what, update->ntimestep, id);
+  warned = 1;
+}
+
+/* ----------------------------------------------------------------------
+   substep local (doc "Local projection"): the set-ups it needs beyond the
+   engine's; the projection once per step with clusters
+------------------------------------------------------------------------- */
+
+std::string FixHardSpherePCVA::local_limits()
+{
+  std::string why;
+  auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
+  if (!pot->radial_only())
+    add(fmt::format("a potential with other than radial pair and bond terms ({}; the local "
+                    "projection evaluates the colliding spheres' terms through single())",
+                    pot->describe()));
+  if (nheld)
+    add(fmt::format("held (thermostat) forces of {} (the local projection needs the partners' "
+                    "conservative forces alone)",
+                    pot->held_names()));
+  return why;
+}
+
+void FixHardSpherePCVA::local_step_begun()
+{
+  if (!lmod) lmod = new HSLocalModified(lmp, this, pot);
+  lmod->begin(*local_engine);
+}
+
+void FixHardSpherePCVA::local_step_done()
+{
+  double A, B, C0, beta;
+  lmod->end(*local_engine, A, B, C0);
+  const HardSphere::ScaleStatus st = HardSphere::pcva_local_beta(A, B, C0, beta);
+  if (st != HardSphere::SCALE_OK) {
+    skipped(st, fmt::format("at the end of a step with collisions (substep local: change {}, "
+                            "{})",
+                            C0,
+                            st == HardSphere::SCALE_NO_ROOT
+                                ? "more than scaling the colliding spheres' motion can undo"
+                                : "K~ <= 0 along the colliding spheres' velocities relative to "
+                                  "their clusters' centres of mass"));
+    return;
+  }
+  lmod->scale(*local_engine, beta);
+  nproj += 1.0;
+  maxdev = MAX(maxdev, fabs(beta));
 }
 
 /* ---------------------------------------------------------------------- */

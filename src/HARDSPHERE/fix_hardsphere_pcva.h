@@ -3,7 +3,9 @@
    algorithm (Bond & Leimkuhler 2007, section 3.2): CVA, and after every
    sub-step of a step with a collision the group's momenta are scaled so
    that the modified Hamiltonian H_[2,VV] keeps the value it had at the
-   step's start. Collision-free steps are fix nve's.
+   step's start. Collision-free steps are fix nve's. With substep local
+   (the local engine) one projection per step of the colliding spheres'
+   velocities keeps H_[2,VV] to fourth order (hs_local_modified.h).
    See doc/fix_hardsphere_pcva.rst.
 ------------------------------------------------------------------------- */
 
@@ -18,6 +20,7 @@ FixStyle(hardsphere/pcva,FixHardSpherePCVA);
 
 #include "fix_hardsphere.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -25,6 +28,7 @@ namespace LAMMPS_NS {
 class FixHardSpherePCVA : public FixHardSphere {
  public:
   FixHardSpherePCVA(class LAMMPS *, int, char **);
+  ~FixHardSpherePCVA() override;
   double compute_vector(int) override;
 
  protected:
@@ -41,6 +45,16 @@ class FixHardSpherePCVA : public FixHardSphere {
 
   double modified_energy(double &U, double &Kt);
   void project(const char *where);
+  void skipped(int status, const std::string &what);
+
+  // substep local: one projection per step with clusters, of the members'
+  // velocities relative to their cluster's centre of mass, that undoes the
+  // step's change of H_[2,VV] (hs_local_modified.h)
+  int engines_supported() const override { return ENGINE_BOTH; }
+  std::string local_limits() override;
+  void local_step_begun() override;
+  void local_step_done() override;
+  class HSLocalModified *lmod = nullptr;
 };
 
 }    // namespace LAMMPS_NS

@@ -236,6 +236,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
   zero_list_.clear();
   term_atoms_.clear();
   term_local_.clear();
+  term_extra_.clear();
   term_off_.assign(1, 0);
   // the owned copy of local atom j (-1: owned by another rank)
   auto owner_of = [&](int j) -> int {
@@ -245,7 +246,8 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
   };
   int nterm = 0;
   const bool record = record_terms || terms_only_;
-  auto add_term = [&](const int *a, int k) {
+  // extra: a pair's special index, a bonded term's type
+  auto add_term = [&](const int *a, int k, int extra) {
     ++nterm;
     if (!terms_only_)
       for (int t = 0; t < k; t++) zero(a[t]);
@@ -255,6 +257,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
       term_local_.push_back(a[t]);
     }
     term_off_.push_back((int) term_atoms_.size());
+    term_extra_.push_back(extra);
   };
 
   // ---- pair: full rows of C, and the entries of C's images in other rows
@@ -283,7 +286,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
           }
           for (int k = 0; k < nj; k++) {
             const int pr[2] = {a, jl[k] & NEIGHMASK};
-            add_term(pr, 2);
+            add_term(pr, 2, jl[k] >> SBBITS & 3);
           }
         } else
           // a row with some entries left out: rebuilt below from its kept ones
@@ -291,7 +294,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
             if (cross(a, jl[k] & NEIGHMASK) == only_cross) {
               if (terms_only_) {
                 const int pr[2] = {a, jl[k] & NEIGHMASK};
-                add_term(pr, 2);
+                add_term(pr, 2, jl[k] >> SBBITS & 3);
               } else
                 extra_.emplace_back(a, jl[k]);
             }
@@ -300,7 +303,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
         if (inC(pinv_row_[p]) || cross(pinv_row_[p], a) != only_cross) continue;
         if (terms_only_) {    // the term only, no restricted row
           const int pr[2] = {pinv_row_[p], pinv_val_[p] & NEIGHMASK};
-          add_term(pr, 2);
+          add_term(pr, 2, pinv_val_[p] >> SBBITS & 3);
         } else
           extra_.emplace_back(pinv_row_[p], pinv_val_[p]);
       }
@@ -317,7 +320,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
       numneigh_[i]++;
       neigh_.push_back(extra_[k].second);
       const int pr[2] = {i, extra_[k].second & NEIGHMASK};
-      add_term(pr, 2);
+      add_term(pr, 2, extra_[k].second >> SBBITS & 3);
     }
     // pointers into neigh_ only now that it no longer grows
     for (size_t k = 0, s = 0; k < extra_.size(); k++)
@@ -345,7 +348,7 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
         B.stamp[r] = epoch_;
         int *row = lists[b][r];
         B.sub.push_back(row);
-        add_term(row, width[b]);
+        add_term(row, width[b], row[width[b]]);
       }
   }
   nbonded_terms += (double) (nterm - npair_t);

@@ -118,6 +118,8 @@ class HSLocalForces : protected Pointers {
   // them (the first ones) are pair terms
   const std::vector<int> &term_local() const { return term_local_; }
   int npair_last() const { return npair_last_; }
+  // per term: a pair's special index (j >> SBBITS & 3), a bonded term's type
+  const std::vector<int> &term_extra() const { return term_extra_; }
 
   // counters: calls, and pair / bonded terms evaluated, since construction
   double ncalls = 0, npair_terms = 0, nbonded_terms = 0;
@@ -153,7 +155,7 @@ class HSLocalForces : protected Pointers {
   int **firstneigh_ = nullptr;
   double **fl_ = nullptr;
 
-  std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_, term_local_;
+  std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_, term_local_, term_extra_;
   int npair_last_ = 0;
   void zero(int i);
   void grow();

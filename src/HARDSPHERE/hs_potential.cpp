@@ -1142,6 +1142,21 @@ bool HSPotential::any_radial() const
   return impl->any_single();
 }
 
+void HSPotential::pair_term(int i, int j, int sb, double rsq, double phi[3])
+{
+  const int *type = atom->type;
+  double p[5];
+  impl->pair_phi(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb], 2, p);
+  for (int k = 0; k < 3; k++) phi[k] = p[k];
+}
+
+void HSPotential::bond_term(int btype, int i, int j, double rsq, double phi[3])
+{
+  double p[5];
+  impl->bond_phi(btype, i, j, rsq, 2, p);
+  for (int k = 0; k < 3; k++) phi[k] = p[k];
+}
+
 bool HSPotential::radial_only() const
 {
   return !impl->fd_any;

@@ -137,6 +137,11 @@ class HSPotential : protected Pointers {
       const std::function<void(int, int, const double *, double, double, bool, bool)> &fn);
   bool any_radial() const;
   bool radial_only() const;
+  // one radial term of the single path at squared distance rsq (no cutoff
+  // test: the caller's): phi[0..2] = phi, phi'(r), phi''(r) of pair (i, j)
+  // with special index sb (0: none), resp. of a bond of type btype
+  void pair_term(int i, int j, int sb, double rsq, double phi[3]);
+  void bond_term(int btype, int i, int j, double rsq, double phi[3]);
 
   // number of force evaluations done so far: evaluate(), energy() and those
   // of the FDIFF differences (for the owners' counters)

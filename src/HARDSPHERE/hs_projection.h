@@ -69,6 +69,23 @@ inline ScaleStatus pcva_scale(double H0, double U, double Kt, double &alpha)
   return SCALE_OK;
 }
 
+// the local projection (substep local, hs_local_modified.h): v_i -> v_i +
+// beta b_i on the colliding spheres changes H_[2,VV] over the step by
+// A beta^2 + B beta + C0 (A: the kinetic energy of b, B = 2 A + dt^2/6
+// b^T V'' v; C0: the change without projection). beta: the root nearest
+// zero, -2 C0 / (B + sqrt(B^2 - 4 A C0)) (no cancellation for small C0).
+// On failure beta is set to 0 and the status says why.
+inline ScaleStatus pcva_local_beta(double A, double B, double C0, double &beta)
+{
+  beta = 0.0;
+  if (!(A > 0.0) || !(B > 0.0) || !std::isfinite(A) || !std::isfinite(B))
+    return SCALE_BAD_KINETIC;
+  const double disc = B * B - 4.0 * A * C0;
+  if (!(disc >= 0.0) || !std::isfinite(C0)) return SCALE_NO_ROOT;
+  beta = -2.0 * C0 / (B + std::sqrt(disc));
+  return SCALE_OK;
+}
+
 }    // namespace HardSphere
 
 #endif

@@ -286,7 +286,7 @@ TEST(LocalEngine, Errors)
   const std::string base = fluid("", 0.005, 1, 3);
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep sideways\nrun 1\n",
                {"substep must be local or global", "sideways"});
-  expect_error(base + "fix x all hardsphere/pcva diameter 1.0 substep local\nrun 1\n",
+  expect_error(base + "fix x all hardsphere/vci diameter 1.0 substep local\nrun 1\n",
                {"substep local is not available yet", "substep global"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"
                       "fix s all spring/self 1.0\nrun 1\n",

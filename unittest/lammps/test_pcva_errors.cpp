@@ -57,7 +57,7 @@ group s type 2
 velocity s set 0 3.0 0 units box
 neighbor 4.0 bin
 comm_modify cutoff 10.0
-fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735
+fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735 substep global
 fix 2d all enforce2d
 timestep 0.3
 run 1
@@ -76,4 +76,45 @@ print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
   const std::regex re(R"((?:^|\n)SKIPPED ([0-9.eE+-]+) PROJECTED ([0-9.eE+-]+))");
   ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
   EXPECT_GE(std::stod(m[1]), 1.0);
+}
+
+// the same with substep local: the step's single projection finds no real
+// scaling either (the sphere alone in its cluster, its partner outside the
+// group); counted and warned once, naming the local projection
+TEST(PCVAErrors, NoRealScalingLocalIsCountedAndWarned)
+{
+  const std::string input = R"IN(units lj
+dimension 2
+atom_style bond
+atom_modify map array
+boundary f f p
+region box block -12 12 -12 12 -0.5 0.5 units box
+create_box 2 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 2
+create_atoms 1 single 0 0 0 units box
+create_atoms 2 single 0.5 0 0 units box
+mass * 1.0
+bond_style harmonic
+bond_coeff 1 50.0 1.0
+create_bonds single/bond 1 1 2
+group s type 2
+velocity s set 0 3.0 0 units box
+neighbor 4.0 bin
+comm_modify cutoff 10.0
+fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735 substep local
+fix 2d all enforce2d
+timestep 0.3
+run 1
+print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
+)IN";
+  RunResult r = run_lmp(input);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("WARNING: Fix hardsphere/pcva: no momentum scaling restores H_[2,VV] at "
+                          "the end of a step with collisions (substep local"),
+            std::string::npos)
+      << r.output;
+  std::smatch m;
+  const std::regex re(R"((?:^|\n)SKIPPED ([0-9.eE+-]+) PROJECTED ([0-9.eE+-]+))");
+  ASSERT_TRUE(std::regex_search(r.output, m, re)) << r.output;
+  EXPECT_EQ(std::stod(m[1]), 1.0);
+  EXPECT_EQ(std::stod(m[2]), 0.0);
 }
