@@ -164,3 +164,35 @@ TEST(Projection, NoRealRootIsReported)
   EXPECT_EQ(pcva_scale(3.0, 1.0, 0.5, alpha), SCALE_OK);
   EXPECT_DOUBLE_EQ(alpha, 2.0);
 }
+
+// the local projection's beta (substep local): a harmonic pair whose
+// relative velocity b is scaled, v -> v + beta b. With the kinetic energy
+// K(b) and the curvature term written out, dH~(beta) = A beta^2 + B beta
+// + C0 exactly; the returned root makes it vanish and is the one near 0
+TEST(Projection, LocalBetaIsTheSmallRootOfTheExactQuadratic)
+{
+  // two unit masses, spring constant k along x, dt: relative velocity u
+  const double k = 3.0, dt = 0.1, u = 0.7, m = 1.0;
+  // velocities +-u/2 about a resting centre of mass: b = v
+  const double mb2 = 2.0 * m * (u / 2) * (u / 2);
+  const double btKb = k * u * u;    // (b_1 - b_2) k (b_1 - b_2)
+  const double A = 0.5 * mb2 + dt * dt / 12.0 * btKb;
+  const double B = mb2 + dt * dt / 6.0 * btKb;    // b^T K v = b^T K b here
+  for (double C0 : {1e-6, -1e-6, 1e-3, -0.05}) {
+    double beta = 99.0;
+    ASSERT_EQ(pcva_local_beta(A, B, C0, beta), SCALE_OK) << C0;
+    // H~ of the scaled state, from scratch: (1 + beta)^2 times that of v
+    const double Kt = 0.5 * mb2 + dt * dt / 12.0 * btKb;
+    const double change = (1 + beta) * (1 + beta) * Kt - Kt + C0;
+    EXPECT_NEAR(change, 0.0, 1e-15) << C0;
+    EXPECT_LT(std::fabs(beta), 1.0) << "the root near zero, not the one near -2";
+  }
+  double beta = 1.0;
+  // more to undo than the relative motion holds: no real root
+  EXPECT_EQ(pcva_local_beta(A, B, 10.0, beta), SCALE_NO_ROOT);
+  EXPECT_EQ(beta, 0.0);
+  // no relative motion, or K~(b) <= 0
+  EXPECT_EQ(pcva_local_beta(0.0, 0.0, 1e-6, beta), SCALE_BAD_KINETIC);
+  EXPECT_EQ(pcva_local_beta(-1.0, 1.0, 1e-6, beta), SCALE_BAD_KINETIC);
+  EXPECT_EQ(pcva_local_beta(1.0, NAN, 1e-6, beta), SCALE_BAD_KINETIC);
+}
