@@ -136,10 +136,6 @@ std::string FixHardSpherePCVA::local_limits()
     add(fmt::format("a potential with other than radial pair and bond terms ({}; the local "
                     "projection evaluates the colliding spheres' terms through single())",
                     pot->describe()));
-  if (nheld)
-    add(fmt::format("held (thermostat) forces of {} (the local projection needs the partners' "
-                    "conservative forces alone)",
-                    pot->held_names()));
   return why;
 }
 

@@ -94,6 +94,7 @@ class HSLocalEngine : protected Pointers {
   void partner_kicks(int i, double *first, double *second) const;
   HSLocalForces &local_forces() { return *locf; }
   void put_v(int i, const double *vn) { set_v(i, vn); }
+  void put_x(int i, const double *xn) { set_x(i, xn); }
 
   // counters for the output vector
   const HardSphere::ClusterCounters &counters();

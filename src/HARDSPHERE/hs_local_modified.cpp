@@ -93,11 +93,11 @@ void HSLocalModified::terms_eval(X xpos, V vel, B bvel, double &E, double &Q, do
 }
 
 /* ----------------------------------------------------------------------
-   L = T_C + V_CX + dt^2/24 (2 Q - G) with the forces f (full, conservative)
+   L = T_C + V_CX + dt^2/24 (2 Q - G) with the conservative forces cons()
    and fc, T the members' kinetic energy
 ------------------------------------------------------------------------- */
 
-double HSLocalModified::local_L(double **f, double E, double Q, double T)
+double HSLocalModified::local_L(double E, double Q, double T)
 {
   const int *mask = atom->mask;
   const int gb = fix->groupbit;
@@ -105,7 +105,7 @@ double HSLocalModified::local_L(double **f, double E, double Q, double T)
   for (size_t s = 0; s < owners.size(); s++) {
     const int i = owners[s];
     if (!(mask[i] & gb)) continue;
-    const double *F = f[i];
+    const double *F = cons(i);
     double g;
     if (is_mem[s])
       g = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
@@ -181,23 +181,24 @@ void HSLocalModified::begin(HSLocalEngine &eng)
     }
   find_terms(eng);
 
-  // the step's start: x0, v0 (group atoms; others still), f as it is now.
-  // The lists hold every pair within cutoff + skin: every atom that can
-  // share a term with a member during the step is an owner here
+  // the step's start: x0 and the conservative map's start velocities
+  // (held forces: after their first half kick) and forces. The lists hold
+  // every pair within cutoff + skin: every atom that can share a term with
+  // a member during the step is an owner here
+  conservative_state(eng, true);
   static const double zero[3] = {0.0, 0.0, 0.0};
   double E, Q, Qbb;
   terms_eval([&](int o) { return eng.start_x(o); },
-             [&](int o) { return (mask[o] & gb) ? eng.start_v(o) : zero; },
+             [&](int o) { return (mask[o] & gb) ? vcons(o) : zero; },
              [&](int) { return zero; }, E, Q, Qbb);
   double T = 0.0;
   for (int m : mem)
     if (mask[m] & gb) {
-      const double *v = eng.start_v(m);
+      const double *v = vcons(m);
       T += fix->mass_of(m) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
   T *= 0.5 * force->mvv2e;
-  double **f = atom->f;
-  L0 = local_L(f, E, Q, T);
+  L0 = local_L(E, Q, T);
   ptag.clear();
   pstart.clear();
   for (size_t s = 0; s < owners.size(); s++) {
@@ -205,21 +206,98 @@ void HSLocalModified::begin(HSLocalEngine &eng)
     if (is_mem[s] || !(mask[p] & gb)) continue;
     Start st;
     eng.partner_kicks(p, st.d1.data(), st.d2.data());
-    const double *v0 = eng.start_v(p);
+    const double *v0 = vcons(p), *F = cons(p);
     for (int d = 0; d < 3; d++) {
       st.v0[d] = v0[d];
-      st.fr0[d] = f[p][d] - fc[s][d];
+      st.fr0[d] = F[d] - fc[s][d];
     }
     ptag.push_back(tag[p]);
     pstart.push_back(st);
   }
 }
 
+/* ----------------------------------------------------------------------
+   the conservative forces and velocities of the members and partners
+   (and, at the end, of the start's partners) at the step's start (x0, v0,
+   atom->f of the start) or end (x, v, f now). Without held forces: f and v
+   themselves. With held (thermostat) forces, the conservative map is
+   between the held half kicks: velocities v0 + dt/2 h / m at the start
+   and v - dt/2 h / m at the end, h = f - F_cons; F_cons of the members and
+   partners from all their terms (restricted evaluations, at x0 for the
+   start)
+------------------------------------------------------------------------- */
+
+void HSLocalModified::conservative_state(HSLocalEngine &eng, bool at_start)
+{
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  const int *mask = atom->mask;
+  const int gb = fix->groupbit;
+  if ((int) cstamp.size() < atom->nmax) {
+    cstamp.assign(atom->nmax, 0u);
+    fcons_.resize(atom->nmax);
+    vcons_.resize(atom->nmax);
+    cepoch = 0;
+  }
+  if (++cepoch == 0) {
+    std::fill(cstamp.begin(), cstamp.end(), 0u);
+    cepoch = 1;
+  }
+  std::vector<int> atoms;
+  auto note = [&](int i) {
+    if (cstamp[i] == cepoch) return;
+    cstamp[i] = cepoch;
+    atoms.push_back(i);
+  };
+  for (int o : owners) note(o);
+  if (!at_start)
+    for (tagint t : ptag) note(atom->map(t));
+  for (int i : atoms)
+    for (int d = 0; d < 3; d++) {
+      fcons_[i][d] = f[i][d];
+      vcons_[i][d] = at_start ? eng.start_v(i)[d] : v[i][d];
+    }
+  if (!fix->nheld) return;
+
+  // F_cons of the group's members and partners: a restricted evaluation of
+  // all their terms (at the start with every atom of those terms at x0)
+  std::vector<int> set;
+  for (int i : atoms)
+    if (mask[i] & gb) set.push_back(i);
+  if (set.empty()) return;
+  HSLocalForces &lf = eng.local_forces();
+  lf.set_labels(nullptr);
+  std::vector<int> moved;
+  std::vector<Vec> saved;
+  if (at_start) {
+    lf.terms(set.data(), (int) set.size());
+    std::vector<int> own = lf.term_atoms();
+    std::sort(own.begin(), own.end());
+    own.erase(std::unique(own.begin(), own.end()), own.end());
+    for (int o : own) {
+      if (o < 0) continue;
+      moved.push_back(o);
+      saved.push_back({x[o][0], x[o][1], x[o][2]});
+      eng.put_x(o, eng.start_x(o));
+    }
+  }
+  lf.compute(set.data(), (int) set.size(), false);
+  double **fl = lf.forces();
+  const double dtf = fix->dtf;
+  for (int i : set) {
+    const double s = (at_start ? dtf : -dtf) / fix->mass_of(i);
+    for (int d = 0; d < 3; d++) {
+      fcons_[i][d] = fl[i][d];
+      vcons_[i][d] += s * (f[i][d] - fl[i][d]);
+    }
+  }
+  for (size_t k = 0; k < moved.size(); k++) eng.put_x(moved[k], saved[k].data());
+}
+
 /* ---------------------------------------------------------------------- */
 
 void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
 {
-  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **x = atom->x;
   const int *mask = atom->mask;
   const int gb = fix->groupbit;
   const int nlocal = atom->nlocal;
@@ -232,12 +310,14 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
   };
   for (size_t k = 0; k < mtag.size(); k++) mem[k] = local(mtag[k]);
   find_terms(eng);
+  for (tagint t : ptag) local(t);
+  conservative_state(eng, false);
 
   // b of the projection on the members (slot order: members first)
   relative(eng);
   static const double zero[3] = {0.0, 0.0, 0.0};
   double E, Q, Qbb;
-  terms_eval([&](int o) { return x[o]; }, [&](int o) { return (mask[o] & gb) ? v[o] : zero; },
+  terms_eval([&](int o) { return x[o]; }, [&](int o) { return (mask[o] & gb) ? vcons(o) : zero; },
              [&](int o) {
                const int sl = slot[o];
                return is_mem[sl] ? rel[sl].data() : zero;
@@ -246,9 +326,12 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
   const double mvv2e = force->mvv2e, dt = fix->dtv;
   double T = 0.0;
   for (int m : mem)
-    if (mask[m] & gb) T += fix->mass_of(m) * (v[m][0] * v[m][0] + v[m][1] * v[m][1] + v[m][2] * v[m][2]);
+    if (mask[m] & gb) {
+      const double *vm = vcons(m);
+      T += fix->mass_of(m) * (vm[0] * vm[0] + vm[1] * vm[1] + vm[2] * vm[2]);
+    }
   T *= 0.5 * mvv2e;
-  const double L1 = local_L(f, E, Q, T);
+  const double L1 = local_L(E, Q, T);
 
   // what the Phi_H1 flows did to H~2: the partners' kinetic energy and
   // dt^2/6 (V_R'' v)_p . dv_p, (V_R'' v)_p = -(F^R_p(end) - F^R_p(start)) / dt
@@ -257,11 +340,12 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
     const int p = local(ptag[k]);
     const Start &st = pstart[k];
     const int sl = slot_of(p);
+    const double *vp = vcons(p), *F = cons(p);
     double kin = 0.0;
     for (int d = 0; d < 3; d++) {
-      const double a = st.v0[d] + st.d1[d], b = v[p][d] - st.d2[d];
-      kin += a * a - st.v0[d] * st.v0[d] + v[p][d] * v[p][d] - b * b;
-      const double fr1 = f[p][d] - (sl >= 0 ? fc[sl][d] : 0.0);
+      const double a = st.v0[d] + st.d1[d], b = vp[d] - st.d2[d];
+      kin += a * a - st.v0[d] * st.v0[d] + vp[d] * vp[d] - b * b;
+      const double fr1 = F[d] - (sl >= 0 ? fc[sl][d] : 0.0);
       gk += -(fr1 - st.fr0[d]) / dt * (st.d1[d] + st.d2[d]);
     }
     dTP += 0.5 * mvv2e * fix->mass_of(p) * kin;
@@ -287,7 +371,6 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
 // for a one-sphere cluster: a wall contact); zero outside the group
 void HSLocalModified::relative(HSLocalEngine &eng)
 {
-  double **v = atom->v;
   const int *mask = atom->mask;
   const int gb = fix->groupbit;
   const int ncl = eng.nclusters();
@@ -298,7 +381,7 @@ void HSLocalModified::relative(HSLocalEngine &eng)
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
     const double ms = fix->mass_of(m);
-    for (int d = 0; d < 3; d++) pc[cid[k]][d] += ms * v[m][d];
+    for (int d = 0; d < 3; d++) pc[cid[k]][d] += ms * vcons(m)[d];
     mc[cid[k]] += ms;
     nc[cid[k]]++;
   }
@@ -307,7 +390,7 @@ void HSLocalModified::relative(HSLocalEngine &eng)
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
     const int c = cid[k];
-    for (int d = 0; d < 3; d++) rel[k][d] = v[m][d] - (nc[c] > 1 ? pc[c][d] / mc[c] : 0.0);
+    for (int d = 0; d < 3; d++) rel[k][d] = vcons(m)[d] - (nc[c] > 1 ? pc[c][d] / mc[c] : 0.0);
   }
 }
 

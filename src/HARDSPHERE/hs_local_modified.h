@@ -32,7 +32,11 @@
 
    The terms are evaluated through the single path of HSPotential (pair and
    bond styles with single(); phi'' analytic or by differences in r), on
-   the terms HSLocalForces finds for the members. One rank, as the engine.
+   the terms HSLocalForces finds for the members. With held (thermostat)
+   forces the ledger is that of the conservative map between the held half
+   kicks: velocities after the first and before the last, conservative
+   forces of members and partners from restricted evaluations of all their
+   terms. One rank, as the engine.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LOCAL_MODIFIED_H
@@ -102,7 +106,14 @@ class HSLocalModified : protected Pointers {
   // vel(owner) and the projection's directions bvel(owner)
   template <class X, class V, class B>
   void terms_eval(X xpos, V vel, B bvel, double &E, double &Q, double &Qbb);
-  double local_L(double **f, double E, double Q, double T);
+  double local_L(double E, double Q, double T);
+  // conservative forces and velocities (held forces taken out), per local index
+  std::vector<Vec> fcons_, vcons_;
+  std::vector<uint32_t> cstamp;
+  uint32_t cepoch = 0;
+  void conservative_state(HSLocalEngine &, bool at_start);
+  const double *cons(int i) const { return fcons_[i].data(); }
+  const double *vcons(int i) const { return vcons_[i].data(); }
   void relative(HSLocalEngine &);
 };
 

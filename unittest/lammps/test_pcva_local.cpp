@@ -14,6 +14,8 @@
 //   collision rate agree (block-average error bars) on 4000 spheres (the
 //   energy error H - H0 of both is Verlet's smooth O(dt^2) fluctuation
 //   H - H~, since both keep H~: they agree closely);
+// - held (thermostat) forces: a zero one changes nothing (the thermostat
+//   tests of test_thermostats.cpp run pcva local with every thermostat);
 // - where the local projection cannot run, the fall-back and error name why.
 
 #include "hs_chain.h"
@@ -202,23 +204,67 @@ TEST(PCVALocal, AgreesWithGlobalOn4000Spheres)
   EXPECT_LT(a.press.se, 0.05 * 0.5729578);
 }
 
+// held (thermostat) forces: the projection works on the conservative map
+// between the held half kicks, with the members' and partners' conservative
+// forces from restricted evaluations. A held force that is zero (fix
+// viscous 0) must then leave the trajectory as it is without it, to
+// round-off, though every held-force path runs
+TEST(PCVALocal, ZeroHeldForceChangesNothing)
+{
+  double e[2], t[2], proj[2];
+  for (int held = 0; held < 2; held++) {
+    HSLammps L;
+    L.lines(fluid((held ? "fix vv all viscous 0.0\n" : std::string()) +
+                      "fix hs all hardsphere/pcva diameter 1.0",
+                  0.005));
+    L.cmd("run 300");
+    e[held] = lammps_get_thermo(L.lmp, "etotal");
+    t[held] = lammps_get_thermo(L.lmp, "temp");
+    proj[held] = L.fix_vector("hs", 5);
+  }
+  std::printf("etotal %.15g / %.15g, projections %g / %g\n", e[0], e[1], proj[0], proj[1]);
+  EXPECT_GT(proj[0], 100.0);
+  EXPECT_EQ(proj[0], proj[1]);
+  EXPECT_NEAR(e[0], e[1], 1e-10 * std::fabs(e[0]));
+  EXPECT_NEAR(t[0], t[1], 1e-10);
+}
+
 // where the local projection cannot run: the default falls back to the
 // global engine with one warning naming why; substep local is an error
 TEST(PCVALocal, FallbacksAndErrorsNameTheCause)
 {
-  const std::string base = fluid("", 0.005, 1, 3);
-  {
-    const std::string in = base + "fix th all langevin 1.0 1.0 0.5 4321\n" +
-        "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n";
-    RunResult r = run_lmp(in);
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("substep local is not available with held (thermostat) forces of "
-                            "fix th langevin"),
-              std::string::npos)
-        << r.output;
-    EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << r.output;
-  }
-  expect_error(base + "fix th all langevin 1.0 1.0 0.5 4321\n" +
-                   "fix hs all hardsphere/pcva diameter 1.0 substep local\nrun 5\n",
-               {"Fix hardsphere/pcva substep local cannot run with held (thermostat) forces"});
+  // three beads with an angle term: not a radial pair or bond term
+  const std::string base = R"LMP(units lj
+atom_style angle
+atom_modify map array
+boundary p p p
+region box block -5 5 -5 5 -5 5
+create_box 1 box bond/types 1 angle/types 1 extra/bond/per/atom 2 extra/angle/per/atom 1 extra/special/per/atom 4
+create_atoms 1 single 0 0 0
+create_atoms 1 single 1.2 0 0
+create_atoms 1 single 2.0 0.9 0
+mass 1 1.0
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0
+bond_style harmonic
+bond_coeff 1 50.0 1.2
+angle_style harmonic
+angle_coeff 1 5.0 120.0
+create_bonds single/bond 1 1 2
+create_bonds single/bond 1 2 3
+create_bonds single/angle 1 1 2 3
+special_bonds lj 0.0 1.0 1.0
+velocity all create 1.0 4321
+timestep 0.005
+)LMP";
+  RunResult r = run_lmp(base + "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("substep local is not available with a potential with other than "
+                          "radial pair and bond terms"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << r.output;
+  expect_error(base + "fix hs all hardsphere/pcva diameter 1.0 substep local\nrun 5\n",
+               {"Fix hardsphere/pcva substep local cannot run with a potential with other than "
+                "radial pair and bond terms"});
 }
