@@ -69,6 +69,15 @@ FixHardSphereMCVA::~FixHardSphereMCVA()
 void FixHardSphereMCVA::init()
 {
   FixHardSphere::init();    // also sets up the derivative layer
+  // the stage equations continue a pair that leaves its cutoff in a
+  // sub-step through single() past the cutoff (the frozen set): a table has
+  // no values there (pair_table.cpp would stop the run mid-step)
+  if (force->pair && utils::strmatch(force->pair_style, "^table"))
+    error->all(FLERR,
+               "Fix {} cannot use pair style {}: its Gauss stage equations evaluate a pair's "
+               "potential past the cutoff (doc: the frozen cutoff set), where a table has no "
+               "values; use hardsphere/pcva or /cva with tables",
+               style_name, force->pair_style);
   gauss_step = 0;
   warned_drop = 0;
   if (comm->me == 0) {

@@ -19,6 +19,7 @@
 #ifndef LMP_HS_JET_H
 #define LMP_HS_JET_H
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -161,14 +162,44 @@ inline void radial_third_ww(const double x[3], double phi1, double phi2, double 
    h_k ~ eps^(1/(k+4)) l for the k-th derivative of phi' (k = 1, 2, 3),
    l the length over which phi varies (the caller passes l, e.g. r/16 for
    an r^-12 repulsion). order = highest derivative wanted (2, 3 or 4);
-   out[2..order] are filled, g0 = phi'(r) is passed in.
+   out[2..order] are filled, g0 = phi'(r) is passed in. Near rmax (a
+   cutoff: dphi is not evaluated at or beyond it) backward stencils.
 ------------------------------------------------------------------------- */
 
 template <class F>
-inline void radial_derivs_fd(F dphi, double r, double g0, double ell, int order, double out[5])
+inline void radial_derivs_fd(F dphi, double r, double g0, double ell, int order, double out[5],
+                             double rmax = std::numeric_limits<double>::infinity())
 {
   // eps^(1/5), eps^(1/6), eps^(1/7) for eps = 2.2e-16
   const double c2 = 7.4e-4, c3 = 2.5e-3, c4 = 5.8e-3;
+  // a stencil that would reach rmax (a pair style's cutoff, beyond which
+  // e.g. pair_style table has no values) is taken one-sided, backward, at
+  // the same O(h^4) (Fornberg's coefficients; more round-off, ~7x)
+  double reach = 2 * c2 * ell;
+  if (order >= 3) reach = std::max(reach, 2 * c3 * ell);
+  if (order >= 4) reach = std::max(reach, 3 * c4 * ell);
+  if (r + reach >= rmax) {
+    {
+      const double h = c2 * ell;
+      out[2] = (25 * g0 - 48 * dphi(r - h) + 36 * dphi(r - 2 * h) - 16 * dphi(r - 3 * h) +
+                3 * dphi(r - 4 * h)) /
+          (12 * h);
+    }
+    if (order >= 3) {
+      const double h = c3 * ell;
+      out[3] = (45 * g0 - 154 * dphi(r - h) + 214 * dphi(r - 2 * h) - 156 * dphi(r - 3 * h) +
+                61 * dphi(r - 4 * h) - 10 * dphi(r - 5 * h)) /
+          (12 * h * h);
+    }
+    if (order >= 4) {
+      const double h = c4 * ell;
+      out[4] = (49.0 / 8 * g0 - 29 * dphi(r - h) + 461.0 / 8 * dphi(r - 2 * h) -
+                62 * dphi(r - 3 * h) + 307.0 / 8 * dphi(r - 4 * h) - 13 * dphi(r - 5 * h) +
+                15.0 / 8 * dphi(r - 6 * h)) /
+          (h * h * h);
+    }
+    return;
+  }
   {
     const double h = c2 * ell;
     out[2] = (-dphi(r + 2 * h) + 8 * dphi(r + h) - 8 * dphi(r - h) + dphi(r - 2 * h)) / (12 * h);

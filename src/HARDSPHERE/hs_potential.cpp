@@ -453,7 +453,9 @@ struct HSPotential::Impl : protected Pointers {
       pair->single(i, j, itype, jtype, rr * rr, fc, fl, ff);
       return -ff * rr;
     };
-    HardSphere::radial_derivs_fd(dphi, r, phi[1], r / 16.0, order, phi);
+    // not at or beyond the cutoff, where a style may have no values (table)
+    HardSphere::radial_derivs_fd(dphi, r, phi[1], r / 16.0, order, phi,
+                                 sqrt(pair->cutsq[itype][jtype]));
   }
 
   void bond_phi(int type, int i, int j, double rsq, int order, double phi[5])

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <regex>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -250,13 +251,23 @@ pair_coeff 1 1 )LMP" + DIR + R"LMP(ao_q0.1.table AO_q0.1_eta0.1875_sigma1_kT1 1.
 neighbor 0.3 bin
 comm_modify cutoff 1.7
 velocity all create 1.0 87287 mom yes rot no dist gaussian
-fix hs all hardsphere/cva diameter 1.0
+fix hs all hardsphere/FIXSTYLE diameter 1.0
 timestep 0.005
 thermo 250
 run 500
 )LMP";
-  RunResult r = run_lmp(in);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("Loop time"), std::string::npos) << r.output;
+  // pcva differentiates the table (phi'' by differences in r, backward
+  // near the cutoff: the table has no values beyond it), in both engines
+  // mcva continues pairs past the cutoff: a clear error instead of the
+  // table's own mid-run stop
+  RunResult m = run_lmp(std::regex_replace(in, std::regex("FIXSTYLE"), "mcva"));
+  EXPECT_NE(m.exit_code, 0) << m.output;
+  EXPECT_NE(m.output.find("Fix hardsphere/mcva cannot use pair style table"), std::string::npos)
+      << m.output;
+  for (const char *style : {"cva", "pcva substep local", "pcva substep global"}) {
+    RunResult r = run_lmp(std::regex_replace(in, std::regex("FIXSTYLE"), style));
+    EXPECT_EQ(r.exit_code, 0) << style << "\n" << r.output;
+    EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << style << "\n" << r.output;
+    EXPECT_NE(r.output.find("Loop time"), std::string::npos) << style << "\n" << r.output;
+  }
 }

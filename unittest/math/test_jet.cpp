@@ -236,6 +236,36 @@ TEST(Jet, RadialDifferencesAccuracy)
   }
 }
 
+// near a cutoff rmax the stencils are backward: phi' is never asked for at
+// or beyond rmax (pair_style table has no values there), and the
+// derivatives keep O(h^4) accuracy (looser bounds: the one-sided
+// coefficients carry ~7x the round-off)
+TEST(Jet, RadialDifferencesBackwardNearCutoff)
+{
+  LJ lj;
+  for (double r : {1.6, 2.4999}) {
+    const double rmax = 2.5;
+    double p[5], q[5] = {0, 0, 0, 0, 0};
+    lj.derivs(r, p);
+    double far = 0.0;
+    auto dphi = [&](double rr) {
+      far = std::max(far, rr);
+      double t[5];
+      lj.derivs(rr, t);
+      return t[1];
+    };
+    radial_derivs_fd(dphi, r, p[1], r / 16.0, 4, q, r < 2.0 ? rmax : r + 1e-9);
+    const double lim = r < 2.0 ? rmax : r + 1e-9;
+    EXPECT_LT(far, lim) << r;
+    double a[5], b[5];
+    power_derivs(4.0, 12.0, r, a);
+    power_derivs(4.0, 6.0, r, b);
+    EXPECT_NEAR(q[2], p[2], 1e-10 * (a[2] + b[2])) << r;
+    EXPECT_NEAR(q[3], p[3], 1e-8 * std::fabs(a[3] + b[3])) << r;
+    EXPECT_NEAR(q[4], p[4], 1e-5 * (a[4] + b[4])) << r;
+  }
+}
+
 // the closed form (Faa di Bruno) against the series, random directions
 TEST(Jet, ClosedFormMatchesSeries)
 {
