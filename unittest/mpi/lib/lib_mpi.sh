@@ -38,7 +38,7 @@ chain_input() {
 # is the local engine, which runs on one rank only (on more it falls back to
 # global): these tests compare rank counts of the global engine
 global_substep() {
-  [ "$1" = cva ] && echo " substep global"
+  case "$1" in cva | pcva) echo " substep global" ;; esac
   return 0
 }
 
