@@ -29,6 +29,7 @@
 
 using hs_chain::f17;
 using hs_errors::expect_error;
+const auto slope = hs_chain::loglog_slope;
 
 namespace {
 
@@ -80,20 +81,6 @@ fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
   return L.fix_vector("mx", 3);    // running maximum of the histogrammed value
 }
 
-// least-squares slope of log y against log x
-double slope(const std::vector<double> &x, const std::vector<double> &y)
-{
-  const int n = (int) x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (int k = 0; k < n; k++) {
-    const double a = std::log(x[k]), b = std::log(y[k]);
-    sx += a;
-    sy += b;
-    sxx += a * a;
-    sxy += a * b;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 }    // namespace
 

@@ -33,14 +33,12 @@ TEST(PCVAErrors, ValidBaselineRuns)
   EXPECT_EQ(r.output.find("WARNING: Fix hardsphere/pcva"), std::string::npos) << r.output;
 }
 
-TEST(PCVAErrors, NoRealScalingIsCountedAndWarnedOnce)
+namespace {
+// a sphere on a strongly compressed stiff bond, its partner outside the
+// group, thrown against a wall (see NoRealScalingIsCountedAndWarnedOnce)
+std::string no_root_input(const std::string &substep)
 {
-  // a sphere on a strongly compressed stiff bond (r = 0.5, r0 = 1, K = 50)
-  // moving sideways, thrown against a wall by the bond: along its velocity
-  // V'' = 2K (r - r0)/r = -100, so with dt = 0.3 the quadratic form
-  // K~ = 1/2 |v|^2 + dt^2/12 v^T V'' v is negative after the bounce
-  // (|v_y| = 3 > sqrt(5) |v_x|): no alpha > 0 exists
-  const std::string input = R"IN(units lj
+  return R"IN(units lj
 dimension 2
 atom_style bond
 atom_modify map array
@@ -57,12 +55,24 @@ group s type 2
 velocity s set 0 3.0 0 units box
 neighbor 4.0 bin
 comm_modify cutoff 10.0
-fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735 substep global
+fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735 substep )IN" +
+         substep + R"IN(
 fix 2d all enforce2d
 timestep 0.3
 run 1
 print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
 )IN";
+}
+}    // namespace
+
+TEST(PCVAErrors, NoRealScalingIsCountedAndWarnedOnce)
+{
+  // a sphere on a strongly compressed stiff bond (r = 0.5, r0 = 1, K = 50)
+  // moving sideways, thrown against a wall by the bond: along its velocity
+  // V'' = 2K (r - r0)/r = -100, so with dt = 0.3 the quadratic form
+  // K~ = 1/2 |v|^2 + dt^2/12 v^T V'' v is negative after the bounce
+  // (|v_y| = 3 > sqrt(5) |v_x|): no alpha > 0 exists
+  const std::string input = no_root_input("global");
   RunResult r = run_lmp(input);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("WARNING: Fix hardsphere/pcva: no momentum scaling restores H_[2,VV]"),
@@ -83,29 +93,7 @@ print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
 // group); counted and warned once, naming the local projection
 TEST(PCVAErrors, NoRealScalingLocalIsCountedAndWarned)
 {
-  const std::string input = R"IN(units lj
-dimension 2
-atom_style bond
-atom_modify map array
-boundary f f p
-region box block -12 12 -12 12 -0.5 0.5 units box
-create_box 2 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 2
-create_atoms 1 single 0 0 0 units box
-create_atoms 2 single 0.5 0 0 units box
-mass * 1.0
-bond_style harmonic
-bond_coeff 1 50.0 1.0
-create_bonds single/bond 1 1 2
-group s type 2
-velocity s set 0 3.0 0 units box
-neighbor 4.0 bin
-comm_modify cutoff 10.0
-fix hs s hardsphere/pcva diameter 0.45 wall xhi 0.735 substep local
-fix 2d all enforce2d
-timestep 0.3
-run 1
-print "SKIPPED $(f_hs[7]) PROJECTED $(f_hs[6])"
-)IN";
+  const std::string input = no_root_input("local");
   RunResult r = run_lmp(input);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("WARNING: Fix hardsphere/pcva: no momentum scaling restores H_[2,VV] at "

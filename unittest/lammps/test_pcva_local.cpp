@@ -84,19 +84,6 @@ fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
   return L.fix_vector("mx", 3);
 }
 
-double slope(const std::vector<double> &x, const std::vector<double> &y)
-{
-  const int n = (int) x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (int k = 0; k < n; k++) {
-    const double a = std::log(x[k]), b = std::log(y[k]);
-    sx += a;
-    sy += b;
-    sxx += a * a;
-    sxy += a * b;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 }    // namespace
 
@@ -117,7 +104,7 @@ TEST(PCVALocal, FluidModifiedHamiltonianFourthOrder)
     EXPECT_GT(c, 10.0 * p) << "dt " << dt;
     ep.push_back(p);
   }
-  const double order = slope(dts, ep);
+  const double order = hs_chain::loglog_slope(dts, ep);
   std::printf("pcva local: fitted order %.2f\n", order);
   EXPECT_GE(order, 3.6);
 }

@@ -10,6 +10,7 @@
 
 #include "hs_test_main.h"
 
+#include "hs_chain.h"
 #include "hs_modified_energy.h"
 
 #include "atom.h"
@@ -102,20 +103,6 @@ Conservation chain(const std::string &method, double dt, int nsteps,
                    method + substep);
 }
 
-// least-squares slope of log y against log x
-double fitted_order(const std::vector<double> &x, const std::vector<double> &y)
-{
-  const int n = (int) x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (int k = 0; k < n; k++) {
-    const double a = std::log(x[k]), b = std::log(y[k]);
-    sx += a;
-    sy += b;
-    sxx += a * a;
-    sxy += a * b;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 }    // namespace
 
@@ -166,7 +153,7 @@ TEST(PCVAModified, PendulumChainLocalFourthOrder)
     ep.push_back(p.max_drift);
     ec.push_back(c.max_drift);
   }
-  const double op = fitted_order(dts, ep), oc = fitted_order(dts, ec);
+  const double op = hs_chain::loglog_slope(dts, ep), oc = hs_chain::loglog_slope(dts, ec);
   printf("[ pcva local H~ ] fitted order pcva %.2f, cva %.2f\n", op, oc);
   EXPECT_GE(op, 3.6);
 }
