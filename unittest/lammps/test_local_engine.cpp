@@ -14,6 +14,7 @@
 
 #include "hs_chain.h"
 #include "hs_errors.h"
+#include "hs_fluid.h"
 #include "hs_test_main.h"
 
 #include "atom.h"
@@ -27,41 +28,12 @@
 #include <map>
 #include <regex>
 
-using hs_chain::f17;
 using hs_errors::expect_error;
 const auto slope = hs_chain::loglog_slope;
 
 namespace {
 
-// the equilibrated fluid (psa, 200 steps), then timestep dt and the fix
-std::string fluid(const std::string &fix, double dt, int seed = 87287, int cells = 5)
-{
-  return R"LMP(
-units lj
-atom_style atomic
-atom_modify map array
-boundary p p p
-lattice fcc 0.5729578
-region box block 0 )LMP" +
-      std::to_string(cells) + " 0 " + std::to_string(cells) + " 0 " + std::to_string(cells) +
-      R"LMP(
-create_box 1 box
-create_atoms 1 box
-mass 1 1.0
-pair_style lj/smooth/linear 2.5
-pair_coeff 1 1 1.0 1.0
-neighbor 0.3 bin
-neigh_modify every 1 delay 0 check yes
-velocity all create 1.0 )LMP" +
-      std::to_string(seed) + R"LMP( mom yes rot no dist gaussian
-fix hs all hardsphere/psa diameter 1.0
-timestep 0.005
-run 200
-unfix hs
-reset_timestep 0
-timestep )LMP" + f17(dt) + "\n" +
-      fix + "\n";
-}
+using hs_fluid::fluid;
 
 // max |E(t) - E(0)| per atom over time T (fix ave/histo's running maximum)
 double max_energy_error(const std::string &substep, double dt, double T, double *clusters = nullptr,

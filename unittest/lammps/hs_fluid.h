@@ -1,0 +1,46 @@
+// The hard-core LJ fluid of the local-engine tests (500 spheres for cells
+// 5, packing fraction 0.3 at diameter 1, T = 1), equilibrated by 200 psa
+// steps, then timestep dt and the fix command: an input text for HSLammps.
+#ifndef HS_TEST_FLUID_H
+#define HS_TEST_FLUID_H
+
+#include "hs_chain.h"
+
+#include <string>
+
+namespace hs_fluid {
+
+inline std::string fluid(const std::string &fix, double dt, int seed = 87287, int cells = 5,
+                         const std::string &pair = "lj/smooth/linear 2.5")
+{
+  const std::string c = std::to_string(cells);
+  return R"LMP(
+units lj
+atom_style atomic
+atom_modify map array
+boundary p p p
+lattice fcc 0.5729578
+region box block 0 )LMP" +
+      c + " 0 " + c + " 0 " + c + R"LMP(
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+pair_style )LMP" +
+      pair + R"LMP(
+pair_coeff 1 1 1.0 1.0
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+velocity all create 1.0 )LMP" +
+      std::to_string(seed) + R"LMP( mom yes rot no dist gaussian
+fix hs all hardsphere/psa diameter 1.0
+timestep 0.005
+run 200
+unfix hs
+reset_timestep 0
+timestep )LMP" + hs_chain::f17(dt) + "\n" +
+      fix + "\n";
+}
+
+}    // namespace hs_fluid
+
+#endif
