@@ -13,6 +13,7 @@
 #include "atom.h"
 #include "error.h"
 #include "force.h"
+#include "neighbor.h"
 #include "pair.h"
 
 #include <algorithm>
@@ -135,6 +136,7 @@ void HSLocalModified::find_terms(HSLocalEngine &eng)
   textra = lf.term_extra();
   tatoms = lf.term_atoms();
   npair = lf.npair_last();
+  terms_ncalls = neighbor->ncalls;
 
   if ((int) sstamp.size() < atom->nmax) {
     sstamp.assign(atom->nmax, 0u);
@@ -309,7 +311,14 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
     return i;
   };
   for (size_t k = 0; k < mtag.size(); k++) mem[k] = local(mtag[k]);
-  find_terms(eng);
+  // the start's terms and owners still hold unless the lists were rebuilt
+  // (then atoms may also have been sorted)
+  if (neighbor->ncalls != terms_ncalls)
+    find_terms(eng);
+  else {
+    fc.assign(owners.size(), {0.0, 0.0, 0.0});
+    kv.assign(owners.size(), {0.0, 0.0, 0.0});
+  }
   for (tagint t : ptag) local(t);
   conservative_state(eng, false);
 

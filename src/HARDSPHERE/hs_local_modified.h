@@ -91,6 +91,7 @@ class HSLocalModified : protected Pointers {
   // the terms of the members at the current lists, their distinct owners
   std::vector<int> tloc, toff, textra, tatoms;
   int npair = 0;
+  bigint terms_ncalls = -1;           // neighbor->ncalls when they were found
   std::vector<int> owners;            // members first, then partners
   std::vector<int> slot;              // owner -> index in owners (stamp-checked)
   std::vector<uint32_t> sstamp;
