@@ -5,7 +5,9 @@
 #define HS_TEST_FLUID_H
 
 #include "hs_chain.h"
+#include "hs_test_main.h"
 
+#include <cmath>
 #include <string>
 
 namespace hs_fluid {
@@ -39,6 +41,22 @@ unfix hs
 reset_timestep 0
 timestep )LMP" + hs_chain::f17(dt) + "\n" +
       fix + "\n";
+}
+
+// |total momentum| after nsteps more steps, and the scale sqrt(2 M KE) to
+// compare it with (velocity create ... mom yes: zero at the start)
+inline void momentum_after(HSLammps &L, int nsteps, double &P, double &scale)
+{
+  L.lines(R"LMP(
+variable px equal vcm(all,x)*mass(all)
+variable py equal vcm(all,y)*mass(all)
+variable pz equal vcm(all,z)*mass(all)
+variable p1 equal sqrt(mass(all)*ke*2.0)
+)LMP");
+  L.cmd("run " + std::to_string(nsteps));
+  P = std::sqrt(std::pow(L.variable("px"), 2) + std::pow(L.variable("py"), 2) +
+                std::pow(L.variable("pz"), 2));
+  scale = L.variable("p1");
 }
 
 }    // namespace hs_fluid
