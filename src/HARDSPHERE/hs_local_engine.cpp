@@ -1365,17 +1365,9 @@ void HSLocalEngine::remap_after_rebuild()
   grow_arrays();
   bump_epoch(kepoch, kstamp);
   bump_epoch(eepoch, estamp);
-  const int nlocal = atom->nlocal;
-  auto local = [&](tagint t) {
-    const int i = atom->map(t);
-    if (i < 0 || i >= nlocal)
-      error->one(FLERR, "Fix {} substep local: atom {} of a collision cluster is not owned after "
-                 "the neighbor list rebuild", fix->style_name, t);
-    return i;
-  };
-  for (tagint t : end_mtags) kstamp[local(t)] = kepoch;
+  for (tagint t : end_mtags) kstamp[owned(t)] = kepoch;
   for (size_t k = 0; k < end_ptags.size(); k++) {
-    const int i = local(end_ptags[k]);
+    const int i = owned(end_ptags[k]);
     estamp[i] = eepoch;
     for (int d = 0; d < 3; d++) fcend[i][d] = end_pfc[k][d];
   }
@@ -1399,7 +1391,7 @@ void HSLocalEngine::final_kick()
   // members' held forces: f - their conservative force from all their terms
   if (F.nheld) {
     std::vector<int> all;
-    for (tagint t : end_mtags) all.push_back(atom->map(t));
+    for (tagint t : end_mtags) all.push_back(owned(t));
     locf->compute(all.data(), (int) all.size(), false);
     ncompute += 1.0;
     double **fl = locf->forces();
@@ -1417,6 +1409,15 @@ void HSLocalEngine::final_kick()
     } else
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
   }
+}
+
+int HSLocalEngine::owned(tagint t) const
+{
+  const int i = atom->map(t);
+  if (i < 0 || i >= atom->nlocal)
+    error->one(FLERR, "Fix {} substep local: atom {} of a collision cluster is not owned at the "
+               "step's end (after a neighbor list rebuild)", fix->style_name, t);
+  return i;
 }
 
 void HSLocalEngine::partner_kicks(int i, double *first, double *second) const

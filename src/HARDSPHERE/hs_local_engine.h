@@ -93,6 +93,9 @@ class HSLocalEngine : protected Pointers {
   // the V_C kicks non-member i took in the first, resp. second Phi_H1
   void partner_kicks(int i, double *first, double *second) const;
   HSLocalForces &local_forces() { return *locf; }
+  // the owned index of atom ID t of the step's clusters at the step's end
+  // (a rebuild may have sorted the atoms); an error if it is not owned
+  int owned(tagint t) const;
   void put_v(int i, const double *vn) { set_v(i, vn); }
   void put_x(int i, const double *xn) { set_x(i, xn); }
 

@@ -252,7 +252,7 @@ void HSLocalModified::conservative_state(HSLocalEngine &eng, bool at_start)
   };
   for (int o : owners) note(o);
   if (!at_start)
-    for (tagint t : ptag) note(atom->map(t));
+    for (int p : pidx) note(p);
   for (int i : atoms)
     for (int d = 0; d < 3; d++) {
       fcons_[i][d] = f[i][d];
@@ -302,15 +302,7 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
   double **x = atom->x;
   const int *mask = atom->mask;
   const int gb = fix->groupbit;
-  const int nlocal = atom->nlocal;
-  auto local = [&](tagint t) {
-    const int i = atom->map(t);
-    if (i < 0 || i >= nlocal)
-      error->one(FLERR, "Fix {} substep local: atom {} of a collision cluster is not owned at the "
-                 "step's end", fix->style_name, t);
-    return i;
-  };
-  for (size_t k = 0; k < mtag.size(); k++) mem[k] = local(mtag[k]);
+  for (size_t k = 0; k < mtag.size(); k++) mem[k] = eng.owned(mtag[k]);
   // the start's terms and owners still hold unless the lists were rebuilt
   // (then atoms may also have been sorted)
   if (neighbor->ncalls != terms_ncalls)
@@ -319,7 +311,8 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
     fc.assign(owners.size(), {0.0, 0.0, 0.0});
     kv.assign(owners.size(), {0.0, 0.0, 0.0});
   }
-  for (tagint t : ptag) local(t);
+  pidx.resize(ptag.size());
+  for (size_t k = 0; k < ptag.size(); k++) pidx[k] = eng.owned(ptag[k]);
   conservative_state(eng, false);
 
   // b of the projection on the members (slot order: members first)
@@ -346,7 +339,7 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
   // dt^2/6 (V_R'' v)_p . dv_p, (V_R'' v)_p = -(F^R_p(end) - F^R_p(start)) / dt
   double dTP = 0.0, gk = 0.0;
   for (size_t k = 0; k < ptag.size(); k++) {
-    const int p = local(ptag[k]);
+    const int p = pidx[k];
     const Start &st = pstart[k];
     const int sl = slot_of(p);
     const double *vp = vcons(p), *F = cons(p);

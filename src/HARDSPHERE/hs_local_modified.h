@@ -86,6 +86,7 @@ class HSLocalModified : protected Pointers {
   };
   std::vector<tagint> ptag;           // the start's partners (and their data)
   std::vector<Start> pstart;
+  std::vector<int> pidx;              // end(): their local indices now
   double L0 = 0.0;
 
   // the terms of the members at the current lists, their distinct owners
