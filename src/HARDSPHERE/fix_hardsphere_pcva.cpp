@@ -88,10 +88,10 @@ void FixHardSpherePCVA::project(const char *where)
   double alpha;
   const HardSphere::ScaleStatus st = HardSphere::pcva_scale(Ht0, U, Kt, alpha);
   if (st != HardSphere::SCALE_OK) {
-    skipped(st, fmt::format("{} ({}: target {}, U {}, K~ {})", where,
-                            st == HardSphere::SCALE_NO_ROOT ? "target - U <= 0 or not a number"
-                                                            : "K~ <= 0 or not a number",
-                            Ht0, U, Kt));
+    skipped(fmt::format("{} ({}: target {}, U {}, K~ {})", where,
+                        st == HardSphere::SCALE_NO_ROOT ? "target - U <= 0 or not a number"
+                                                        : "K~ <= 0 or not a number",
+                        Ht0, U, Kt));
     return;
   }
 
@@ -111,7 +111,7 @@ void FixHardSpherePCVA::project(const char *where)
 }
 
 // no real scaling: the sub-step (step) is left unprojected, counted in f_ID[7]
-void FixHardSpherePCVA::skipped(int, const std::string &what)
+void FixHardSpherePCVA::skipped(const std::string &what)
 {
   nskip += 1.0;
   if (!warned && comm->me == 0)
@@ -151,13 +151,11 @@ void FixHardSpherePCVA::local_step_done()
   lmod->end(*local_engine, A, B, C0);
   const HardSphere::ScaleStatus st = HardSphere::pcva_local_beta(A, B, C0, beta);
   if (st != HardSphere::SCALE_OK) {
-    skipped(st, fmt::format("at the end of a step with collisions (substep local: change {}, "
-                            "{})",
-                            C0,
-                            st == HardSphere::SCALE_NO_ROOT
-                                ? "more than scaling the colliding spheres' motion can undo"
-                                : "K~ <= 0 along the colliding spheres' velocities relative to "
-                                  "their clusters' centres of mass"));
+    skipped(fmt::format("at the end of a step with collisions (substep local: change {}, {})", C0,
+                        st == HardSphere::SCALE_NO_ROOT
+                            ? "more than scaling the colliding spheres' motion can undo"
+                            : "K~ <= 0 along the colliding spheres' velocities relative to "
+                              "their clusters' centres of mass"));
     return;
   }
   lmod->scale(*local_engine, beta);

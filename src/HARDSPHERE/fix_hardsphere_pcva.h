@@ -45,7 +45,7 @@ class FixHardSpherePCVA : public FixHardSphere {
 
   double modified_energy(double &U, double &Kt);
   void project(const char *where);
-  void skipped(int status, const std::string &what);
+  void skipped(const std::string &what);
 
   // substep local: one projection per step with clusters, of the members'
   // velocities relative to their cluster's centre of mass, that undoes the
