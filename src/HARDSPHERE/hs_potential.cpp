@@ -498,29 +498,16 @@ struct HSPotential::Impl : protected Pointers {
                    "{}: the single path has no neighbor list (the owner must call "
                    "request_list() after init() and forward init_list())",
                    owner);
-      Pair *pair = force->pair;
-      double **cutsq = pair->cutsq;
       const int newton_pair = force->newton_pair;
-      for (int ii = 0; ii < list->inum; ii++) {
-        const int i = list->ilist[ii];
-        const int itype = type[i];
-        const int *jlist = list->firstneigh[i];
-        const int jnum = list->numneigh[i];
-        for (int jj = 0; jj < jnum; jj++) {
-          int j = jlist[jj];
-          const double fl = force->special_lj[j >> SBBITS & 3];
-          const double fc = force->special_coul[j >> SBBITS & 3];
-          j &= NEIGHMASK;
-          if (!((mask[i] | mask[j]) & groupbit)) continue;
-          for (int k = 0; k < 3; k++) del[k] = x[i][k] - x[j][k];
-          const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-          const int jtype = type[j];
-          if (frozen_on ? !in_set[first[ii] + jj] : rsq >= cutsq[itype][jtype]) continue;
-          pair_phi(i, j, itype, jtype, rsq, fc, fl, order, phi);
-          const bool full = newton_pair || j < nlocal;
-          fn(i, j, del, phi, full ? 1.0 : 0.5, true, full);
-        }
-      }
+      for_each_listed([&](int ii, int jj, int i, int j, int sb, const double *d, double rsq,
+                          bool inside) {
+        if (!((mask[i] | mask[j]) & groupbit)) return;
+        if (frozen_on ? !in_set[first[ii] + jj] : !inside) return;
+        pair_phi(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb],
+                 order, phi);
+        const bool full = newton_pair || j < nlocal;
+        fn(i, j, d, phi, full ? 1.0 : 0.5, true, full);
+      });
     }
 
     if (bond_single && molecular()) {
@@ -543,8 +530,9 @@ struct HSPotential::Impl : protected Pointers {
 
   bool any_single() const { return pair_single || bond_single; }
 
-  // calls fn(ii, jj, i, j, rsq, inside_now, in_set) for every pair of the
-  // single path's list (all pairs, as the pair style's compute() sees them)
+  // calls fn(ii, jj, i, j, sb, del = x_i - x_j, rsq, inside_now) for every
+  // pair of the single path's list (all pairs, as the pair style's compute()
+  // sees them; sb: the entry's special index)
   template <class Fn> void for_each_listed(Fn fn)
   {
     double **x = atom->x;
@@ -556,9 +544,9 @@ struct HSPotential::Impl : protected Pointers {
       const int jnum = list->numneigh[i];
       for (int jj = 0; jj < jnum; jj++) {
         const int j = jlist[jj] & NEIGHMASK;
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        const double rsq = dx * dx + dy * dy + dz * dz;
-        fn(ii, jj, i, j, rsq, rsq < cutsq[type[i]][type[j]]);
+        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+        const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+        fn(ii, jj, i, j, jlist[jj] >> SBBITS & 3, del, rsq, rsq < cutsq[type[i]][type[j]]);
       }
     }
   }
@@ -569,33 +557,23 @@ struct HSPotential::Impl : protected Pointers {
   void frozen_correction()
   {
     if (!frozen_on) return;
-    double **x = atom->x, **f = atom->f;
+    double **f = atom->f;
     const int *type = atom->type;
     const int nlocal = atom->nlocal, newton_pair = force->newton_pair;
     Pair *pair = force->pair;
-    for (int ii = 0; ii < list->inum; ii++) {
-      const int i = list->ilist[ii];
-      const int *jlist = list->firstneigh[i];
-      const int jnum = list->numneigh[i];
-      for (int jj = 0; jj < jnum; jj++) {
-        int j = jlist[jj];
-        const double fl = force->special_lj[j >> SBBITS & 3];
-        const double fc = force->special_coul[j >> SBBITS & 3];
-        j &= NEIGHMASK;
-        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-        const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-        const bool now = rsq < pair->cutsq[type[i]][type[j]];
-        const bool frozen = in_set[first[ii] + jj];
-        if (now == frozen) continue;
-        double fpair = 0.0;
-        pair->single(i, j, type[i], type[j], rsq, fc, fl, fpair);
-        if (!frozen) fpair = -fpair;
-        for (int k = 0; k < 3; k++) {
-          f[i][k] += del[k] * fpair;
-          if (newton_pair || j < nlocal) f[j][k] -= del[k] * fpair;
-        }
+    for_each_listed([&](int ii, int jj, int i, int j, int sb, const double *del, double rsq,
+                        bool now) {
+      const bool frozen = in_set[first[ii] + jj];
+      if (now == frozen) return;
+      double fpair = 0.0;
+      pair->single(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb],
+                   fpair);
+      if (!frozen) fpair = -fpair;
+      for (int k = 0; k < 3; k++) {
+        f[i][k] += del[k] * fpair;
+        if (newton_pair || j < nlocal) f[j][k] -= del[k] * fpair;
       }
-    }
+    });
   }
 
   // fill ghost values of a masked field
@@ -1088,7 +1066,7 @@ bool HSPotential::freeze_cutoff_set()
   }
   m.first[l->inum] = tot;
   m.in_set.assign(tot, 0);
-  m.for_each_listed([&](int ii, int jj, int, int, double, bool in) {
+  m.for_each_listed([&](int ii, int jj, int, int, int, const double *, double, bool in) {
     m.in_set[m.first[ii] + jj] = in ? 1 : 0;
   });
   m.frozen_valid = 1;
@@ -1108,7 +1086,7 @@ double HSPotential::cutoff_crossings(double &jump)
     comm->forward_comm();
     Pair *pair = force->pair;
     const int *type = atom->type;
-    m.for_each_listed([&](int ii, int jj, int i, int j, double, bool in) {
+    m.for_each_listed([&](int ii, int jj, int i, int j, int, const double *, double, bool in) {
       if (in == (m.in_set[m.first[ii] + jj] != 0)) return;
       // with newton off a pair with a ghost is listed on two ranks
       loc[0] += (force->newton_pair || j < atom->nlocal) ? 1.0 : 0.5;
