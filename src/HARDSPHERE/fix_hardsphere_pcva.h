@@ -6,6 +6,7 @@
    step's start. Collision-free steps are fix nve's. With substep local
    (the local engine) one projection per step of the colliding spheres'
    velocities keeps H_[2,VV] to fourth order (hs_local_modified.h).
+   The method is HSMethodPCVA (hs_method_pcva.h).
    See doc/fix_hardsphere_pcva.rst.
 ------------------------------------------------------------------------- */
 
@@ -19,42 +20,17 @@ FixStyle(hardsphere/pcva,FixHardSpherePCVA);
 #define LMP_FIX_HARDSPHERE_PCVA_H
 
 #include "fix_hardsphere.h"
-
-#include <string>
-#include <vector>
+#include "hs_method_pcva.h"
 
 namespace LAMMPS_NS {
 
+// substep local (the default where it applies) or global
 class FixHardSpherePCVA : public FixHardSphere {
  public:
-  FixHardSpherePCVA(class LAMMPS *, int, char **);
-  ~FixHardSpherePCVA() override;
-  double compute_vector(int) override;
-
- protected:
-  std::vector<double *> extra_counters() override;
-  double Ht0;            // H_[2,VV] at the start of the current collisional step
-  double nproj;          // projections done
-  double nskip;          // sub-steps left unprojected (no real positive alpha)
-  double maxdev;         // max |alpha - 1| of the projections done
-  int warned;
-
-  void begin_collisional_step() override;
-  void end_substep(double tau) override;
-  void end_collisional_step() override;
-
-  double modified_energy(double &U, double &Kt);
-  void project(const char *where);
-  void skipped(const std::string &what);
-
-  // substep local: one projection per step with clusters, of the members'
-  // velocities relative to their cluster's centre of mass, that undoes the
-  // step's change of H_[2,VV] (hs_local_modified.h)
-  int engines_supported() const override { return ENGINE_BOTH; }
-  std::string local_limits() override;
-  void local_step_begun() override;
-  void local_step_done() override;
-  class HSLocalModified *lmod = nullptr;
+  FixHardSpherePCVA(class LAMMPS *lmp, int narg, char **arg) : FixHardSphere(lmp, narg, arg)
+  {
+    method = new HSMethodPCVA(lmp, *sys);
+  }
 };
 
 }    // namespace LAMMPS_NS

@@ -7,6 +7,7 @@
 
 #include "hs_contact.h"
 #include "hs_eventq.h"
+#include "hs_system.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -79,20 +80,20 @@ void FixHardSpherePSA::build_event(int k, double te, FlightImpulse &fi)
     imp.wall = -1;
     imp.jtag = tag[p];
     imp.apply = imp.dq[0] * dv[0] + imp.dq[1] * dv[1] + imp.dq[2] * dv[2] < 0.0;
-    if (imp.apply) HardSphere::pair_impulse(imp.dq, dv, mass_of(k), mass_of(p), imp.J);
+    if (imp.apply) HardSphere::pair_impulse(imp.dq, dv, S.mass_of(k), S.mass_of(p), imp.J);
   } else {
-    const Wall &wl = walls[-1 - p];
+    const Wall &wl = S.walls[-1 - p];
     imp.type = WALL_EVENT;
     imp.wall = -1 - p;
     imp.dq[wl.dim] = fi.xi[wl.dim] - wl.coord;
     const double vn = (wl.side < 0) ? v[k][wl.dim] : -v[k][wl.dim];
     imp.apply = vn < 0.0;
-    if (imp.apply) imp.J[wl.dim] = -2.0 * mass_of(k) * v[k][wl.dim];
+    if (imp.apply) imp.J[wl.dim] = -2.0 * S.mass_of(k) * v[k][wl.dim];
   }
 }
 
 /* ----------------------------------------------------------------------
-   the base collects the candidate pairs at each list build; our per-atom
+   the system layer collects the candidate pairs at each list build; our per-atom
    view of them is built on the first step that needs it
 ------------------------------------------------------------------------- */
 
@@ -111,14 +112,14 @@ void FixHardSpherePSA::post_neighbor()
 void FixHardSpherePSA::build_adjacency()
 {
   const int nall = atom->nlocal + atom->nghost;
-  const int ncand = (int) cand.size();
+  const int ncand = (int) S.cand.size();
   adj_start.assign(nall + 1, 0);
-  for (int k = 0; k < ncand; k++) adj_start[cand[k] + 1]++;
+  for (int k = 0; k < ncand; k++) adj_start[S.cand[k] + 1]++;
   for (int i = 0; i < nall; i++) adj_start[i + 1] += adj_start[i];
   adj.resize(ncand);
   std::vector<int> fill(adj_start.begin(), adj_start.end() - 1);
   for (int k = 0; k < ncand; k += 2) {
-    const int i = cand[k], j = cand[k + 1];
+    const int i = S.cand[k], j = S.cand[k + 1];
     adj[fill[i]++] = j;
     adj[fill[j]++] = i;
   }
@@ -159,19 +160,19 @@ void FixHardSpherePSA::predict_all()
   const int nall = nlocal + atom->nghost;
   tfirst.assign(nall, BIG);
 
-  const int ncand = (int) cand.size();
+  const int ncand = (int) S.cand.size();
   for (int m = 0; m < ncand; m += 2) {
-    const int i = cand[m], j = cand[m + 1];
-    const bool ai = active[i] != 0.0, aj = active[j] != 0.0;
+    const int i = S.cand[m], j = S.cand[m + 1];
+    const bool ai = S.active[i] != 0.0, aj = S.active[j] != 0.0;
     if (!ai && !aj) continue;
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
-    const double sigma = radius_of(i) + radius_of(j);
+    const double sigma = S.radius_of(i) + S.radius_of(j);
     const Contact ct =
-        HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv, TOUCH_TOL * sigma * sigma);
+        HardSphere::free_flight_pair_contact(dq, dv, sigma, S.dtv, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::NO_CONTACT) continue;
     if (ct.status == HardSphere::OVERLAP) {
-      pair_overlap_error(i, j, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
+      S.pair_overlap_error(i, j, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
     }
     if (ai && ct.t < tfirst[i]) {
       tfirst[i] = ct.t;
@@ -184,17 +185,17 @@ void FixHardSpherePSA::predict_all()
   }
 
   for (int i = 0; i < nlocal; i++) {
-    if (active[i] == 0.0) continue;
-    const double r = radius_of(i);
-    for (int w = 0; w < (int) walls.size(); w++) {
-      const Wall &wl = walls[w];
-      const double g = wall_gap(wl, x[i], r);
+    if (S.active[i] == 0.0) continue;
+    const double r = S.radius_of(i);
+    for (int w = 0; w < (int) S.walls.size(); w++) {
+      const Wall &wl = S.walls[w];
+      const double g = S.wall_gap(wl, x[i], r);
       const double vn = (wl.side < 0) ? v[i][wl.dim] : -v[i][wl.dim];
-      const Contact ct = HardSphere::free_flight_wall_contact(g, vn, dtv, TOUCH_TOL * 2.0 * r);
+      const Contact ct = HardSphere::free_flight_wall_contact(g, vn, S.dtv, TOUCH_TOL * 2.0 * r);
       if (ct.status == HardSphere::NO_CONTACT) continue;
       if (ct.status == HardSphere::OVERLAP) {
         std::string name;
-        wall_name(wl, name);
+        S.wall_name(wl, name);
         error->one(FLERR,
                    "Fix {}: atom {} is {} through wall {} on step {}: a collision was missed",
                    style_name, tag[i], -g, name, update->ntimestep);
@@ -207,7 +208,7 @@ void FixHardSpherePSA::predict_all()
   }
 
   for (int k = 0; k < nall; k++)
-    if (tfirst[k] < dtv) {
+    if (tfirst[k] < S.dtv) {
       pcount[k] = 0;
       heap.set(k, tfirst[k]);
     }
@@ -227,7 +228,7 @@ void FixHardSpherePSA::predict_atom(int k)
   double tbest = BIG;
   int pbest = -1;
   const double tk = tloc[k];
-  const double rk = radius_of(k);
+  const double rk = S.radius_of(k);
 
   for (int m = adj_start[k]; m < adj_start[k + 1]; m++) {
     const int p = adj[m];
@@ -238,12 +239,12 @@ void FixHardSpherePSA::predict_atom(int k)
                           (x[k][1] + sk * v[k][1]) - (x[p][1] + sp * v[p][1]),
                           (x[k][2] + sk * v[k][2]) - (x[p][2] + sp * v[p][2])};
     const double dv[3] = {v[k][0] - v[p][0], v[k][1] - v[p][1], v[k][2] - v[p][2]};
-    const double sigma = rk + radius_of(p);
+    const double sigma = rk + S.radius_of(p);
     const Contact ct =
-        HardSphere::free_flight_pair_contact(dq, dv, sigma, dtv - t0, TOUCH_TOL * sigma * sigma);
+        HardSphere::free_flight_pair_contact(dq, dv, sigma, S.dtv - t0, TOUCH_TOL * sigma * sigma);
     if (ct.status == HardSphere::NO_CONTACT) continue;
     if (ct.status == HardSphere::OVERLAP) {
-      pair_overlap_error(k, p, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
+      S.pair_overlap_error(k, p, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
     }
     const double te = t0 + ct.t;
     if (te < tbest) {
@@ -253,16 +254,16 @@ void FixHardSpherePSA::predict_atom(int k)
   }
 
   if (k < atom->nlocal) {
-    for (int w = 0; w < (int) walls.size(); w++) {
-      const Wall &wl = walls[w];
-      const double g = wall_gap(wl, x[k], rk);
+    for (int w = 0; w < (int) S.walls.size(); w++) {
+      const Wall &wl = S.walls[w];
+      const double g = S.wall_gap(wl, x[k], rk);
       const double vn = (wl.side < 0) ? v[k][wl.dim] : -v[k][wl.dim];
       const Contact ct =
-          HardSphere::free_flight_wall_contact(g, vn, dtv - tk, TOUCH_TOL * 2.0 * rk);
+          HardSphere::free_flight_wall_contact(g, vn, S.dtv - tk, TOUCH_TOL * 2.0 * rk);
       if (ct.status == HardSphere::NO_CONTACT) continue;
       if (ct.status == HardSphere::OVERLAP) {
         std::string name;
-        wall_name(wl, name);
+        S.wall_name(wl, name);
         error->one(FLERR,
                    "Fix {}: atom {} is {} through wall {} on step {}: a collision was missed",
                    style_name, tag[k], -g, name, update->ntimestep);
@@ -275,7 +276,7 @@ void FixHardSpherePSA::predict_atom(int k)
     }
   }
 
-  if (tbest < dtv) {
+  if (tbest < S.dtv) {
     partner[k] = pbest;
     pcount[k] = (pbest >= 0) ? ncol[pbest] : 0;
     heap.set(k, tbest);
@@ -308,25 +309,25 @@ void FixHardSpherePSA::place_copies(tagint tg, const double *xc, double t)
   });
 }
 
-// velocities of every copy after an impulse (the base's arithmetic,
+// velocities of every copy after an impulse (HSSystem::apply_impulse's arithmetic,
 // with an O(log N) tag look-up when LAMMPS keeps no atom map)
 void FixHardSpherePSA::apply_impulse(const Impulse &imp)
 {
   if (!imp.apply) return;
   double **v = atom->v;
   if (imp.type == WALL_EVENT) {
-    const int dim = walls[imp.wall].dim;
+    const int dim = S.walls[imp.wall].dim;
     for_copies(imp.itag, [&](int c) { v[c][dim] = -v[c][dim]; });
     return;
   }
   for_copies(imp.itag, [&](int c) {
-    const double s = 1.0 / mass_of(c);
+    const double s = 1.0 / S.mass_of(c);
     v[c][0] += s * imp.J[0];
     v[c][1] += s * imp.J[1];
     v[c][2] += s * imp.J[2];
   });
   for_copies(imp.jtag, [&](int c) {
-    const double s = -1.0 / mass_of(c);
+    const double s = -1.0 / S.mass_of(c);
     v[c][0] += s * imp.J[0];
     v[c][1] += s * imp.J[1];
     v[c][2] += s * imp.J[2];
@@ -344,15 +345,15 @@ void FixHardSpherePSA::after_collision(tagint tg)
   for_copies(tg, [&](int c) {
     ncol[c]++;
     if (c < nlocal) {
-      const double dx = x[c][0] - xref[c][0], dy = x[c][1] - xref[c][1], dz = x[c][2] - xref[c][2];
+      const double dx = x[c][0] - S.xref[c][0], dy = x[c][1] - S.xref[c][1], dz = x[c][2] - S.xref[c][2];
       const double w = sqrt(dx * dx + dy * dy + dz * dz) +
-          (dtv - tloc[c]) * sqrt(v[c][0] * v[c][0] + v[c][1] * v[c][1] + v[c][2] * v[c][2]);
-      if (w > skin)
+          (S.dtv - tloc[c]) * sqrt(v[c][0] * v[c][0] + v[c][1] * v[c][1] + v[c][2] * v[c][2]);
+      if (w > S.skin)
         error->one(FLERR,
                    "Fix {}: atom {} may be {} away from where the neighbor list was built "
                    "after a collision on step {}, more than the skin {}: use a smaller "
                    "timestep or a larger neighbor skin",
-                   style_name, tg, w, update->ntimestep, skin);
+                   style_name, tg, w, update->ntimestep, S.skin);
     }
     predict_atom(c);
   });
@@ -370,25 +371,25 @@ void FixHardSpherePSA::after_collision(tagint tg)
 void FixHardSpherePSA::initial_integrate(int)
 {
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
-  grow_peratom();
-  update_walls();
+  S.grow_peratom();
+  S.update_walls();
 
-  // the base's screening (see FixHardSphere::initial_integrate): the Verlet
+  // the family's screening (see FixHardSphere::initial_integrate): the Verlet
   // bound |t v + t^2/2 a|, t <= dt, also bounds the free flight t (v + dt/2 a)
   const bool ahead =
-      screened_step == update->ntimestep && update->ntimestep > update->firststep + 1;
-  int flags = ahead ? screened_flags : screen(dtv), allflags;
+      S.screened_step == update->ntimestep && update->ntimestep > update->firststep + 1;
+  int flags = ahead ? S.screened_flags : S.screen(S.dtv), allflags;
   MPI_Allreduce(&flags, &allflags, 1, MPI_INT, MPI_BOR, world);
-  dtf_last = dtf;
+  S.dtf_last = S.dtf;
   if (!(allflags & ACTIVE)) {
-    nve_initial();
-    if (allflags & FAR) request_rebuild();
+    S.nve_initial();
+    if (allflags & FAR) S.request_rebuild();
     return;
   }
 
   // half kick, then ghosts' velocities and active flags
-  kick_dtf(dtf);
-  comm_vel_acc();
+  S.kick_dtf(S.dtf);
+  S.comm_vel_acc();
   if (!adj_valid) build_adjacency();
 
   double **x = atom->x;
@@ -430,11 +431,11 @@ void FixHardSpherePSA::initial_integrate(int)
     // the globally earliest one, with its impulse, in one collective
     if (nprocs > 1) MPI_Allreduce(&mine, &first, 1, event_type, event_op, world);
     else first = mine;
-    if (first.t >= dtv) break;
+    if (first.t >= S.dtv) break;
     const double te = first.t;
     const FlightImpulse &fi = first;
 
-    if (me == first.rank && fi.imp.apply) add_impulse_virial(fi.imp);
+    if (me == first.rank && fi.imp.apply) S.add_impulse_virial(fi.imp);
 
     // every rank: its copies of the atoms to the contact, the impulse, new
     // predictions for them (a grazing contact gets no impulse, but its
@@ -449,27 +450,27 @@ void FixHardSpherePSA::initial_integrate(int)
     if (te > tlast) stuck = 0;
     tlast = te;
     if (imp.apply) {
-      if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
-      else ncoll_wall += 1.0;
+      if (imp.type == PAIR_EVENT) S.ncoll_pair += 1.0;
+      else S.ncoll_wall += 1.0;
       collided = true;
     } else if (++stuck > MAX_STUCK) {
-      resting_contact_error(imp);
+      S.resting_contact_error(imp);
     }
-    check_runaway(++nevents);
+    S.check_runaway(++nevents);
   }
 
   // free flight of every sphere to the end of the step (fix nve's drift
   // for those that did not collide)
   for (int i = 0; i < nlocal; i++)
     if (mask[i] & groupbit) {
-      const double s = dtv - tloc[i];    // dtv itself (bit for bit) if no collision
+      const double s = S.dtv - tloc[i];    // dtv itself (bit for bit) if no collision
       x[i][0] += s * v[i][0];
       x[i][1] += s * v[i][1];
       x[i][2] += s * v[i][2];
     }
 
-  if (collided) ncoll_steps += 1.0;
-  request_rebuild();
+  if (collided) S.ncoll_steps += 1.0;
+  S.request_rebuild();
 }
 
 /* ---------------------------------------------------------------------- */

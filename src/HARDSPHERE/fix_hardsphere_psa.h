@@ -8,7 +8,8 @@
    collision (section 2.1's Delta H).
 
    Everything but the step itself (keywords, contact candidates, walls,
-   screening, virial, counters, restart) is the base class FixHardSphere's.
+   screening, virial, counters, restart) is the fix family's shell and the
+   system layer's (FixHardSphere, HSSystem); psa uses no step engine.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -38,9 +39,8 @@ class FixHardSpherePSA : public FixHardSphere {
   double memory_usage() override;
 
  protected:
-  void apply_impulse(const Impulse &) override;
+  void apply_impulse(const Impulse &);    // every copy, by tag (no atom map needed)
   // no sub-steps with forces: local by construction, substep has no effect
-  int engines_supported() const override { return ENGINE_NONE; }
 
  private:
   // a rank's earliest event, as reduced over all ranks (the earliest wins,
@@ -58,7 +58,7 @@ class FixHardSpherePSA : public FixHardSphere {
   MPI_Op event_op;
   static void earliest_event(void *in, void *inout, int *len, MPI_Datatype *);
 
-  // contact candidates per atom (owned and ghost), from the base's cand
+  // contact candidates per atom (owned and ghost), from the system layer's cand
   // list, rebuilt lazily after each neighbor list build
   std::vector<int> adj_start, adj;
   int adj_valid;

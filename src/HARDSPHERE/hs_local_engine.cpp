@@ -5,14 +5,16 @@
 
 #include "hs_local_engine.h"
 
-#include "fix_hardsphere.h"
 #include "hs_contact.h"
 #include "hs_fix_rule.h"
 #include "hs_local_forces.h"
+#include "hs_method.h"
+#include "hs_system.h"
 
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "fix.h"
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
@@ -37,9 +39,10 @@ static constexpr int MAX_ROUNDS = 10000;
 
 /* ---------------------------------------------------------------------- */
 
-HSLocalEngine::HSLocalEngine(LAMMPS *lmp, FixHardSphere *f) : Pointers(lmp), fix(f)
+HSLocalEngine::HSLocalEngine(LAMMPS *lmp, HSSystem &system, HSMethod &method) :
+    HSStepEngine(lmp), sys(&system), meth(method)
 {
-  locf = new HSLocalForces(lmp, "Fix " + f->style_name);
+  locf = new HSLocalForces(lmp, "Fix " + system.style_name);
 }
 
 HSLocalEngine::~HSLocalEngine()
@@ -52,7 +55,7 @@ HSLocalEngine::~HSLocalEngine()
    can this set-up run locally? "" if yes, else the reasons
 ------------------------------------------------------------------------- */
 
-std::string HSLocalEngine::init()
+std::string HSLocalEngine::limits()
 {
   std::string why;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
@@ -67,7 +70,7 @@ std::string HSLocalEngine::init()
   // fixes with conservative forces: not part of the restricted V_C
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
-    if (other == fix || !(modify->fmask[k] & FixConst::POST_FORCE)) continue;
+    if (other == sys->host || !(modify->fmask[k] & FixConst::POST_FORCE)) continue;
     const std::string base = HardSphere::base_style(other->style);
     if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
     const auto kind = HardSphere::fix_force_kind(other->style);
@@ -128,7 +131,7 @@ void HSLocalEngine::bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp)
 
 void HSLocalEngine::build_adjacency()
 {
-  if (fix->cand_version == cand_version) return;
+  if (sys->cand_version == cand_version) return;
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   own.resize(nall);
   for (int k = 0; k < nlocal; k++) own[k] = k;
@@ -136,10 +139,10 @@ void HSLocalEngine::build_adjacency()
     const int o = atom->map(atom->tag[k]);
     if (o < 0 || o >= nlocal)
       error->one(FLERR, "Fix {} substep local: ghost atom {} has no owned copy on this rank",
-                 fix->style_name, atom->tag[k]);
+                 sys->style_name, atom->tag[k]);
     own[k] = o;
   }
-  const std::vector<int> &cand = fix->cand;
+  const std::vector<int> &cand = sys->cand;
   const int np = (int) cand.size() / 2;
   adj_off.assign(nlocal + 1, 0);
   for (int p = 0; p < np; p++) {
@@ -159,7 +162,7 @@ void HSLocalEngine::build_adjacency()
   }
   pstamp.assign(np, 0u);
   pepoch = 0;
-  cand_version = fix->cand_version;
+  cand_version = sys->cand_version;
 }
 
 /* ----------------------------------------------------------------------
@@ -198,7 +201,7 @@ void HSLocalEngine::set_v(int i, const double *vn)
 
 void HSLocalEngine::predict_all(std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   double **x = atom->x, **v = atom->v, **acc = F.acc;
   const double *active = F.active;
   const int nlocal = atom->nlocal;
@@ -223,7 +226,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit)) continue;
     if (active[i] == 0.0) {
-      // as FixHardSphere::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
+      // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
       const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
                    dz = x[i][2] - xref[i][2];
       const double d2 = dx * dx + dy * dy + dz * dz;
@@ -241,7 +244,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   for (int i : act0) {
     const double Di = pathv[i], r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
-      const FixHardSphere::Wall &W = F.walls[wl];
+      const Wall &W = F.walls[wl];
       const double g = F.wall_gap(W, x[i], r);
       if (g > Di) continue;
       const double s = (W.side < 0) ? 1.0 : -1.0;
@@ -255,17 +258,17 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       const double m = LINE_MARGIN * 2.0 * r;
       const double wn = s * (v[i][W.dim] + 0.5 * dt * acc[i][W.dim]);
       HardSphere::wall_gap_poly(g - m, wn, 0.0, c);
-      if (HardSphere::first_contact(c, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * r).status ==
+      if (HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r).status ==
           HardSphere::NO_CONTACT)
         continue;
       HardSphere::wall_gap_poly(g, wn, 0.0, c);
-      const Contact cl = HardSphere::first_contact(c, 2, dt, FixHardSphere::TOUCH_TOL * 2.0 * r);
+      const Contact cl = HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r);
       if (cl.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
       else near_walls.push_back(i);
     }
   }
   // candidate pairs with an active sphere (ghosts are active with their
-  // owner): a sequential pass, as FixHardSphere::predict()
+  // owner): a sequential pass, as HSSystem::predict()
   const std::vector<int> &cand = F.cand;
   const int np = (int) cand.size() / 2;
   for (int p = 0; p < np; p++) {
@@ -296,13 +299,13 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       const double zero[3] = {0.0, 0.0, 0.0};
       if (r2 >= sm * sm) {
         HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
-        if (HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sm * sm).status ==
+        if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm).status ==
             HardSphere::NO_CONTACT)
           continue;
       }
       HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
       const Contact cl =
-          HardSphere::first_contact(c, 4, dt, FixHardSphere::TOUCH_TOL * sigma * sigma);
+          HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma);
       if (cl.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
       else near_pairs.push_back(p);
     }
@@ -349,7 +352,7 @@ void HSLocalEngine::label_cluster(int c)
 // every atom in them put back at x0 for the evaluation
 void HSLocalEngine::held_at_start(const std::vector<int> &newm)
 {
-  if (!fix->nheld || newm.empty()) return;
+  if (!sys->nheld || newm.empty()) return;
   double **x = atom->x, **f = atom->f;
   locf->set_labels(nullptr);
   locf->compute(newm.data(), (int) newm.size(), false);
@@ -434,12 +437,12 @@ void HSLocalEngine::cross_of(Run &r)
     if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back(lab[t]);
   std::sort(r.xnbrs.begin(), r.xnbrs.end());
   r.xnbrs.erase(std::unique(r.xnbrs.begin(), r.xnbrs.end()), r.xnbrs.end());
-  const double ftm2v = force->ftm2v, dt = fix->dtv;
+  const double ftm2v = force->ftm2v, dt = sys->dtv;
   bool changed = (int) r.fx.size() != nm;
   r.fx.resize(nm);
   for (int k = 0; k < nm; k++) {
     const int i = r.members[k];
-    const double s = dt * ftm2v / fix->mass_of(i);
+    const double s = dt * ftm2v / sys->mass_of(i);
     const Vec d = {s * fl[i][0], s * fl[i][1], s * fl[i][2]};
     if (d != r.fx[k]) changed = true;
     r.fx[k] = d;
@@ -450,7 +453,7 @@ void HSLocalEngine::cross_of(Run &r)
   }
 }
 
-void HSLocalEngine::grow(const std::vector<Hit> &hits)
+void HSLocalEngine::grow_clusters(const std::vector<Hit> &hits)
 {
   for (const Hit &h : hits) {
     cs.grow_contact(h.i, h.j < 0 ? -1 : h.j);
@@ -509,7 +512,7 @@ void HSLocalEngine::contribute(Run &r, double sign)
       continue;
     }
     for (int d = 0; d < 3; d++) fc0[p][d] += sign * r.fk0[k][d];
-    if (mask[p] & fix->groupbit)
+    if (mask[p] & sys->groupbit)
       for (int d = 0; d < 3; d++) dvt[p][d] += sign * r.dvA[k][d];
   }
   r.contributed = sign > 0.0;
@@ -548,7 +551,7 @@ void HSLocalEngine::mark_dirty(int i)
 
 bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   double **x = atom->x, **v = atom->v;
   const double ftm2v = force->ftm2v;
   const std::vector<int> &M = r.members;
@@ -644,13 +647,13 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   // this flow's collisions and impulse virial, kept apart from the fix's
   const int half = first_half ? 0 : 1;
   double vir_saved[6], npair_saved = F.ncoll_pair, nwall_saved = F.ncoll_wall;
-  for (int k = 0; k < 6; k++) vir_saved[k] = F.virial[k];
+  for (int k = 0; k < 6; k++) vir_saved[k] = F.host->virial[k];
   auto keep_counts = [&]() {
     r.npair[half] = F.ncoll_pair - npair_saved;
     r.nwall[half] = F.ncoll_wall - nwall_saved;
     for (int k = 0; k < 6; k++) {
-      r.vir[half][k] = F.virial[k] - vir_saved[k];
-      F.virial[k] = vir_saved[k];
+      r.vir[half][k] = F.host->virial[k] - vir_saved[k];
+      F.host->virial[k] = vir_saved[k];
     }
     F.ncoll_pair = npair_saved;
     F.ncoll_wall = nwall_saved;
@@ -662,7 +665,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   bigint nsub = 0;
   while (true) {
     const double tau = h - t;
-    double tbest = FixHardSphere::BIG;
+    double tbest = BIG;
     int bi = -1, bj = -1, bwall = -1, bli = -1, blj = -1;
     bool bstatic = false;
     for (int k = 0; k < nm; k++) {
@@ -674,7 +677,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       const double Di = tau * vv + 0.5 * tau * tau * aa;
       const double ri = F.radius_of(i);
       for (int wl = 0; wl < (int) F.walls.size(); wl++) {
-        const FixHardSphere::Wall &W = F.walls[wl];
+        const Wall &W = F.walls[wl];
         const double g = F.wall_gap(W, x[i], ri);
         if (g > Di) continue;
         const Contact ct = wall_contact(i, wl, g, v[i][W.dim], ai[W.dim], tau);
@@ -781,21 +784,21 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     if (!hit) break;
 
     // the contact: the method's collision operator (CVA: R of section 2)
-    FixHardSphere::Impulse imp;
+    Impulse imp;
     memset(&imp, 0, sizeof(imp));
-    imp.type = (bwall >= 0) ? FixHardSphere::WALL_EVENT : FixHardSphere::PAIR_EVENT;
+    imp.type = (bwall >= 0) ? WALL_EVENT : PAIR_EVENT;
     imp.itag = atom->tag[bi];
     imp.jtag = (bwall >= 0) ? 0 : atom->tag[bj];
     imp.wall = bwall;
-    if (bwall >= 0) F.collide_wall(bli, F.walls[bwall], imp);
-    else F.collide_pair(bli, blj, imp);
-    if (imp.apply) F.modify_impulse(imp);
+    if (bwall >= 0) meth.collide_wall(bli, F.walls[bwall], imp);
+    else meth.collide_pair(bli, blj, imp);
+    if (imp.apply) meth.modify_impulse(imp);
     if (imp.apply) F.add_impulse_virial(imp);
     F.apply_impulse(imp);
     if (imp.apply) {
       if (bwall >= 0) F.ncoll_wall += 1.0;
       else F.ncoll_pair += 1.0;
-    } else if (d == 0.0 && ++stuck > FixHardSphere::MAX_STUCK)
+    } else if (d == 0.0 && ++stuck > MAX_STUCK)
       F.resting_contact_error(imp);
     t += d;
     F.check_runaway(++nsub);
@@ -839,7 +842,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
 void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
                                 std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   double **x = atom->x;
   const std::vector<int> &cand = F.cand;
   double cc[5];
@@ -906,7 +909,7 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
             }
             HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
             const Contact ct = HardSphere::first_contact(cc, 4, tend - t,
-                                                         FixHardSphere::TOUCH_TOL * sigma * sigma);
+                                                         TOUCH_TOL * sigma * sigma);
             if (ct.status != HardSphere::NO_CONTACT) found = true;
           }
           t = tend;
@@ -932,7 +935,7 @@ void HSLocalEngine::wvel(int i, double *wi) const
     return;
   }
   double **f = atom->f;
-  const double dtfm = fix->dtf / fix->mass_of(i);
+  const double dtfm = sys->dtf / sys->mass_of(i);
   if (cnt[i] > 0)
     for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * (f[i][d] - fc0[i][d]) + dvt[i][d];
   else
@@ -949,7 +952,7 @@ void HSLocalEngine::wvel(int i, double *wi) const
 
 void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   const int *mask = atom->mask;
   const double dt = F.dtv, skin = F.skin;
   double **xref = F.xref;
@@ -1050,7 +1053,7 @@ void HSLocalEngine::h2_pos(int l, double *q) const
 // a contact of candidate pair p on Phi_H2's lines
 void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   const std::vector<int> &cand = F.cand;
   const int la = cand[2 * p], lb = cand[2 * p + 1];
   const int oa = own[la], ob = own[lb];
@@ -1074,9 +1077,9 @@ void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
 // wall contacts of non-member i on its Phi_H2 line
 void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   for (int wl = 0; wl < (int) F.walls.size(); wl++) {
-    const FixHardSphere::Wall &W = F.walls[wl];
+    const Wall &W = F.walls[wl];
     const double g = F.wall_gap(W, x0[i], F.radius_of(i));
     if (wall_contact(i, wl, g, w[i][W.dim], 0.0, F.dtv).status != HardSphere::NO_CONTACT)
       hits.push_back({i, -1 - wl});
@@ -1092,13 +1095,13 @@ void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
 
 Contact HSLocalEngine::wall_contact(int i, int wl, double g, double vd, double ad, double tmax)
 {
-  const double s = (fix->walls[wl].side < 0) ? 1.0 : -1.0, r = fix->radius_of(i);
+  const double s = (sys->walls[wl].side < 0) ? 1.0 : -1.0, r = sys->radius_of(i);
   double c[5];
   HardSphere::wall_gap_poly(g, s * vd, s * ad, c);
-  const Contact ct = HardSphere::first_contact(c, 2, tmax, FixHardSphere::TOUCH_TOL * 2.0 * r);
+  const Contact ct = HardSphere::first_contact(c, 2, tmax, TOUCH_TOL * 2.0 * r);
   if (ct.status == HardSphere::OVERLAP)
     error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was missed",
-               fix->style_name, atom->tag[i], -g, update->ntimestep);
+               sys->style_name, atom->tag[i], -g, update->ntimestep);
   return ct;
 }
 
@@ -1108,9 +1111,9 @@ Contact HSLocalEngine::pair_contact(int la, int lb, const double *dq, const doub
   double c[5];
   HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
   const Contact ct =
-      HardSphere::first_contact(c, 4, tmax, FixHardSphere::TOUCH_TOL * sigma * sigma);
+      HardSphere::first_contact(c, 4, tmax, TOUCH_TOL * sigma * sigma);
   if (ct.status == HardSphere::OVERLAP)
-    fix->pair_overlap_error(la, lb, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
+    sys->pair_overlap_error(la, lb, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
   return ct;
 }
 
@@ -1124,7 +1127,7 @@ Contact HSLocalEngine::pair_contact(int la, int lb, const double *dq, const doub
 
 void HSLocalEngine::settle(const std::vector<Hit> &hits)
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   double **x = atom->x;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
@@ -1215,14 +1218,14 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
     // before its check leaves some for the next)
     if (ev.empty()) cross_check(true, clusters_of(uncheckedA), ev);
     if (!ev.empty()) {
-      grow(ev);
+      grow_clusters(ev);
       continue;
     }
     // Phi_H2(dt): its contacts; then the non-members' drift
     h2_check(!checked, ev);
     checked = true;
     if (!ev.empty()) {
-      grow(ev);
+      grow_clusters(ev);
       continue;
     }
     if (!drifted) {
@@ -1264,7 +1267,7 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
     }
     if (ev.empty()) cross_check(false, clusters_of(uncheckedB), ev);
     if (!ev.empty()) {
-      grow(ev);
+      grow_clusters(ev);
       continue;
     }
     break;
@@ -1273,13 +1276,66 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
 }
 
 /* ----------------------------------------------------------------------
+   a step with spheres that may touch (HSStepEngine): by clusters if a
+   contact is predicted, else fix nve's step; the method sees the step
+   through HSStepView
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::step()
+{
+  HSSystem &F = *sys;
+  if (step_clusters()) {
+    local_step = 1;
+    if (F.step_collided) F.ncoll_steps += 1.0;
+    meth.cluster_step_begun(*this);
+  } else {    // no contact after all: fix nve's step
+    F.nve_initial();
+    F.dtf_last = F.dtf;
+  }
+  F.request_rebuild();
+}
+
+// the closing kick of a step taken by clusters
+bool HSLocalEngine::finish()
+{
+  if (!local_step) return false;
+  HSSystem &F = *sys;
+  final_kick();
+  meth.cluster_step_done(*this);
+  local_step = 0;
+  F.step_substeps = 0;
+  F.screened_step = -1;
+  return true;
+}
+
+// clusters, mean and largest members, growth rounds, fall-backs, restricted evaluations
+double HSLocalEngine::counter(int k)
+{
+  if (k == 4) return sys->nfallback;
+  const HardSphere::ClusterCounters &c = counters();
+  switch (k) {
+    case 0:
+      return c.clusters;
+    case 1:
+      return c.mean_members();
+    case 2:
+      return c.max_members;
+    case 3:
+      return nrounds;
+    case 5:
+      return ncompute;
+  }
+  return 0.0;
+}
+
+/* ----------------------------------------------------------------------
    one step: Phi_H1(dt/2) . Phi_H2(dt) . Phi_H1(dt/2) with C grown until no
    flow has a contact with a non-member
 ------------------------------------------------------------------------- */
 
-bool HSLocalEngine::step()
+bool HSLocalEngine::step_clusters()
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   grow_arrays();
   build_adjacency();
   F.comm_vel_acc();    // ghosts' v, a, active: the first guess needs them
@@ -1312,7 +1368,7 @@ bool HSLocalEngine::step()
     for (int h = 0; h < 2; h++) {
       F.ncoll_pair += r.npair[h];
       F.ncoll_wall += r.nwall[h];
-      for (int k = 0; k < 6; k++) F.virial[k] += r.vir[h][k];
+      for (int k = 0; k < 6; k++) F.host->virial[k] += r.vir[h][k];
       if (r.npair[h] + r.nwall[h] > 0.0) F.step_collided = 1;
     }
     for (size_t k = 0; k < r.touched.size(); k++) {
@@ -1380,7 +1436,7 @@ void HSLocalEngine::remap_after_rebuild()
 
 void HSLocalEngine::final_kick()
 {
-  FixHardSphere &F = *fix;
+  HSSystem &F = *sys;
   double **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
@@ -1416,13 +1472,13 @@ int HSLocalEngine::owned(tagint t) const
   const int i = atom->map(t);
   if (i < 0 || i >= atom->nlocal)
     error->one(FLERR, "Fix {} substep local: atom {} of a collision cluster is not owned at the "
-               "step's end (after a neighbor list rebuild)", fix->style_name, t);
+               "step's end (after a neighbor list rebuild)", sys->style_name, t);
   return i;
 }
 
 void HSLocalEngine::partner_kicks(int i, double *first, double *second) const
 {
-  const bool a = i < (int) cnt.size() && cnt[i] > 0 && (atom->mask[i] & fix->groupbit);
+  const bool a = i < (int) cnt.size() && cnt[i] > 0 && (atom->mask[i] & sys->groupbit);
   const bool b = i < (int) estamp.size() && estamp[i] == eepoch;
   for (int d = 0; d < 3; d++) {
     first[d] = a ? dvt[i][d] : 0.0;

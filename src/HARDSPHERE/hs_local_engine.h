@@ -1,7 +1,7 @@
 /* -*- c++ -*- ----------------------------------------------------------
    HARDSPHERE package: the local step engine (`substep local`, issue 10).
 
-   The global engine (the paper's algorithm, FixHardSphere::initial_integrate)
+   The global engine (the paper's algorithm, hs_global_engine.h)
    sub-steps every atom to every contact with a full force evaluation, so a
    step costs O(N) per collision. This engine makes a collision cost
    O(its neighbours). Per step, C is the spheres that collide in it
@@ -53,6 +53,9 @@
 #include "hs_cluster.h"
 #include "hs_contact.h"
 #include "hs_local_forces.h"
+#include "hs_step_engine.h"
+#include "hs_step_view.h"
+#include "hs_types.h"
 #include "lmptype.h"
 #include "pointers.h"
 
@@ -65,48 +68,48 @@
 
 namespace LAMMPS_NS {
 
-class FixHardSphere;
 class HSLocalForces;
+class HSMethod;
+class HSSystem;
 
-class HSLocalEngine : protected Pointers {
+class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
  public:
-  HSLocalEngine(class LAMMPS *, FixHardSphere *);
+  HSLocalEngine(class LAMMPS *, HSSystem &, HSMethod &);
   ~HSLocalEngine() override;
 
-  // from the fix's init(): "" if the engine can run this set-up, else why
-  // not (the styles or fixes named)
-  std::string init();
+  // HSStepEngine
+  std::string limits() override;
+  void step() override;
+  bool finish() override;
+  double counter(int k) override;
 
+  // HSStepView: the step's clusters and state, for a method's own
+  // bookkeeping (hs_local_modified.h); valid from step() to the end of
+  // finish()
+  int nclusters() const override { return cs.nclusters(); }
+  const std::vector<int> &members(int c) const override { return cs.members(c); }
+  const double *start_x(int i) const override { return x0[i]; }
+  const double *start_v(int i) const override { return v0[i]; }
+  void partner_kicks(int i, double *first, double *second) const override;
+  HSLocalForces &local_forces() override { return *locf; }
+  int owned(tagint t) const override;
+  void put_v(int i, const double *vn) override { set_v(i, vn); }
+  void put_x(int i, const double *xn) override { set_x(i, xn); }
+
+ private:
+  HSSystem *sys;    // the system layer (the plumbing every step shares)
+  HSMethod &meth;
+  HSLocalForces *locf;
+  int local_step = 0;    // the current step ran by clusters
   // a step in which screening found spheres that may touch. Returns false
   // if no contact is predicted in the step at all (the caller takes fix
   // nve's step); else the step is done up to the closing kick
-  bool step();
-  // the closing half kick (final_integrate) of a step step() took
+  bool step_clusters();
+  // the closing half kick (final_integrate) of a step step_clusters() took
   void final_kick();
-
-  // the step's clusters and state, for a method's own bookkeeping
-  // (hs_local_modified.h); valid from step() to the end of final_kick()
-  int nclusters() const { return cs.nclusters(); }
-  const std::vector<int> &members(int c) const { return cs.members(c); }
-  const double *start_x(int i) const { return x0[i]; }
-  const double *start_v(int i) const { return v0[i]; }
-  // the V_C kicks non-member i took in the first, resp. second Phi_H1
-  void partner_kicks(int i, double *first, double *second) const;
-  HSLocalForces &local_forces() { return *locf; }
-  // the owned index of atom ID t of the step's clusters at the step's end
-  // (a rebuild may have sorted the atoms); an error if it is not owned
-  int owned(tagint t) const;
-  void put_v(int i, const double *vn) { set_v(i, vn); }
-  void put_x(int i, const double *xn) { set_x(i, xn); }
-
-  // counters for the output vector
   const HardSphere::ClusterCounters &counters();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
   double ncompute = 0.0;    // restricted force evaluations
-
- private:
-  FixHardSphere *fix;
-  HSLocalForces *locf;
   HardSphere::ClusterSet cs;
 
   using Vec = std::array<double, 3>;
@@ -238,7 +241,7 @@ class HSLocalEngine : protected Pointers {
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);
   void add_terms(const std::vector<int> &newm);
-  void grow(const std::vector<Hit> &hits);
+  void grow_clusters(const std::vector<Hit> &hits);
   bool flow(Run &r, double h, bool first_half, std::vector<Hit> &hits);
   void cross_check(bool first_half, const std::vector<int> &fresh, std::vector<Hit> &hits);
   void h2_check(bool full, std::vector<Hit> &hits);

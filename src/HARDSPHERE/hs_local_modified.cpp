@@ -5,10 +5,10 @@
 
 #include "hs_local_modified.h"
 
-#include "fix_hardsphere.h"
-#include "hs_local_engine.h"
 #include "hs_local_forces.h"
 #include "hs_potential.h"
+#include "hs_step_view.h"
+#include "hs_system.h"
 
 #include "atom.h"
 #include "error.h"
@@ -21,8 +21,8 @@
 
 using namespace LAMMPS_NS;
 
-HSLocalModified::HSLocalModified(LAMMPS *lmp, FixHardSphere *f, HSPotential *p) :
-    Pointers(lmp), fix(f), pot(p)
+HSLocalModified::HSLocalModified(LAMMPS *lmp, HSSystem *s, HSPotential *p) :
+    Pointers(lmp), sys(s), pot(p)
 {
 }
 
@@ -47,7 +47,7 @@ void HSLocalModified::terms_eval(X xpos, V vel, B bvel, double &E, double &Q, do
   for (int t = 0; t < nterm; t++) {
     if (toff[t + 1] - toff[t] != 2)
       error->one(FLERR, "Fix {} substep local: a term of {} atoms (only pair and bond terms "
-                 "are supported by the local projection)", fix->style_name, toff[t + 1] - toff[t]);
+                 "are supported by the local projection)", sys->style_name, toff[t + 1] - toff[t]);
     const int i = tloc[toff[t]], j = tloc[toff[t] + 1];
     const int oi = tatoms[toff[t]], oj = tatoms[toff[t] + 1];
     const bool pair = t < npair;
@@ -101,7 +101,7 @@ void HSLocalModified::terms_eval(X xpos, V vel, B bvel, double &E, double &Q, do
 double HSLocalModified::local_L(double E, double Q, double T)
 {
   const int *mask = atom->mask;
-  const int gb = fix->groupbit;
+  const int gb = sys->groupbit;
   double G = 0.0;
   for (size_t s = 0; s < owners.size(); s++) {
     const int i = owners[s];
@@ -115,9 +115,9 @@ double HSLocalModified::local_L(double E, double Q, double T)
       g = 0.0;
       for (int d = 0; d < 3; d++) g += 2.0 * c[d] * (F[d] - c[d]) + c[d] * c[d];
     }
-    G += g / fix->mass_of(i);
+    G += g / sys->mass_of(i);
   }
-  const double dt = fix->dtv;
+  const double dt = sys->dtv;
   return T + E + dt * dt / 24.0 * (2.0 * Q - force->ftm2v * G);
 }
 
@@ -126,7 +126,7 @@ double HSLocalModified::local_L(double E, double Q, double T)
    their owners: members first, then the partners
 ------------------------------------------------------------------------- */
 
-void HSLocalModified::find_terms(HSLocalEngine &eng)
+void HSLocalModified::find_terms(HSStepView &eng)
 {
   HSLocalForces &lf = eng.local_forces();
   lf.set_labels(nullptr);
@@ -152,7 +152,7 @@ void HSLocalModified::find_terms(HSLocalEngine &eng)
   auto add = [&](int i, bool member) {
     if (i < 0)
       error->one(FLERR, "Fix {} substep local: an atom of a collision cluster's terms is owned "
-                 "by another rank", fix->style_name);
+                 "by another rank", sys->style_name);
     if (sstamp[i] == sepoch) return;
     sstamp[i] = sepoch;
     slot[i] = (int) owners.size();
@@ -167,11 +167,11 @@ void HSLocalModified::find_terms(HSLocalEngine &eng)
 
 /* ---------------------------------------------------------------------- */
 
-void HSLocalModified::begin(HSLocalEngine &eng)
+void HSLocalModified::begin(HSStepView &eng)
 {
   const int *mask = atom->mask;
   const tagint *tag = atom->tag;
-  const int gb = fix->groupbit;
+  const int gb = sys->groupbit;
   mem.clear();
   cid.clear();
   mtag.clear();
@@ -197,7 +197,7 @@ void HSLocalModified::begin(HSLocalEngine &eng)
   for (int m : mem)
     if (mask[m] & gb) {
       const double *v = vcons(m);
-      T += fix->mass_of(m) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      T += sys->mass_of(m) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
   T *= 0.5 * force->mvv2e;
   L0 = local_L(E, Q, T);
@@ -229,11 +229,11 @@ void HSLocalModified::begin(HSLocalEngine &eng)
    start)
 ------------------------------------------------------------------------- */
 
-void HSLocalModified::conservative_state(HSLocalEngine &eng, bool at_start)
+void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
 {
   double **x = atom->x, **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
-  const int gb = fix->groupbit;
+  const int gb = sys->groupbit;
   if ((int) cstamp.size() < atom->nmax) {
     cstamp.assign(atom->nmax, 0u);
     fcons_.resize(atom->nmax);
@@ -258,7 +258,7 @@ void HSLocalModified::conservative_state(HSLocalEngine &eng, bool at_start)
       fcons_[i][d] = f[i][d];
       vcons_[i][d] = at_start ? eng.start_v(i)[d] : v[i][d];
     }
-  if (!fix->nheld) return;
+  if (!sys->nheld) return;
 
   // F_cons of the group's members and partners: a restricted evaluation of
   // all their terms (at the start with every atom of those terms at x0)
@@ -284,9 +284,9 @@ void HSLocalModified::conservative_state(HSLocalEngine &eng, bool at_start)
   }
   lf.compute(set.data(), (int) set.size(), false);
   double **fl = lf.forces();
-  const double dtf = fix->dtf;
+  const double dtf = sys->dtf;
   for (int i : set) {
-    const double s = (at_start ? dtf : -dtf) / fix->mass_of(i);
+    const double s = (at_start ? dtf : -dtf) / sys->mass_of(i);
     for (int d = 0; d < 3; d++) {
       fcons_[i][d] = fl[i][d];
       vcons_[i][d] += s * (f[i][d] - fl[i][d]);
@@ -297,11 +297,11 @@ void HSLocalModified::conservative_state(HSLocalEngine &eng, bool at_start)
 
 /* ---------------------------------------------------------------------- */
 
-void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
+void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
 {
   double **x = atom->x;
   const int *mask = atom->mask;
-  const int gb = fix->groupbit;
+  const int gb = sys->groupbit;
   for (size_t k = 0; k < mtag.size(); k++) mem[k] = eng.owned(mtag[k]);
   // the start's terms and owners still hold unless the lists were rebuilt
   // (then atoms may also have been sorted)
@@ -325,12 +325,12 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
                return is_mem[sl] ? rel[sl].data() : zero;
              },
              E, Q, Qbb);
-  const double mvv2e = force->mvv2e, dt = fix->dtv;
+  const double mvv2e = force->mvv2e, dt = sys->dtv;
   double T = 0.0;
   for (int m : mem)
     if (mask[m] & gb) {
       const double *vm = vcons(m);
-      T += fix->mass_of(m) * (vm[0] * vm[0] + vm[1] * vm[1] + vm[2] * vm[2]);
+      T += sys->mass_of(m) * (vm[0] * vm[0] + vm[1] * vm[1] + vm[2] * vm[2]);
     }
   T *= 0.5 * mvv2e;
   const double L1 = local_L(E, Q, T);
@@ -350,7 +350,7 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
       const double fr1 = F[d] - (sl >= 0 ? fc[sl][d] : 0.0);
       gk += -(fr1 - st.fr0[d]) / dt * (st.d1[d] + st.d2[d]);
     }
-    dTP += 0.5 * mvv2e * fix->mass_of(p) * kin;
+    dTP += 0.5 * mvv2e * sys->mass_of(p) * kin;
   }
   C0 = L1 - L0 + dTP + dt * dt / 6.0 * gk;
 
@@ -361,7 +361,7 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
     if (!(mask[m] & gb)) continue;
     const Vec &kvm = kv[slot[m]];
     for (int d = 0; d < 3; d++) {
-      mb2 += fix->mass_of(m) * rel[k][d] * rel[k][d];
+      mb2 += sys->mass_of(m) * rel[k][d] * rel[k][d];
       bkv += rel[k][d] * kvm[d];
     }
   }
@@ -371,10 +371,10 @@ void HSLocalModified::end(HSLocalEngine &eng, double &A, double &B, double &C0)
 
 // b = v - the cluster's centre-of-mass velocity for the members (v itself
 // for a one-sphere cluster: a wall contact); zero outside the group
-void HSLocalModified::relative(HSLocalEngine &eng)
+void HSLocalModified::relative(HSStepView &eng)
 {
   const int *mask = atom->mask;
-  const int gb = fix->groupbit;
+  const int gb = sys->groupbit;
   const int ncl = eng.nclusters();
   std::vector<Vec> pc(ncl, {0.0, 0.0, 0.0});
   std::vector<double> mc(ncl, 0.0);
@@ -382,7 +382,7 @@ void HSLocalModified::relative(HSLocalEngine &eng)
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
-    const double ms = fix->mass_of(m);
+    const double ms = sys->mass_of(m);
     for (int d = 0; d < 3; d++) pc[cid[k]][d] += ms * vcons(m)[d];
     mc[cid[k]] += ms;
     nc[cid[k]]++;
@@ -397,13 +397,13 @@ void HSLocalModified::relative(HSLocalEngine &eng)
 }
 
 // v_i -> v_i + beta b_i with the b of end()
-void HSLocalModified::scale(HSLocalEngine &eng, double beta)
+void HSLocalModified::scale(HSStepView &eng, double beta)
 {
   double **v = atom->v;
   const int *mask = atom->mask;
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
-    if (!(mask[m] & fix->groupbit)) continue;
+    if (!(mask[m] & sys->groupbit)) continue;
     const double vn[3] = {v[m][0] + beta * rel[k][0], v[m][1] + beta * rel[k][1],
                           v[m][2] + beta * rel[k][2]};
     eng.put_v(m, vn);

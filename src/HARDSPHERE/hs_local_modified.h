@@ -51,29 +51,29 @@
 
 namespace LAMMPS_NS {
 
-class FixHardSphere;
-class HSLocalEngine;
+class HSSystem;
+class HSStepView;
 class HSPotential;
 
 class HSLocalModified : protected Pointers {
  public:
-  HSLocalModified(class LAMMPS *, FixHardSphere *, HSPotential *);
+  HSLocalModified(class LAMMPS *, HSSystem *, HSPotential *);
 
-  // after HSLocalEngine::step() (atom->f: the step's start forces): the
+  // after the engine's step (HSMethod::cluster_step_begun) (atom->f: the step's start forces): the
   // members, their terms and L at the step's start
-  void begin(HSLocalEngine &);
+  void begin(HSStepView &);
   // after the engine's closing kick (x, v, f at the step's end): the
   // change of H~ over the step, and the coefficients of the projection
   // v_i -> v_i + beta b_i (i in C; b_i = v_i - the velocity of its
   // cluster's centre of mass, or v_i for a cluster of one sphere):
   // dH~(beta) = A beta^2 + B beta + C0
-  void end(HSLocalEngine &, double &A, double &B, double &C0);
+  void end(HSStepView &, double &A, double &B, double &C0);
   // v_i -> v_i + beta b_i on the members, with the b of end()
-  void scale(HSLocalEngine &, double beta);
+  void scale(HSStepView &, double beta);
   int nmembers() const { return (int) mem.size(); }
 
  private:
-  FixHardSphere *fix;
+  HSSystem *sys;
   HSPotential *pot;
   using Vec = std::array<double, 3>;
 
@@ -101,7 +101,7 @@ class HSLocalModified : protected Pointers {
   std::vector<Vec> fc, kv;            // per slot: F of V_CX, V_CX'' v
   std::vector<Vec> rel;               // per member: b of the projection
 
-  void find_terms(HSLocalEngine &);
+  void find_terms(HSStepView &);
   int slot_of(int i) const { return (i < (int) sstamp.size() && sstamp[i] == sepoch) ? slot[i] : -1; }
   // E = V_CX, Q = sum v^T V_t'' v and Qbb = sum b^T V_t'' b over its
   // terms, fc, kv at positions xpos(owner) + image offset, velocities
@@ -113,10 +113,10 @@ class HSLocalModified : protected Pointers {
   std::vector<Vec> fcons_, vcons_;
   std::vector<uint32_t> cstamp;
   uint32_t cepoch = 0;
-  void conservative_state(HSLocalEngine &, bool at_start);
+  void conservative_state(HSStepView &, bool at_start);
   const double *cons(int i) const { return fcons_[i].data(); }
   const double *vcons(int i) const { return vcons_[i].data(); }
-  void relative(HSLocalEngine &);
+  void relative(HSStepView &);
 };
 
 }    // namespace LAMMPS_NS

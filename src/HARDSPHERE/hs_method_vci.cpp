@@ -1,7 +1,7 @@
 /* ----------------------------------------------------------------------
-   HARDSPHERE package: fix hardsphere/vci (Bond & Leimkuhler 2007,
-   section 2.3; Fetecau, Marsden, Ortiz, West 2003). See
-   fix_hardsphere_vci.h and doc/fix_hardsphere_vci.rst.
+   HARDSPHERE package: the method of fix hardsphere/vci (Bond & Leimkuhler
+   2007, section 2.3; Fetecau, Marsden, Ortiz, West 2003). See
+   hs_method_vci.h and doc/fix_hardsphere_vci.rst.
 
    One collisional sub-step q_k -> q_c of length tau1 (kick, drift, forces
    at q_c, kick) has the discrete energy of section 2.3
@@ -15,9 +15,10 @@
    q_next; x and v are restored afterwards (f is not changed by it).
 ------------------------------------------------------------------------- */
 
-#include "fix_hardsphere_vci.h"
+#include "hs_method_vci.h"
 
 #include "hs_potential.h"
+#include "hs_system.h"
 #include "hs_vci.h"
 
 #include "atom.h"
@@ -41,39 +42,32 @@ static constexpr int MAXIT = 100;
 
 /* ---------------------------------------------------------------------- */
 
-FixHardSphereVCI::FixHardSphereVCI(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), Vk(0.0), Etarget(0.0), have_target(0),
-    tleft_after(0.0), pending(0), pending_target(0.0), nsolved(0.0), nnoroot(0.0), nzero(0.0),
-    nevals(0.0), maxevals(0.0), maxdiff(0.0), warned(0)
-{
-  size_vector = 11;
-  derivs_needed = 1;
-}
+HSMethodVCI::HSMethodVCI(LAMMPS *lmp, HSSystem &sys) : HSMethod(lmp, sys) {}
 
 /* ----------------------------------------------------------------------
    1/2 p^T M^-1 p of the group (energy units), collective
 ------------------------------------------------------------------------- */
 
-double FixHardSphereVCI::kinetic()
+double HSMethodVCI::kinetic()
 {
   double **v = atom->v;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   double loc = 0.0, all;
   for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit)
-      loc += mass_of(i) * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    if (mask[i] & S.groupbit)
+      loc += S.mass_of(i) * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
   MPI_Allreduce(&loc, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return 0.5 * force->mvv2e * all;
 }
 
 // V at the current x (ghosts are forwarded by the energy evaluation)
-double FixHardSphereVCI::potential_at_new_x()
+double HSMethodVCI::potential_at_new_x()
 {
-  return pot->energy();
+  return S.pot->energy();
 }
 
-void FixHardSphereVCI::check_pending(double Ed)
+void HSMethodVCI::check_pending(double Ed)
 {
   if (!pending) return;
   maxdiff = MAX(maxdiff, fabs(Ed - pending_target));
@@ -82,7 +76,7 @@ void FixHardSphereVCI::check_pending(double Ed)
 
 /* ---------------------------------------------------------------------- */
 
-void FixHardSphereVCI::begin_collisional_step()
+void HSMethodVCI::begin_collisional_step()
 {
   Vk = potential_at_new_x();    // V(q^n)
   have_target = 0;
@@ -94,18 +88,18 @@ void FixHardSphereVCI::begin_collisional_step()
    force evaluation at q_c also gives V(q_c))
 ------------------------------------------------------------------------- */
 
-bool FixHardSphereVCI::advance_to_contact(double &tau, double tleft, const Impulse &)
+bool HSMethodVCI::advance_to_contact(double &tau, double tleft, const Impulse &)
 {
   if (tau > 0.0) {
-    kick_drift(tau);
+    S.kick_drift(tau);
     const double Kh = kinetic();    // 1/2 |(q_c - q_k)/tau|^2_M
     double Vc = 0.0;
-    if (forces_present) {
-      Vc = pot->evaluate(1);
+    if (S.forces_present) {
+      Vc = S.pot->evaluate(1);
     } else
       comm->forward_comm();
-    kick(tau);
-    comm_vel_acc();
+    S.kick(tau);
+    S.comm_vel_acc();
     const double Ed = Kh + 0.5 * (Vk + Vc);
     check_pending(Ed);
     Etarget = Ed;
@@ -130,9 +124,9 @@ bool FixHardSphereVCI::advance_to_contact(double &tau, double tleft, const Impul
    contact, measure its E_d (V at the step's end: one more evaluation)
 ------------------------------------------------------------------------- */
 
-void FixHardSphereVCI::finish_step(double tleft)
+void HSMethodVCI::finish_step(double tleft)
 {
-  FixHardSphere::finish_step(tleft);
+  HSMethod::finish_step(tleft);
   if (pending) {
     const double Kh = kinetic();
     const double Vn = potential_at_new_x();
@@ -147,28 +141,28 @@ void FixHardSphereVCI::finish_step(double tleft)
    x and v (owned and ghost) are restored from xsave/vsave. Collective.
 ------------------------------------------------------------------------- */
 
-double FixHardSphereVCI::trial(const Impulse &imp, double s, double &scale, double &tau2)
+double HSMethodVCI::trial(const Impulse &imp, double s, double &scale, double &tau2)
 {
   Impulse t = imp;
   if (s != 1.0) {
     for (int k = 0; k < 3; k++) t.J[k] = s * imp.J[k];
     t.reflect = 0;
   }
-  apply_impulse(t);
+  S.apply_impulse(t);
 
-  screen(tleft_after);
-  comm_vel_acc();
+  S.screen(tleft_after);
+  S.comm_vel_acc();
   Event ev{PAIR_EVENT, -1, -1, -1};
   struct {
     double t;
     int rank;
-  } mine{predict(tleft_after, ev), comm->me}, first;
+  } mine{S.predict(tleft_after, ev), comm->me}, first;
   MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
   tau2 = (first.t >= tleft_after) ? tleft_after : first.t;
 
   double Ed;
   if (tau2 > 0.0) {
-    kick_drift(tau2);
+    S.kick_drift(tau2);
     const double Kh = kinetic();
     const double Vn = potential_at_new_x();
     Ed = Kh + 0.5 * (Vk + Vn);
@@ -194,7 +188,7 @@ double FixHardSphereVCI::trial(const Impulse &imp, double s, double &scale, doub
    root near the elastic s = 1 (hs_vci.h)
 ------------------------------------------------------------------------- */
 
-void FixHardSphereVCI::modify_impulse(Impulse &imp)
+void HSMethodVCI::modify_impulse(Impulse &imp)
 {
   pending = 0;
   const int nall = atom->nlocal + atom->nghost;
@@ -210,8 +204,8 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
   double loc = 0.0, all;
   const tagint *tag = atom->tag;
   for (int i = 0; i < atom->nlocal; i++) {
-    if (tag[i] == imp.itag) loc += J2 / mass_of(i);
-    if (imp.type == PAIR_EVENT && tag[i] == imp.jtag) loc += J2 / mass_of(i);
+    if (tag[i] == imp.itag) loc += J2 / S.mass_of(i);
+    if (imp.type == PAIR_EVENT && tag[i] == imp.jtag) loc += J2 / S.mass_of(i);
   }
   MPI_Allreduce(&loc, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   const double slope = 0.5 * force->mvv2e * all;
@@ -240,7 +234,7 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
                "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
                "step {} did not converge in {} evaluations (impulse strength in [{}, {}] "
                "times the elastic one, residual {})",
-               style_name, contact_name(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
+               S.style_name, S.contact_name(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
   if (r.status != HardSphere::VCI_CONVERGED) {
     nnoroot += 1.0;
     if (!warned && comm->me == 0)
@@ -249,9 +243,9 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
                      "matches the discrete energy across the collision of {} on step {} ({}, "
                      "E_d- {}, E_d+ - E_d- {} for the elastic impulse); the elastic impulse is "
                      "used. Such collisions are counted in f_{}[7]; this warning is printed once",
-                     style_name, SMIN, SMAX, contact_name(imp), update->ntimestep,
+                     S.style_name, SMIN, SMAX, S.contact_name(imp), update->ntimestep,
                      r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
-                     Etarget, f1, id);
+                     Etarget, f1, S.fix_id());
     warned = 1;
     return;
   }
@@ -266,27 +260,27 @@ void FixHardSphereVCI::modify_impulse(Impulse &imp)
 
 /* ---------------------------------------------------------------------- */
 
-double FixHardSphereVCI::compute_vector(int n)
+double HSMethodVCI::vector(int k)
 {
-  switch (n) {
-    case 5:
+  switch (k) {
+    case 0:
       return nsolved;
-    case 6:
+    case 1:
       return nnoroot;
-    case 7:
+    case 2:
       return nzero;
-    case 8:
+    case 3:
       return nevals;
-    case 9:
+    case 4:
       return maxevals;
-    case 10:
+    case 5:
       return maxdiff;
   }
-  return FixHardSphere::compute_vector(n);
+  return 0.0;
 }
 
-// the counters after the base's in restart files
-std::vector<double *> FixHardSphereVCI::extra_counters()
+// the counters after the fix's in restart files
+std::vector<double *> HSMethodVCI::counters()
 {
   return {&nsolved, &nnoroot, &nzero, &nevals, &maxevals, &maxdiff};
 }

@@ -1,14 +1,14 @@
 /* ----------------------------------------------------------------------
-   HARDSPHERE package: fix hardsphere/pcva (Bond & Leimkuhler 2007,
-   section 3.2). See fix_hardsphere_pcva.h and doc/fix_hardsphere_pcva.rst.
+   HARDSPHERE package: the method of fix hardsphere/pcva (Bond & Leimkuhler
+   2007, section 3.2). See hs_method_pcva.h and doc/fix_hardsphere_pcva.rst.
 ------------------------------------------------------------------------- */
 
-#include "fix_hardsphere_pcva.h"
+#include "hs_method_pcva.h"
 
-#include "hs_local_engine.h"
 #include "hs_local_modified.h"
 #include "hs_potential.h"
 #include "hs_projection.h"
+#include "hs_system.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -28,15 +28,9 @@ using namespace LAMMPS_NS;
 
 /* ---------------------------------------------------------------------- */
 
-FixHardSpherePCVA::FixHardSpherePCVA(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), Ht0(0.0), nproj(0.0), nskip(0.0), maxdev(0.0),
-    warned(0)
-{
-  size_vector = 8;
-  derivs_needed = 1;
-}
+HSMethodPCVA::HSMethodPCVA(LAMMPS *lmp, HSSystem &sys) : HSMethod(lmp, sys) {}
 
-FixHardSpherePCVA::~FixHardSpherePCVA()
+HSMethodPCVA::~HSMethodPCVA()
 {
   delete lmod;
 }
@@ -49,7 +43,7 @@ FixHardSpherePCVA::~FixHardSpherePCVA()
    (times dt^2: energy), v^T V'' v in energy / time^2. Collective.
 ------------------------------------------------------------------------- */
 
-double FixHardSpherePCVA::modified_energy(double &U, double &Kt)
+double HSMethodPCVA::modified_energy(double &U, double &Kt)
 {
   double **v = atom->v;
   double **f = atom->f;
@@ -57,8 +51,8 @@ double FixHardSpherePCVA::modified_energy(double &U, double &Kt)
   const int nlocal = atom->nlocal;
   double loc[2] = {0.0, 0.0}, all[2];
   for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) {
-      const double m = mass_of(i);
+    if (mask[i] & S.groupbit) {
+      const double m = S.mass_of(i);
       loc[0] += m * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
       loc[1] += (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]) / m;
     }
@@ -67,11 +61,11 @@ double FixHardSpherePCVA::modified_energy(double &U, double &Kt)
   HardSphere::ModifiedEnergyParts e;
   e.kin = 0.5 * force->mvv2e * all[0];
   e.g2 = force->ftm2v * all[1];
-  e.pot = pot->energy();
-  e.vhv = pot->d2(v);
+  e.pot = S.pot->energy();
+  e.vhv = S.pot->d2(v);
 
-  U = HardSphere::modified_potential(e, dtv);
-  Kt = HardSphere::modified_kinetic(e, dtv);
+  U = HardSphere::modified_potential(e, S.dtv);
+  Kt = HardSphere::modified_kinetic(e, S.dtv);
   return Kt + U;
 }
 
@@ -81,7 +75,7 @@ double FixHardSpherePCVA::modified_energy(double &U, double &Kt)
    step has kept at its value at the step's start (Ht0)
 ------------------------------------------------------------------------- */
 
-void FixHardSpherePCVA::project(const char *where)
+void HSMethodPCVA::project_momenta(const char *where)
 {
   double U, Kt;
   modified_energy(U, Kt);
@@ -101,7 +95,7 @@ void FixHardSpherePCVA::project(const char *where)
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) {
+    if (mask[i] & S.groupbit) {
       v[i][0] *= alpha;
       v[i][1] *= alpha;
       v[i][2] *= alpha;
@@ -111,7 +105,7 @@ void FixHardSpherePCVA::project(const char *where)
 }
 
 // no real scaling: the sub-step (step) is left unprojected, counted in f_ID[7]
-void FixHardSpherePCVA::skipped(const std::string &what)
+void HSMethodPCVA::skipped(const std::string &what)
 {
   nskip += 1.0;
   if (!warned && comm->me == 0)
@@ -119,7 +113,7 @@ void FixHardSpherePCVA::skipped(const std::string &what)
                    "Fix {}: no momentum scaling restores H_[2,VV] {} on step {}; it is left "
                    "unprojected. Such sub-steps are counted in f_{}[7]; this warning is "
                    "printed once",
-                   style_name, what, update->ntimestep, id);
+                   S.style_name, what, update->ntimestep, S.fix_id());
   warned = 1;
 }
 
@@ -128,27 +122,27 @@ void FixHardSpherePCVA::skipped(const std::string &what)
    engine's; the projection once per step with clusters
 ------------------------------------------------------------------------- */
 
-std::string FixHardSpherePCVA::local_limits()
+std::string HSMethodPCVA::local_limits()
 {
   std::string why;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
-  if (!pot->radial_only())
+  if (!S.pot->radial_only())
     add(fmt::format("a potential with other than radial pair and bond terms ({}; the local "
                     "projection evaluates the colliding spheres' terms through single())",
-                    pot->describe()));
+                    S.pot->describe()));
   return why;
 }
 
-void FixHardSpherePCVA::local_step_begun()
+void HSMethodPCVA::cluster_step_begun(HSStepView &view)
 {
-  if (!lmod) lmod = new HSLocalModified(lmp, this, pot);
-  lmod->begin(*local_engine);
+  if (!lmod) lmod = new HSLocalModified(lmp, &S, S.pot);
+  lmod->begin(view);
 }
 
-void FixHardSpherePCVA::local_step_done()
+void HSMethodPCVA::cluster_step_done(HSStepView &view)
 {
   double A, B, C0, beta;
-  lmod->end(*local_engine, A, B, C0);
+  lmod->end(view, A, B, C0);
   const HardSphere::ScaleStatus st = HardSphere::pcva_local_beta(A, B, C0, beta);
   if (st != HardSphere::SCALE_OK) {
     skipped(fmt::format("at the end of a step with collisions (substep local: change {}, {})", C0,
@@ -158,48 +152,49 @@ void FixHardSpherePCVA::local_step_done()
                               "their clusters' centres of mass"));
     return;
   }
-  lmod->scale(*local_engine, beta);
+  lmod->scale(view, beta);
   nproj += 1.0;
   maxdev = MAX(maxdev, fabs(beta));
 }
 
 /* ---------------------------------------------------------------------- */
 
-void FixHardSpherePCVA::begin_collisional_step()
+void HSMethodPCVA::begin_collisional_step()
 {
   double U, Kt;
   Ht0 = modified_energy(U, Kt);
 }
 
-void FixHardSpherePCVA::end_substep(double)
+void HSMethodPCVA::end_substep(double)
 {
-  project("after a collision");
+  project_momenta("after a collision");
 }
 
-void FixHardSpherePCVA::end_collisional_step()
+void HSMethodPCVA::end_collisional_step()
 {
-  project("at the end of a step with collisions");
+  project_momenta("at the end of a step with collisions");
 }
 
 /* ---------------------------------------------------------------------- */
 
-double FixHardSpherePCVA::compute_vector(int n)
+// output entries 5-7
+double HSMethodPCVA::vector(int k)
 {
-  switch (n) {
-    case 5:
+  switch (k) {
+    case 0:
       return nproj;
-    case 6:
+    case 1:
       return nskip;
-    case 7:
+    case 2:
       return maxdev;
   }
-  return FixHardSphere::compute_vector(n);
+  return 0.0;
 }
 
 /* ---------------------------------------------------------------------- */
 
-// the counters after the base's in restart files
-std::vector<double *> FixHardSpherePCVA::extra_counters()
+// the counters after the fix's in restart files
+std::vector<double *> HSMethodPCVA::counters()
 {
   return {&nproj, &nskip, &maxdev};
 }

@@ -1,13 +1,14 @@
 /* ----------------------------------------------------------------------
-   HARDSPHERE package: fix hardsphere/mcva (Bond & Leimkuhler 2007,
-   section 3.1). See fix_hardsphere_mcva.h and doc/fix_hardsphere_mcva.rst.
+   HARDSPHERE package: the method of fix hardsphere/mcva (Bond & Leimkuhler
+   2007, section 3.1). See hs_method_mcva.h and doc/fix_hardsphere_mcva.rst.
 ------------------------------------------------------------------------- */
 
-#include "fix_hardsphere_mcva.h"
+#include "hs_method_mcva.h"
 
 #include "hs_gauss.h"
 #include "hs_modified.h"
 #include "hs_potential.h"
+#include "hs_system.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -38,24 +39,14 @@ static constexpr double ROOT_TTOL = 1.0e-13;
 static constexpr int ROOT_MAXEVAL = 100;
 // an overlap after a Gauss solve counts as a missed contact beyond this
 // (relative to sigma^2, resp. the diameter): far above the round-off of
-// gaps across periodic images, far below the base's touching tolerance
+// gaps across periodic images, far below the family's touching tolerance
 static constexpr double OVERLAP_TOL = 1.0e-12;
-static constexpr int NVEC_BASE = 5;
-static constexpr int NVEC_OWN = 8;
 
 /* ---------------------------------------------------------------------- */
 
-FixHardSphereMCVA::FixHardSphereMCVA(LAMMPS *lmp, int narg, char **arg) :
-    FixHardSphere(lmp, narg, arg), gauss_step(0), cancel(0),
-    gauss_iters(0.0), gauss_substeps(0.0), gauss_maxit(0.0), gauss_solves(0.0), nmissed(0.0), nreleased(0.0),
-    ncross(0.0), nlin(0.0), newton(1), useG(0), hprev(0.0), f0_valid(0), nmax_f(0), fv(nullptr), fa(nullptr),
-    fhv(nullptr), ftv(nullptr), fha(nullptr)
-{
-  size_vector = NVEC_BASE + NVEC_OWN;
-  derivs_needed = 1;
-}
+HSMethodMCVA::HSMethodMCVA(LAMMPS *lmp, HSSystem &sys) : HSMethod(lmp, sys) {}
 
-FixHardSphereMCVA::~FixHardSphereMCVA()
+HSMethodMCVA::~HSMethodMCVA()
 {
   memory->destroy(fv);
   memory->destroy(fa);
@@ -66,9 +57,9 @@ FixHardSphereMCVA::~FixHardSphereMCVA()
 
 /* ---------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::init()
+// after the fix's init() (which set up the derivative layer)
+void HSMethodMCVA::init()
 {
-  FixHardSphere::init();    // also sets up the derivative layer
   // the stage equations continue a pair that leaves its cutoff in a
   // sub-step through single() past the cutoff (the frozen set): a table has
   // no values there (pair_table.cpp would stop the run mid-step)
@@ -77,7 +68,7 @@ void FixHardSphereMCVA::init()
                "Fix {} cannot use pair style {}: its Gauss stage equations evaluate a pair's "
                "potential past the cutoff (doc: the frozen cutoff set), where a table has no "
                "values; use hardsphere/pcva or /cva with tables",
-               style_name, force->pair_style);
+               S.style_name, force->pair_style);
   gauss_step = 0;
   warned_drop = 0;
   if (comm->me == 0) {
@@ -89,30 +80,30 @@ void FixHardSphereMCVA::init()
                         "distributed assembly): it converges as two fixed-point sweeps per "
                         "iteration",
                         comm->nprocs);
-    else if (!pot->any_radial())
+    else if (!S.pot->any_radial())
       how = "simplified Newton without V'' in the Jacobian (no pair or bond style on the "
             "single path): it converges as two fixed-point sweeps per iteration";
-    else if (!pot->radial_only())
+    else if (!S.pot->radial_only())
       how = "simplified Newton with V'' of the radial pair and bond styles in the Jacobian; "
             "the parts of V known only as force differences converge as two fixed-point "
             "sweeps per iteration";
     else
       how = "simplified Newton with V'' in the Jacobian";
-    utils::logmesg(lmp, "Fix {}: Gauss stage equations by {}\n", style_name, how);
+    utils::logmesg(lmp, "Fix {}: Gauss stage equations by {}\n", S.style_name, how);
   }
 }
 
 // fix_modify ID stages newton|fixed
-int FixHardSphereMCVA::modify_param(int narg, char **arg)
+int HSMethodMCVA::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "stages") != 0) return 0;
   if (narg < 2) error->all(FLERR, "Illegal fix_modify {} command: stages needs newton or fixed",
-                           style_name);
+                           S.style_name);
   if (strcmp(arg[1], "newton") == 0) newton = 1;
   else if (strcmp(arg[1], "fixed") == 0) newton = 0;
   else
     error->all(FLERR, "Illegal fix_modify {} command: stages {} (use newton or fixed)",
-               style_name, arg[1]);
+               S.style_name, arg[1]);
   return 2;
 }
 
@@ -122,10 +113,10 @@ int FixHardSphereMCVA::modify_param(int narg, char **arg)
    the Jacobian of the Newton iteration (hs_newton.h). Serial only.
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::assemble_G()
+void HSMethodMCVA::assemble_G()
 {
   useG = 0;
-  if (!newton || comm->nprocs > 1 || !pot->any_radial()) return;
+  if (!newton || comm->nprocs > 1 || !S.pot->any_radial()) return;
   const int ng = (int) idx.size();
   std::unordered_map<tagint, int> row;
   row.reserve(2 * ng);
@@ -137,18 +128,18 @@ void FixHardSphereMCVA::assemble_G()
   };
   Gmat.clear(ng);
   const double ftm2v = force->ftm2v;
-  for (int k = 0; k < ng; k++) Gmat.set_row_scale(k, ftm2v / mass_of(idx[k]));
-  pot->use_frozen_set(true);
-  pot->radial_terms([&](int i, int j, const double *del, double d1, double d2, bool ui, bool uj) {
+  for (int k = 0; k < ng; k++) Gmat.set_row_scale(k, ftm2v / S.mass_of(idx[k]));
+  S.pot->use_frozen_set(true);
+  S.pot->radial_terms([&](int i, int j, const double *del, double d1, double d2, bool ui, bool uj) {
     Gmat.add_radial(row_of(i), row_of(j), del, d1, d2, ui, uj);
   });
-  pot->use_frozen_set(false);
+  S.pot->use_frozen_set(false);
   gx.resize(3 * ng);
   gy.resize(3 * ng);
   useG = 1;
 }
 
-void FixHardSphereMCVA::grow_fields()
+void HSMethodMCVA::grow_fields()
 {
   if (atom->nmax <= nmax_f) return;
   nmax_f = atom->nmax;
@@ -168,13 +159,13 @@ void FixHardSphereMCVA::grow_fields()
    the state of the owned group atoms at a sub-step's start
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::save_start()
+void HSMethodMCVA::save_start()
 {
   grow_fields();
   idx.clear();
   const int *mask = atom->mask;
   for (int i = 0; i < atom->nlocal; i++)
-    if (mask[i] & groupbit) idx.push_back(i);
+    if (mask[i] & S.groupbit) idx.push_back(i);
   const int ng = (int) idx.size(), n = 6 * ng;
   y0.resize(n);
   double **x = atom->x, **v = atom->v;
@@ -194,11 +185,11 @@ void FixHardSphereMCVA::save_start()
   f0_valid = 0;
   // every solve from this start integrates the potential of the pairs
   // inside their cutoff here (see field())
-  pot->freeze_cutoff_set();
+  S.pot->freeze_cutoff_set();
   assemble_G();
 }
 
-void FixHardSphereMCVA::set_state(const std::vector<double> &y)
+void HSMethodMCVA::set_state(const std::vector<double> &y)
 {
   const int ng = (int) idx.size();
   double **x = atom->x, **v = atom->v;
@@ -216,7 +207,7 @@ void FixHardSphereMCVA::set_state(const std::vector<double> &y)
    (M^-1 F in LAMMPS units is ftm2v F / m). Collective.
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::field(const double *y, double *kout)
+void HSMethodMCVA::field(const double *y, double *kout)
 {
   const int ng = (int) idx.size();
   const double dt = update->dt, ftm2v = force->ftm2v;
@@ -235,19 +226,19 @@ void FixHardSphereMCVA::field(const double *y, double *kout)
   // styles cut off without smoothing"): the field is then smooth, and the
   // stage equations have a solution even where a pair crosses a cutoff at
   // which its force jumps
-  pot->use_frozen_set(true);
-  pot->evaluate(0);    // F at the stage positions (ghosts forwarded)
+  S.pot->use_frozen_set(true);
+  S.pot->evaluate(0);    // F at the stage positions (ghosts forwarded)
   for (int k = 0; k < ng; k++) {
     const int i = idx[k];
-    const double im = ftm2v / mass_of(i);
+    const double im = ftm2v / S.mass_of(i);
     for (int d = 0; d < 3; d++) fa[i][d] = im * f[i][d];
   }
-  pot->hess_third(fv, fhv, ftv);    // V'' v, V'''[v,v,.]
-  pot->hess_vec(fa, fha);           // V'' a
-  pot->use_frozen_set(false);
+  S.pot->hess_third(fv, fhv, ftv);    // V'' v, V'''[v,v,.]
+  S.pot->hess_vec(fa, fha);           // V'' a
+  S.pot->use_frozen_set(false);
   for (int k = 0; k < ng; k++) {
     const int i = idx[k];
-    const double im = ftm2v / mass_of(i);
+    const double im = ftm2v / S.mass_of(i);
     for (int d = 0; d < 3; d++) {
       kout[3 * k + d] = fv[i][d] + c6 * im * fhv[i][d];
       kout[3 * ng + 3 * k + d] = im * (f[i][d] - c12 * ftv[i][d] - c12 * fha[i][d]);
@@ -260,7 +251,7 @@ void FixHardSphereMCVA::field(const double *y, double *kout)
    stage guesses from the previous solve from y0 (if any)
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
+void HSMethodMCVA::gauss_solve(double h, std::vector<double> &out)
 {
   const int n = (int) y0.size();
   if (!f0_valid) {
@@ -296,7 +287,7 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
                      "Fix {}: on step {} the Newton iteration's linear solve did not contract "
                      "(h^2 |V''|/m too large, beyond Verlet's stability); that solve went on "
                      "without V'' in the Jacobian (warned once)",
-                     style_name, update->ntimestep);
+                     S.style_name, update->ntimestep);
     }
   } else
     st = HardSphere::gauss2_stages(fn, reduce, y0.data(), n, 2, h, K1.data(), K2.data(), opt,
@@ -309,14 +300,14 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
                "Fix {}: the vector field of the modified Hamiltonian is not finite (NaN or inf "
                "in the forces or their derivatives) at a Gauss stage on step {} (sub-step tau "
                "{}, iteration {})",
-               style_name, update->ntimestep, h, st.iterations);
+               S.style_name, update->ntimestep, h, st.iterations);
   if (!st.converged)
     error->all(FLERR,
                "Fix {}: the Gauss stage equations did not converge in {} iterations on step {} "
                "(sub-step tau {}, relative change of the stage derivatives {}): use a smaller "
                "timestep (or smooth forces: a style on the path of force differences cut off "
                "without smoothing makes the field jump at its cutoff)",
-               style_name, st.iterations, update->ntimestep, h, st.residual);
+               S.style_name, st.iterations, update->ntimestep, h, st.residual);
   K1p = K1;
   K2p = K2;
   hprev = h;
@@ -325,10 +316,10 @@ void FixHardSphereMCVA::gauss_solve(double h, std::vector<double> &out)
 
 // pairs whose cutoff status at the sub-step's end differs from its start:
 // their force jump was integrated with the start's set (output entry 12)
-void FixHardSphereMCVA::count_crossings()
+void HSMethodMCVA::count_crossings()
 {
   double jump = 0.0;
-  ncross += pot->cutoff_crossings(jump);
+  ncross += S.pot->cutoff_crossings(jump);
 }
 
 /* ----------------------------------------------------------------------
@@ -336,7 +327,7 @@ void FixHardSphereMCVA::count_crossings()
    hold the result; forces are NOT re-evaluated (callers do when needed)
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::gauss_substep(double h)
+void HSMethodMCVA::gauss_substep(double h)
 {
   save_start();
   if (h > 0.0) {
@@ -371,7 +362,7 @@ static int owned_index(Atom *atom, tagint t)
    O(dt^2), which only steers the root finder). Collective.
 ------------------------------------------------------------------------- */
 
-double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
+double HSMethodMCVA::gap_of(const Impulse &imp, double &dg)
 {
   double buf[14] = {0.0};
   double **x = atom->x, **v = atom->v;
@@ -383,7 +374,7 @@ double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
         b[d] = x[k][d];
         b[3 + d] = v[k][d];
       }
-      b[12] += radius_of(k);
+      b[12] += S.radius_of(k);
     }
   };
   // buf: x_i v_i | x_j v_j | r_i + r_j
@@ -406,9 +397,9 @@ double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
     dg = 2.0 * (dq[0] * dv[0] + dq[1] * dv[1] + dq[2] * dv[2]);
     return dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2] - sigma * sigma;
   }
-  const Wall &w = walls[imp.wall];
+  const Wall &w = S.walls[imp.wall];
   dg = (w.side < 0) ? buf[3 + w.dim] : -buf[3 + w.dim];
-  return wall_gap(w, buf, buf[12]);
+  return S.wall_gap(w, buf, buf[12]);
 }
 
 /* ----------------------------------------------------------------------
@@ -418,7 +409,7 @@ double FixHardSphereMCVA::gap_of(const Impulse &imp, double &dg)
    flow has no contact there. Collective.
 ------------------------------------------------------------------------- */
 
-int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax, double &tau)
+int HSMethodMCVA::solve_contact(const Impulse &c, double guess, double tmax, double &tau)
 {
   // phi(t): gap on the Gauss flow after t; the solution at the latest t
   // with a nonnegative gap is kept
@@ -435,13 +426,13 @@ int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax
     }
   };
   const HardSphere::RootResult r =
-      HardSphere::contact_root(phi, guess, tmax, ROOT_TTOL * dtv, ROOT_MAXEVAL);
+      HardSphere::contact_root(phi, guess, tmax, ROOT_TTOL * S.dtv, ROOT_MAXEVAL);
 
   if (r.status == HardSphere::ROOT_FAILED) {
     error->all(FLERR,
                "Fix {}: no contact time of {} found on the Gauss flow on step {} ({} Gauss "
                "solves, last tau {}, gap {})",
-               style_name, contact_name(c), update->ntimestep, r.nevals, r.t, r.g);
+               S.style_name, S.contact_name(c), update->ntimestep, r.nevals, r.t, r.g);
   }
   if (r.status == HardSphere::ROOT_NONE) {
     if (r.t != tmax) gauss_solve(tmax, y1);    // else y1 holds the last solve, at tmax
@@ -471,7 +462,7 @@ int FixHardSphereMCVA::solve_contact(const Impulse &c, double guess, double tmax
    local indices on 'rank'. Collective.
 ------------------------------------------------------------------------- */
 
-bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
+bool HSMethodMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
 {
   double **x = atom->x;
   const int *mask = atom->mask;
@@ -479,20 +470,20 @@ bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
   double worst = -OVERLAP_TOL;
   Event mine{PAIR_EVENT, -1, -1, -1};
   for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    for (int w = 0; w < (int) walls.size(); w++) {
-      const double r = radius_of(i);
-      const double g = wall_gap(walls[w], x[i], r) / (2.0 * r);
+    if (!(mask[i] & S.groupbit)) continue;
+    for (int w = 0; w < (int) S.walls.size(); w++) {
+      const double r = S.radius_of(i);
+      const double g = S.wall_gap(S.walls[w], x[i], r) / (2.0 * r);
       if (g < worst) {
         worst = g;
         mine = {WALL_EVENT, i, -1, w};
       }
     }
   }
-  const int ncand = (int) cand.size();
+  const int ncand = (int) S.cand.size();
   for (int k = 0; k < ncand; k += 2) {
-    const int i = cand[k], j = cand[k + 1];
-    const double sigma = radius_of(i) + radius_of(j);
+    const int i = S.cand[k], j = S.cand[k + 1];
+    const double sigma = S.radius_of(i) + S.radius_of(j);
     const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
     const double g = (dx * dx + dy * dy + dz * dz - sigma * sigma) / (sigma * sigma);
     if (g < worst) {
@@ -526,7 +517,7 @@ bool FixHardSphereMCVA::find_overlap(Impulse &c, Event &ev, int &rank)
    T moved (the contact in ev on rank). Collective.
 ------------------------------------------------------------------------- */
 
-bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
+bool HSMethodMCVA::earliest_crossing(double &T, Event &ev, int &rank)
 {
   bool moved = false;
   Impulse c;
@@ -535,7 +526,7 @@ bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
   for (int it = 0; find_overlap(c, cev, crank); it++) {
     if (it > 100)
       error->all(FLERR, "Fix {}: no first contact found on the Gauss flow on step {}",
-                 style_name, update->ntimestep);
+                 S.style_name, update->ntimestep);
     double dg;
     const double gT = gap_of(c, dg);
     if (!(gT < 0.0)) break;    // round-off across periodic images: no crossing
@@ -551,7 +542,7 @@ bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
         error->all(FLERR,
                    "Fix {}: atoms {} and {} (or a wall) overlap after a Gauss sub-step on step {} "
                    "but no contact time was found",
-                   style_name, c.itag, c.jtag, update->ntimestep);
+                   S.style_name, c.itag, c.jtag, update->ntimestep);
     }
     // g0 <= 0: touching at the start already: a contact now (tau = 0, state y0)
     T = tau;
@@ -565,10 +556,10 @@ bool FixHardSphereMCVA::earliest_crossing(double &T, Event &ev, int &rank)
 
 /* ----------------------------------------------------------------------
    a contact found by earliest_crossing() inside finish_step(), where the
-   base loop is over: the base loop's collision, done here (rare)
+   engine's loop is over: the loop's collision, done here (rare)
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::collide_missed(const Event &ev, int rank)
+void HSMethodMCVA::collide_missed(const Event &ev, int rank)
 {
   Impulse imp;
   memset(&imp, 0, sizeof(imp));
@@ -578,39 +569,39 @@ void FixHardSphereMCVA::collide_missed(const Event &ev, int rank)
     imp.jtag = (ev.type == PAIR_EVENT) ? atom->tag[ev.j] : 0;
     imp.wall = ev.wall;
     if (ev.type == PAIR_EVENT) collide_pair(ev.i, ev.j, imp);
-    else collide_wall(ev.i, walls[ev.wall], imp);
+    else collide_wall(ev.i, S.walls[ev.wall], imp);
   }
   MPI_Bcast(&imp, sizeof(Impulse), MPI_BYTE, rank, world);
   if (!imp.apply)
     error->all(FLERR,
                "Fix {}: atoms {} and {} (or a wall) touch on the Gauss flow on step {} without "
                "approaching: cannot resolve the contact",
-               style_name, imp.itag, imp.jtag, update->ntimestep);
+               S.style_name, imp.itag, imp.jtag, update->ntimestep);
   modify_impulse(imp);
-  if (comm->me == rank) add_impulse_virial(imp);
-  apply_impulse(imp);
-  if (imp.type == PAIR_EVENT) ncoll_pair += 1.0;
-  else ncoll_wall += 1.0;
-  step_collided = 1;
+  if (comm->me == rank) S.add_impulse_virial(imp);
+  S.apply_impulse(imp);
+  if (imp.type == PAIR_EVENT) S.ncoll_pair += 1.0;
+  else S.ncoll_wall += 1.0;
+  S.step_collided = 1;
   nmissed += 1.0;
 }
 
 /* ----------------------------------------------------------------------
-   hooks of the base's sub-step loop
+   the hooks of the global engine's sub-step loop (hs_method.h)
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::begin_collisional_step()
+void HSMethodMCVA::begin_collisional_step()
 {
   gauss_step = 1;
 }
 
 // no contact predicted in the rest of the step: plain Verlet if the step
-// never had one (the base's fix nve step), else Gauss sub-steps to the
+// never had one (fix nve's step), else Gauss sub-steps to the
 // step's end, stopping at contacts the Verlet prediction missed
-void FixHardSphereMCVA::finish_step(double tleft)
+void HSMethodMCVA::finish_step(double tleft)
 {
   if (!gauss_step) {
-    FixHardSphere::finish_step(tleft);
+    HSMethod::finish_step(tleft);
     return;
   }
   cancel = 0;
@@ -625,20 +616,20 @@ void FixHardSphereMCVA::finish_step(double tleft)
     if (!missed) break;
     if (guard > 1000)
       error->all(FLERR, "Fix {}: too many contacts missed by the prediction on step {}",
-                 style_name, update->ntimestep);
+                 S.style_name, update->ntimestep);
     // at the missed contact: forces there, ghosts' v, the impulse
-    pot->evaluate(0);
-    comm_vel_acc();
+    S.pot->evaluate(0);
+    S.comm_vel_acc();
     collide_missed(ev, rank);
     tleft -= T;
   }
   gauss_step = 0;
-  dtf_last = 0.0;    // the sub-step is complete: final_integrate adds nothing
+  S.dtf_last = 0.0;    // the sub-step is complete: final_integrate adds nothing
   // LAMMPS computes the forces at the step's end itself
 }
 
 // refine the contact time predicted by Verlet (tau) on the Gauss flow of H~
-bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impulse &imp)
+bool HSMethodMCVA::advance_to_contact(double &tau, double tleft, const Impulse &imp)
 {
   cancel = 0;
   gauss_substeps += 1.0;
@@ -662,12 +653,12 @@ bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impu
     // the Gauss flow has no contact in the rest of the step: that was its
     // last sub-step
     gauss_step = 0;
-    dtf_last = 0.0;
+    S.dtf_last = 0.0;
       return false;
   } else
     tau = T;
-  pot->evaluate(0);    // forces at the contact: the next prediction needs them
-  comm_vel_acc();      // ghosts' velocities at contact, for the impulse
+  S.pot->evaluate(0);    // forces at the contact: the next prediction needs them
+  S.comm_vel_acc();      // ghosts' velocities at contact, for the impulse
   return true;
 }
 
@@ -681,7 +672,7 @@ bool FixHardSphereMCVA::advance_to_contact(double &tau, double tleft, const Impu
    Collective; imp.J (momentum added to i, -J to j) replaces the elastic one.
 ------------------------------------------------------------------------- */
 
-void FixHardSphereMCVA::modify_impulse(Impulse &imp)
+void HSMethodMCVA::modify_impulse(Impulse &imp)
 {
   if (cancel) {    // the sub-step stopped at an earlier contact instead
     imp.apply = 0;
@@ -698,7 +689,7 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
 
   // u on the owned copies of the contact's atoms; w = M^-1 u in fv
   double u_i[3] = {0.0, 0.0, 0.0};
-  const int dim = (imp.type == WALL_EVENT) ? walls[imp.wall].dim : -1;
+  const int dim = (imp.type == WALL_EVENT) ? S.walls[imp.wall].dim : -1;
   if (imp.type == PAIR_EVENT)
     for (int d = 0; d < 3; d++) u_i[d] = imp.dq[d];
   else
@@ -708,7 +699,7 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
   auto put = [&](tagint t, double sgn) {
     const int k = owned_index(atom, t);
     if (k < 0) return;
-    const double im = ftm2v / mass_of(k);
+    const double im = ftm2v / S.mass_of(k);
     for (int d = 0; d < 3; d++) {
       const double u = sgn * u_i[d];
       fv[k][d] = im * u;
@@ -719,11 +710,11 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
   put(imp.itag, 1.0);
   if (imp.type == PAIR_EVENT) put(imp.jtag, -1.0);
 
-  pot->hess_vec(fv, fhv);    // V'' w
+  S.pot->hess_vec(fv, fhv);    // V'' w
   const int *mask = atom->mask;
   double sums[4] = {loc[0], loc[1], 0.0, 0.0};
   for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit)
+    if (mask[i] & S.groupbit)
       for (int d = 0; d < 3; d++) {
         sums[2] += fhv[i][d] * v[i][d];     // w^T V'' v
         sums[3] += fhv[i][d] * fv[i][d];    // w^T V'' w
@@ -736,7 +727,7 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
   // next zero-length sub-step back again, without end
   if (sums[0] + dt * dt / 6.0 * sums[2] >= 0.0) {
     imp.apply = 0;
-    release_contact(imp);
+    S.release_contact(imp);
     nreleased += 1.0;
     return;
   }
@@ -747,7 +738,7 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
                "Fix {}: on step {} the modified Hamiltonian is not convex in the momenta along "
                "the contact normal of atoms {} and {} (u^T A u = {} <= 0): the timestep {} is "
                "too large for the curvature of the potential",
-               style_name, update->ntimestep, imp.itag, imp.jtag, sums[1] + dt * dt / 6.0 * sums[3],
+               S.style_name, update->ntimestep, imp.itag, imp.jtag, sums[1] + dt * dt / 6.0 * sums[3],
                dt);
 
   // v_i += alpha w_i = alpha ftm2v u_i / m_i, i.e. J = alpha ftm2v u_i
@@ -756,15 +747,14 @@ void FixHardSphereMCVA::modify_impulse(Impulse &imp)
 }
 
 /* ----------------------------------------------------------------------
-   output: the base's 5 entries, then total Gauss stage iterations, Gauss
+   output entries after the fix's 5: total Gauss stage iterations, Gauss
    sub-steps, the most iterations in one solve, Gauss solves, contacts the
    Verlet prediction missed (found on the Gauss flow)
 ------------------------------------------------------------------------- */
 
-double FixHardSphereMCVA::compute_vector(int n)
+double HSMethodMCVA::vector(int k)
 {
-  if (n < NVEC_BASE || n >= local_vec_offset) return FixHardSphere::compute_vector(n);
-  switch (n - NVEC_BASE) {
+  switch (k) {
     case 0:
       return gauss_iters;
     case 1:
@@ -785,16 +775,16 @@ double FixHardSphereMCVA::compute_vector(int n)
   return 0.0;
 }
 
-double FixHardSphereMCVA::memory_usage()
+double HSMethodMCVA::memory_usage()
 {
-  return FixHardSphere::memory_usage() + (double) nmax_f * 15 * sizeof(double) +
+  return (double) nmax_f * 15 * sizeof(double) +
       (double) (y0.capacity() * 9 + work.capacity()) * sizeof(double);
 }
 
-// the counters after the base's in restart files
-std::vector<double *> FixHardSphereMCVA::extra_counters()
+// the counters after the fix's in restart files
+std::vector<double *> HSMethodMCVA::counters()
 {
   // entries 12 and 13 (ncross, nlin) are not stored: restart files keep the
-  // layout of the fix before them (the base reads as many as it expects)
+  // layout of the fix before them (the fix reads as many as it expects)
   return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed, &nreleased};
 }

@@ -1,0 +1,67 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: the collision Verlet algorithm (Bond & Leimkuhler
+   2007, section 2.2) as the family's default method. See hs_method.h.
+------------------------------------------------------------------------- */
+
+#include "hs_method.h"
+
+#include "hs_contact.h"
+#include "hs_system.h"
+
+#include "atom.h"
+#include "force.h"
+
+using namespace LAMMPS_NS;
+
+HSMethod::HSMethod(LAMMPS *lmp, HSSystem &sys) : Pointers(lmp), S(sys) {}
+
+/* ----------------------------------------------------------------------
+   the collision operator R of section 2 at contact
+------------------------------------------------------------------------- */
+
+void HSMethod::collide_pair(int i, int j, Impulse &imp)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+  for (int k = 0; k < 3; k++) imp.dq[k] = x[i][k] - x[j][k];
+  const double un = imp.dq[0] * dv[0] + imp.dq[1] * dv[1] + imp.dq[2] * dv[2];
+  imp.apply = un < 0.0;
+  if (imp.apply) HardSphere::pair_impulse(imp.dq, dv, S.mass_of(i), S.mass_of(j), imp.J);
+}
+
+void HSMethod::collide_wall(int i, const Wall &w, Impulse &imp)
+{
+  double **v = atom->v;
+  const double vn = (w.side < 0) ? v[i][w.dim] : -v[i][w.dim];
+  imp.apply = vn < 0.0;
+  imp.reflect = 1;
+  imp.dq[w.dim] = atom->x[i][w.dim] - w.coord;
+  if (imp.apply) imp.J[w.dim] = -2.0 * S.mass_of(i) * v[i][w.dim];
+}
+
+/* ----------------------------------------------------------------------
+   CVA's smooth map between contacts: velocity Verlet sub-steps
+------------------------------------------------------------------------- */
+
+// no contact in the remaining tleft: plain Verlet to the step's end (its
+// closing half kick in final_integrate)
+void HSMethod::finish_step(double tleft)
+{
+  if (tleft == S.dtv) S.nve_initial();
+  else S.kick_drift(tleft);
+  S.dtf_last = (tleft == S.dtv) ? S.dtf : 0.5 * tleft * force->ftm2v;
+}
+
+// Verlet sub-step of length tau to the predicted contact; returns false if
+// the method found no contact after all (it then finished the step)
+bool HSMethod::advance_to_contact(double &tau, double, const Impulse &)
+{
+  if (tau > 0.0) {
+    S.kick_drift(tau);
+    S.recompute_forces();
+    S.kick(tau);
+    S.comm_vel_acc();    // ghosts' velocities at contact, for the impulse
+  }
+  return true;
+}

@@ -1,0 +1,48 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: how a step with contacts is sub-stepped (doc
+   "Step engines"). The fix screens each step; a step in which some sphere
+   may touch another goes to its engine, as LAMMPS' Verlet and Respa run
+   styles order a step apart from the fixes that integrate:
+
+   - HSGlobalEngine (hs_global_engine.h): the paper's algorithm, every atom
+     sub-steps to every contact (section 2.2);
+   - HSLocalEngine (hs_local_engine.h): the clusters of colliding spheres
+     sub-step alone, inside a splitting with the rest of the system.
+
+   Either drives the method (hs_method.h) through the same interface. An
+   engine works on the shared system layer (hs_system.h) and knows no fix.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_STEP_ENGINE_H
+#define LMP_HS_STEP_ENGINE_H
+
+#include "pointers.h"
+
+#include <string>
+
+namespace LAMMPS_NS {
+
+// derived from Pointers alone, so that its (virtual) destructor is
+// Pointers' in every LAMMPS version (noexcept(false) since 2023)
+class HSStepEngine : protected Pointers {
+ public:
+  explicit HSStepEngine(class LAMMPS *lmp) : Pointers(lmp) {}
+  // from the fix's init(): "" if the engine can run this set-up, else why
+  // not (the styles or fixes named)
+  virtual std::string limits() { return ""; }
+  // initial_integrate of a step in which screening found spheres that may
+  // touch: the step up to its closing half kick (collective)
+  virtual void step() = 0;
+  // final_integrate: the closing of a step this engine took, if it needs
+  // more than the plain closing kick; returns false if it does not
+  virtual bool finish() = 0;
+  // the engine's output entries (fix output vector, after the method's):
+  // clusters, mean and largest members per cluster, growth rounds, steps
+  // that fell back to the global engine, restricted force evaluations
+  static constexpr int NCOUNTERS = 6;
+  virtual double counter(int k) = 0;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

@@ -1,0 +1,667 @@
+/* ----------------------------------------------------------------------
+   HARDSPHERE package: the system layer shared by the fix family, the step
+   engines and the methods. See hs_system.h.
+------------------------------------------------------------------------- */
+
+#include "hs_system.h"
+
+#include "hs_compat.h"
+#include "hs_contact.h"
+#include "hs_potential.h"
+
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+#include <mpi.h>
+
+using namespace LAMMPS_NS;
+using HardSphere::Contact;
+
+/* ---------------------------------------------------------------------- */
+
+HSSystem::HSSystem(LAMMPS *lmp, Fix *host_, const std::string &name) :
+    Pointers(lmp), host(host_), groupbit(host_->groupbit), style_name(name)
+{
+  pot = new HSPotential(lmp, groupbit, "fix " + style_name);
+}
+
+HSSystem::~HSSystem()
+{
+  delete pot;
+  memory->destroy(xref);
+  memory->destroy(gap);
+  memory->destroy(active);
+  memory->destroy(acc);
+  memory->destroy(ftot);
+  memory->destroy(fcons);
+  memory->destroy(fheld);
+}
+
+const char *HSSystem::fix_id() const
+{
+  return host->id;
+}
+
+// "atoms I and J" or "atom I and wall F", for messages
+std::string HSSystem::contact_name(const Impulse &imp) const
+{
+  if (imp.type == WALL_EVENT) {
+    std::string name;
+    wall_name(walls[imp.wall], name);
+    return fmt::format("atom {} and wall {}", imp.itag, name);
+  }
+  return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
+}
+
+// impulse virial, averaged over the step: r (x) J / (dt ftm2v); tallied by
+// the one rank that built the impulse
+void HSSystem::add_impulse_virial(const Impulse &imp)
+{
+  const double s = 1.0 / (dtv * force->ftm2v);
+  host->virial[0] += s * imp.dq[0] * imp.J[0];
+  host->virial[1] += s * imp.dq[1] * imp.J[1];
+  host->virial[2] += s * imp.dq[2] * imp.J[2];
+  host->virial[3] += s * imp.dq[0] * imp.J[1];
+  host->virial[4] += s * imp.dq[0] * imp.J[2];
+  host->virial[5] += s * imp.dq[1] * imp.J[2];
+}
+
+void HSSystem::pair_overlap_error(int i, int j, double r, double sigma)
+{
+  error->one(FLERR,
+             "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+             "on step {}: a collision was missed",
+             style_name, atom->tag[i], atom->tag[j], sigma - r, r, sigma, update->ntimestep);
+}
+
+void HSSystem::check_runaway(bigint ncollisions)
+{
+  if (ncollisions > max_substeps)
+    error->all(FLERR,
+               "Fix {}: more than {} collisions in step {}: a sequence of contacts that does "
+               "not end (e.g. a sphere pressed against a wall or a neighbour with almost no "
+               "normal velocity) or a timestep far too large for this system",
+               style_name, max_substeps, update->ntimestep);
+}
+
+void HSSystem::resting_contact_error(const Impulse &imp)
+{
+  error->all(FLERR,
+             "Fix {}: {} stay in contact with no normal velocity on step {} "
+             "(a resting contact), which impulsive hard spheres cannot resolve",
+             style_name, contact_name(imp), update->ntimestep);
+}
+
+// a touching contact that a method found separating on its own flow:
+// predict() passes over it while it touches, until a sub-step moves on
+void HSSystem::release_contact(const Impulse &imp)
+{
+  released.type = imp.type;
+  released.itag = imp.itag;
+  released.jtag = imp.jtag;
+  released.wall = imp.wall;
+}
+
+bool HSSystem::is_released(int type, tagint itag, tagint jtag, int wall) const
+{
+  if (released.type != type) return false;
+  if (type == WALL_EVENT) return released.itag == itag && released.wall == wall;
+  return (released.itag == itag && released.jtag == jtag) ||
+         (released.itag == jtag && released.jtag == itag);
+}
+
+double HSSystem::force_evals() const
+{
+  return nforce_evals + pot->nevals();
+}
+
+void HSSystem::grow_peratom()
+{
+  if (atom->nmax <= nmax_hs) return;
+  nmax_hs = atom->nmax;
+  memory->destroy(xref);
+  memory->destroy(gap);
+  memory->destroy(active);
+  memory->destroy(acc);
+  memory->create(xref, nmax_hs, 3, "hardsphere:xref");
+  memory->create(gap, nmax_hs, "hardsphere:gap");
+  memory->create(active, nmax_hs, "hardsphere:active");
+  for (int i = 0; i < nmax_hs; i++) active[i] = 0.0;
+  memory->create(acc, nmax_hs, 3, "hardsphere:acc");
+}
+
+void HSSystem::update_walls()
+{
+  for (Wall &w : walls)
+    if (w.edge) w.coord = (w.side < 0) ? domain->boxlo[w.dim] : domain->boxhi[w.dim];
+}
+
+// distance of a sphere's surface from the wall plane, >= 0 where allowed
+double HSSystem::wall_gap(const Wall &w, const double *x, double r) const
+{
+  return (w.side < 0) ? (x[w.dim] - w.coord) - r : (w.coord - x[w.dim]) - r;
+}
+
+void HSSystem::wall_name(const Wall &w, std::string &name) const
+{
+  name = std::string(1, "xyz"[w.dim]) + (w.side < 0 ? "lo" : "hi");
+}
+
+void HSSystem::reset_reference(int at_setup)
+{
+  grow_peratom();
+  update_walls();
+
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
+  // at set-up the likely cause is the input, not a missed collision
+  const char *when = at_setup
+      ? "at set-up (the initial configuration, or a change_box, displace_atoms, set, "
+        "create_atoms or read_data since the last run, placed them closer than their "
+        "contact distance)"
+      : "after a step (a collision was missed)";
+  const double cut2 = list_cutoff * list_cutoff;
+
+  for (int i = 0; i < nlocal; i++) {
+    xref[i][0] = x[i][0];
+    xref[i][1] = x[i][1];
+    xref[i][2] = x[i][2];
+  }
+  for (int i = 0; i < nall; i++) gap[i] = skin;
+  ++cand_version;
+  const size_t ncand_before = cand.size();
+  cand.clear();
+  cand.reserve(ncand_before + ncand_before / 4);
+
+  auto candidate = [&](int i, int j) {
+    if (!(mask[j] & groupbit)) return;
+    const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    if (r2 > cut2) return;    // cannot touch before the next build
+    const double sigma = radius_of(i) + radius_of(j);
+    const double r = sqrt(r2);
+    if (r < sigma * (1.0 - TOUCH_TOL))
+      error->one(FLERR,
+                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
+                 "on step {} {}",
+                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep, when);
+    const double g = 0.5 * (r - sigma);
+    gap[i] = MIN(gap[i], g);
+    gap[j] = MIN(gap[j], g);
+    cand.push_back(i);
+    cand.push_back(j);
+  };
+
+  // the list may be the pair style's, with a longer cutoff: the distance
+  // test comes first, as most of its pairs are out of reach
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const double xi = x[i][0], yi = x[i][1], zi = x[i][2];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    // branch-free compaction of the few pairs within reach (a branch taken
+    // at random for ~10 % of the pairs costs more than the arithmetic)
+    if ((int) near.size() < jnum) near.resize(jnum);
+    int nnear = 0;
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = xi - x[j][0], dy = yi - x[j][1], dz = zi - x[j][2];
+      near[nnear] = j;
+      nnear += (dx * dx + dy * dy + dz * dz <= cut2);
+    }
+    for (int k = 0; k < nnear; k++) candidate(i, near[k]);
+  }
+
+  // bonded partners the neighbor lists leave out (special_bonds weight 0),
+  // each pair once: from its lower atom ID. A partner that is not even a
+  // ghost is farther than the ghost cutoff >= list cutoff: it cannot touch.
+
+  if (atom->molecular != Atom::ATOMIC && atom->special) {
+    int **nspecial = atom->nspecial;
+    tagint **special = atom->special;
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit)) continue;
+      for (int m = 0; m < nspecial[i][2]; m++) {
+        const int level = (m < nspecial[i][0]) ? 1 : (m < nspecial[i][1]) ? 2 : 3;
+        if (neighbor->special_flag[level] != 0 || special[i][m] < tag[i]) continue;
+        const int j = atom->map(special[i][m]);
+        if (j >= 0) candidate(i, domain->closest_image(i, j));
+      }
+    }
+  }
+
+  // a ghost's gaps belong to its owner
+  HSCompat::reverse_comm_fix(comm, host);
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    for (const Wall &w : walls) {
+      const double g = wall_gap(w, x[i], radius_of(i));
+      if (g < -TOUCH_TOL * 2.0 * radius_of(i)) {
+        std::string name;
+        wall_name(w, name);
+        error->one(FLERR, "Fix {}: atom {} is {} through wall {} at {} on step {} {}",
+                   style_name, tag[i], -g, name, w.coord, update->ntimestep, when);
+      }
+      gap[i] = MIN(gap[i], g);
+    }
+  }
+}
+
+int HSSystem::pack_reverse_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) buf[k] = gap[first + k];
+  return n;
+}
+
+void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
+{
+  for (int k = 0; k < n; k++) gap[list_[k]] = MIN(gap[list_[k]], buf[k]);
+}
+
+inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
+  const double d2 = dx * dx + dy * dy + dz * dz;
+  const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+  const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
+  // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
+  const double g = MIN(gap[i], 0.5 * skin);
+  if (3.0 * (d2 + v2 + a2) <= g * g) return 0;
+  const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
+  int flags = (w > 0.5 * skin) ? FAR : 0;
+  if (w <= gap[i]) return flags;
+  if (w > skin)
+    error->one(FLERR,
+               "Fix {}: atom {} may be {} away from where the neighbor list was built, "
+               "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
+               "timestep or a larger neighbor skin",
+               style_name, atom->tag[i], w, skin);
+  active[i] = 1.0;
+  return flags | ACTIVE;
+}
+
+int HSSystem::screen(double tleft)
+{
+  const double *rmass = atom->rmass;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double ftm2v = force->ftm2v;
+  const double t2 = tleft * tleft;
+  const double h4 = 0.25 * t2 * t2;
+  int flags = 0;
+
+  for (int i = 0; i < nlocal; i++) {
+    active[i] = 0.0;
+    if (!(mask[i] & groupbit)) continue;
+    flags |= screen_atom(i, t2, h4, rmass ? ftm2v / rmass[i] : ftm2v_mass[type[i]]);
+  }
+  return flags;
+}
+
+void HSSystem::comm_vel_acc()
+{
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  const double ftm2v = force->ftm2v;
+  for (int i = 0; i < nlocal; i++) {
+    const double im = ftm2v / mass_of(i);
+    acc[i][0] = f[i][0] * im;
+    acc[i][1] = f[i][1] * im;
+    acc[i][2] = f[i][2] * im;
+  }
+  HSCompat::forward_comm_fix(comm, host);
+}
+
+int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
+{
+  double **v = atom->v;
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list_[k];
+    buf[m++] = v[j][0];
+    buf[m++] = v[j][1];
+    buf[m++] = v[j][2];
+    buf[m++] = acc[j][0];
+    buf[m++] = acc[j][1];
+    buf[m++] = acc[j][2];
+    buf[m++] = active[j];
+  }
+  return m;
+}
+
+void HSSystem::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **v = atom->v;
+  int m = 0;
+  const int last = first + n;
+  for (int i = first; i < last; i++) {
+    v[i][0] = buf[m++];
+    v[i][1] = buf[m++];
+    v[i][2] = buf[m++];
+    acc[i][0] = buf[m++];
+    acc[i][1] = buf[m++];
+    acc[i][2] = buf[m++];
+    active[i] = buf[m++];
+  }
+}
+
+double HSSystem::predict(double tleft, Event &ev)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double tbest = BIG;
+  double c[5];
+
+  auto path = [&](int k) {
+    const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+    const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
+    return tleft * vv + 0.5 * tleft * tleft * aa;
+  };
+
+  for (int i = 0; i < nlocal; i++) {
+    if (active[i] == 0.0) continue;
+    const double Di = path(i);
+    for (int w = 0; w < (int) walls.size(); w++) {
+      const Wall &wl = walls[w];
+      const double r = radius_of(i);
+      const double g = wall_gap(wl, x[i], r);
+      if (g > Di) continue;
+      const double s = (wl.side < 0) ? 1.0 : -1.0;
+      HardSphere::wall_gap_poly(g, s * v[i][wl.dim], s * acc[i][wl.dim], c);
+      const Contact ct = HardSphere::first_contact(c, 2, tleft, TOUCH_TOL * 2.0 * r);
+      if (ct.status == HardSphere::OVERLAP) {
+        std::string name;
+        wall_name(wl, name);
+        error->one(FLERR,
+                   "Fix {}: atom {} is {} through wall {} on step {}: a collision was missed",
+                   style_name, tag[i], -g, name, update->ntimestep);
+      }
+      if (ct.status == HardSphere::CONTACT_NOW && is_released(WALL_EVENT, tag[i], 0, w)) continue;
+      if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+        tbest = ct.t;
+        ev.type = WALL_EVENT;
+        ev.i = i;
+        ev.j = -1;
+        ev.wall = w;
+      }
+    }
+  }
+
+  const int ncand = (int) cand.size();
+  for (int k = 0; k < ncand; k += 2) {
+    const int i = cand[k], j = cand[k + 1];
+    if (active[i] == 0.0 && active[j] == 0.0) continue;
+    const double sigma = radius_of(i) + radius_of(j);
+    const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+    const double reach = sigma + path(i) + path(j);
+    if (r2 > reach * reach) continue;
+    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+    const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
+    HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
+    const Contact ct = HardSphere::first_contact(c, 4, tleft, TOUCH_TOL * sigma * sigma);
+    if (ct.status == HardSphere::OVERLAP) {
+      pair_overlap_error(i, j, sqrt(r2), sigma);
+    }
+    if (ct.status == HardSphere::CONTACT_NOW && is_released(PAIR_EVENT, tag[i], tag[j], -1))
+      continue;
+    if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
+      tbest = ct.t;
+      ev.type = PAIR_EVENT;
+      ev.i = i;
+      ev.j = j;
+      ev.wall = -1;
+    }
+  }
+  return tbest;
+}
+
+void HSSystem::nve_initial()
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  double *rmass = atom->rmass;
+  double *mass = atom->mass;
+  int *type = atom->type;
+  int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double dtfm;
+
+  // the updates of fix nve, to the bit
+
+  if (rmass) {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtf / rmass[i];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+        x[i][0] += dtv * v[i][0];
+        x[i][1] += dtv * v[i][1];
+        x[i][2] += dtv * v[i][2];
+      }
+  } else {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtf / mass[type[i]];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+        x[i][0] += dtv * v[i][0];
+        x[i][1] += dtv * v[i][1];
+        x[i][2] += dtv * v[i][2];
+      }
+  }
+}
+
+int HSSystem::moved_half_skin()
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double trigger = 0.25 * skin * skin;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
+                   dz = x[i][2] - xref[i][2];
+      if (dx * dx + dy * dy + dz * dz > trigger) return 1;
+    }
+  return 0;
+}
+
+void HSSystem::request_rebuild()
+{
+  int moved = moved_half_skin(), any;
+  MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, world);
+  if (any) host->next_reneighbor = update->ntimestep;
+}
+
+void HSSystem::kick(double tau)
+{
+  kick_dtf((tau == dtv) ? dtf : 0.5 * tau * force->ftm2v);
+}
+
+// v += dtfk f / m, in the form of fix nve's kicks (dtf / m first), so a
+// kick with dtfk = dtf is bit for bit fix nve's; force: atom->f unless given
+// (the held thermostat forces)
+void HSSystem::kick_dtf(double dtfk, double **force)
+{
+  double **v = atom->v;
+  double **f = force ? force : atom->f;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double dtfm;
+
+  if (rmass) {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtfk / rmass[i];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+      }
+  } else {
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) {
+        dtfm = dtfk / mass[type[i]];
+        v[i][0] += dtfm * f[i][0];
+        v[i][1] += dtfm * f[i][1];
+        v[i][2] += dtfm * f[i][2];
+      }
+  }
+}
+
+void HSSystem::kick_drift(double tau)
+{
+  kick(tau);
+  double **x = atom->x;
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      x[i][0] += tau * v[i][0];
+      x[i][1] += tau * v[i][1];
+      x[i][2] += tau * v[i][2];
+    }
+}
+
+void HSSystem::recompute_forces()
+{
+  if (forces_present) pot->evaluate(0);    // forwards ghost positions first
+  else comm->forward_comm();               // ghost positions, for the prediction
+}
+
+void HSSystem::apply_impulse(const Impulse &imp)
+{
+  if (!imp.apply) return;
+  double **v = atom->v;
+  const int dim = (imp.type == WALL_EVENT) ? walls[imp.wall].dim : 0;
+
+  // every copy of the atoms on this rank, owned and ghost, gets the same
+  // update, so ghosts stay current without communication; a plane reflects
+  // the normal velocity exactly, v_n -> -v_n
+  auto update = [&](int k) {
+    const tagint t = atom->tag[k];
+    if (imp.type == WALL_EVENT && imp.reflect) {
+      if (t == imp.itag) v[k][dim] = -v[k][dim];
+      return;
+    }
+    double s;
+    if (t == imp.itag) s = 1.0 / mass_of(k);
+    else if (t == imp.jtag) s = -1.0 / mass_of(k);
+    else return;
+    v[k][0] += s * imp.J[0];
+    v[k][1] += s * imp.J[1];
+    v[k][2] += s * imp.J[2];
+  };
+
+  if (atom->map_style != Atom::MAP_NONE) {
+    for (int k = atom->map(imp.itag); k >= 0; k = atom->sametag[k]) update(k);
+    if (imp.type == PAIR_EVENT)
+      for (int k = atom->map(imp.jtag); k >= 0; k = atom->sametag[k]) update(k);
+  } else {
+    // no atom map (atomic styles without atom_modify map): scan the copies
+    const int nall = atom->nlocal + atom->nghost;
+    for (int k = 0; k < nall; k++) update(k);
+  }
+}
+
+// at the current x with atom->f = f_c + f_h (LAMMPS' forces): ftot = that,
+// fcons = f_c (one conservative evaluation, left in atom->f), fheld = f_h
+void HSSystem::split_held_forces()
+{
+  if (atom->nmax > nmax_held) {
+    nmax_held = atom->nmax;
+    memory->destroy(ftot);
+    memory->destroy(fcons);
+    memory->destroy(fheld);
+    memory->create(ftot, nmax_held, 3, "hardsphere:ftot");
+    memory->create(fcons, nmax_held, 3, "hardsphere:fcons");
+    memory->create(fheld, nmax_held, 3, "hardsphere:fheld");
+  }
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) ftot[i][k] = f[i][k];
+  pot->evaluate(0);
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) {
+      fcons[i][k] = f[i][k];
+      fheld[i][k] = ftot[i][k] - f[i][k];
+    }
+}
+
+/* ----------------------------------------------------------------------
+   the closing half kick of a step without sub-steps (fix nve's, with the
+   step's last dtf). With no end_of_step fix, nothing can change velocities
+   before the next step: screen for it now, in the same pass as the kick,
+   while v and f are in cache
+------------------------------------------------------------------------- */
+
+void HSSystem::closing_kick()
+{
+  if (modify->n_end_of_step) {
+    kick_dtf(dtf_last);
+    return;
+  }
+
+  double **v = atom->v;
+  double **f = atom->f;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const double t2 = dtv * dtv, h4 = 0.25 * t2 * t2;
+  int flags = 0;
+  double dtfm;
+
+  // the kick is kick_dtf()'s (fix nve's) arithmetic
+  for (int i = 0; i < nlocal; i++) {
+    active[i] = 0.0;
+    if (!(mask[i] & groupbit)) continue;
+    dtfm = rmass ? dtf_last / rmass[i] : dtf_last / mass[type[i]];
+    v[i][0] += dtfm * f[i][0];
+    v[i][1] += dtfm * f[i][1];
+    v[i][2] += dtfm * f[i][2];
+    flags |= screen_atom(i, t2, h4, rmass ? force->ftm2v / rmass[i] : ftm2v_mass[type[i]]);
+  }
+  screened_flags = flags;
+  screened_step = update->ntimestep + 1;
+}
+
+double HSSystem::memory_usage() const
+{
+  return (double) nmax_hs * 8 * sizeof(double) + (double) cand.capacity() * sizeof(int);
+}

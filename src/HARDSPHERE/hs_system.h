@@ -1,0 +1,151 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the system layer shared by the fix family, the step
+   engines and the methods (doc/fix_hardsphere.rst, "How the code is
+   organised"). It holds what every step needs whichever engine takes it:
+   the group's geometry (radii, masses, walls), the contact candidates of
+   the current neighbor list and each sphere's free gap, screening, the
+   velocity-Verlet pieces of fix nve, impulses on every copy of an atom,
+   the collision ledger (counts, virial) and the family's errors.
+
+   It calls nothing above it: no engine, no method, no fix of the family.
+   The fix that owns it (the host) only passes its communication buffers
+   through (pack/unpack_*_comm) and receives list-build requests.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_SYSTEM_H
+#define LMP_HS_SYSTEM_H
+
+#include "atom.h"
+#include "hs_types.h"
+#include "pointers.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class Fix;
+class HSPotential;
+
+class HSSystem : protected Pointers, public HSTypes {
+ public:
+  HSSystem(class LAMMPS *, Fix *host, const std::string &style_name);
+  ~HSSystem() override;
+
+  Fix *host;                 // the fix: its comm buffers, virial and reneighbor request
+  const int groupbit;
+  const std::string style_name;    // e.g. "hardsphere/cva", for messages
+  const char *fix_id() const;
+
+  // force evaluations, and derivatives of V for the methods that need them
+  HSPotential *pot;
+  // all full force evaluations so far (output vector [4]; restart offset
+  // in nforce_evals)
+  double force_evals() const;
+
+  // geometry (keywords)
+  double diameter = 0.0;
+  int diameter_flag = 0;
+  std::vector<Wall> walls;
+  // inline: called per candidate pair in the list-build and prediction loops
+  double radius_of(int i) const { return diameter_flag ? 0.5 * diameter : atom->radius[i]; }
+  double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
+  double wall_gap(const Wall &, const double *x, double r) const;
+  void wall_name(const Wall &, std::string &) const;
+  void update_walls();
+
+  // cached per run
+  bigint max_substeps = MAX_SUBSTEPS_BASE;
+  double dtv = 0.0, dtf = 0.0, dtf_last = 0.0;
+  double skin = 0.0, rmax = 0.0, list_cutoff = 0.0;
+  int forces_present = 0;
+  class NeighList *list = nullptr;
+  std::vector<int> cand;        // candidate pairs (i owned, j owned or ghost), flat
+  bigint cand_version = 0;      // bumped at every candidate list build
+  std::vector<double> ftm2v_mass;    // ftm2v / mass[type], when there is no rmass
+
+  // per-atom state, sized atom->nmax
+  double **xref = nullptr;    // positions at the last neighbor list build
+  double *gap = nullptr;      // a sphere that moved less than gap since xref can touch nothing
+  double *active = nullptr;   // 1 if it may touch something within the rest of the step
+  double **acc = nullptr;     // accelerations, forwarded to ghosts with v and active
+  void grow_peratom();
+
+  // global counters, identical on every rank
+  double ncoll_pair = 0.0, ncoll_wall = 0.0, ncoll_steps = 0.0, nforce_evals = 0.0;
+  double nfallback = 0.0;       // collisional steps run globally instead of locally
+  int fallback_counting = 0;    // 1: local was the default but is unavailable
+  // flags of the current step: an impulse was applied / the loop sub-stepped
+  int step_collided = 0, step_substeps = 0;
+
+  // held (thermostat) forces, doc "Fixes beside the integrator"
+  int nheld = 0;              // 1 if some fix's forces are held
+  int step_split = 0;         // 1 while the current step is split so
+  bigint held_step = -1;      // the step whose start x fcons/fheld belong to
+  double **ftot = nullptr, **fcons = nullptr, **fheld = nullptr;    // [nmax_held][3]
+  // at the current x with atom->f = f_c + f_h: ftot = that, fcons = f_c
+  // (left in atom->f), fheld = f_h
+  void split_held_forces();
+  int others_integrate = 0;    // another fix integrates atoms outside the group
+
+  // screening (screened ahead by the closing kick, see closing_kick())
+  bigint screened_step = -1;
+  int screened_flags = 0;
+  int screen(double tleft);
+  int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
+
+  // at each list build: reference positions, candidates, gaps; overlaps
+  // are errors (at_setup: the input's, else a missed collision)
+  void reset_reference(int at_setup);
+  // accelerations of owned atoms, then v, a and active to the ghosts
+  void comm_vel_acc();
+  int pack_forward_comm(int n, int *list, double *buf);
+  void unpack_forward_comm(int n, int first, double *buf);
+  int pack_reverse_comm(int n, int first, double *buf);
+  void unpack_reverse_comm(int n, int *list, double *buf);
+
+  // earliest approaching contact within tleft of this rank's candidates
+  double predict(double tleft, Event &);
+  // a touching contact that a method found separating on its own flow:
+  // predict() passes over it while it touches, until a sub-step moves on
+  struct {
+    int type = -1;
+    tagint itag = 0, jtag = 0;
+    int wall = -1;
+  } released;
+  void release_contact(const Impulse &);
+  bool is_released(int type, tagint itag, tagint jtag, int wall) const;
+
+  // velocity Verlet pieces: fix nve's arithmetic, to the bit
+  void nve_initial();
+  void kick(double tau);
+  void kick_dtf(double dtfk, double **force = nullptr);
+  void kick_drift(double tau);
+  void recompute_forces();
+  // the closing half kick of a step without sub-steps, screening the next
+  // step in the same pass unless end_of_step fixes may change v before it
+  void closing_kick();
+  int moved_half_skin();
+  void request_rebuild();
+
+  // an impulse on every copy of its atoms on this rank
+  void apply_impulse(const Impulse &);
+  void add_impulse_virial(const Impulse &);
+
+  // errors
+  std::string contact_name(const Impulse &) const;
+  void resting_contact_error(const Impulse &);
+  void pair_overlap_error(int i, int j, double r, double sigma);
+  void check_runaway(bigint ncollisions);
+
+  double memory_usage() const;
+
+ private:
+  int nmax_hs = 0;
+  int nmax_held = 0;
+  std::vector<int> near;    // scratch: one list row's pairs within reach
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
