@@ -318,8 +318,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
 
 void HSLocalEngine::add_terms(const std::vector<int> &newm)
 {
-  // pair terms between members do not join clusters (cross terms: kicks
-  // in Phi_H2), bonded terms with two members do
+  // pair terms between members do not join clusters (cross terms: a
+  // constant force in each half of the flow), bonded terms with two members do
   if (newm.empty() || !bonded) return;
   locf->terms(newm.data(), (int) newm.size());
   const std::vector<int> &ta = locf->term_atoms();
@@ -372,13 +372,61 @@ void HSLocalEngine::held_at_start(const std::vector<int> &newm)
 }
 
 /* ----------------------------------------------------------------------
-   the cross terms (pair terms between members of two clusters) at the
-   members' current positions (xm): their kicks in Phi_H2, dt F / m in all
-   (two half kicks at the same positions: members do not move in it). A
-   cluster whose members' kicks changed redoes its second half
+   the cross terms' force on a cluster's members at the step's start,
+   F_X(x0), with every atom in them put back at x0 (issue 19, doc "Step
+   engines"): the cross force acts inside both halves of the members'
+   flow, as F_X(x0) in the first and 2 F_X(x_mid) - F_X(x0) in the second,
+   instead of a kick dt F_X(x_mid) between them. A kick between the halves
+   gives a contact inside a half the wrong normal velocity by
+   2 min(t_c, dt - t_c) a_X.n, O(dt); a constant force within each half
+   errs by O(dt^2) at any time, and the total impulse is still
+   dt F_X(x_mid), so momentum is kept. Cross terms pair two members, both
+   at x0 here: the forces on the two clusters are equal and opposite.
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::cross_kicks()
+void HSLocalEngine::cross_at_start(Run &r)
+{
+  const int nm = (int) r.members.size();
+  r.fx0.assign(nm, Vec{0.0, 0.0, 0.0});
+  if (!force->pair) return;
+  double **x = atom->x;
+  locf->set_labels(lab.data(), HSLocalForces::CROSS);
+  locf->compute(r.members.data(), nm, false);
+  ncompute += 1.0;
+  const std::vector<int> T = locf->touched();
+  std::vector<Vec> &saved = scratch_env_x0;
+  saved.resize(T.size());
+  bool moved = false;
+  for (size_t k = 0; k < T.size(); k++) {
+    const int t = T[k];
+    saved[k] = {x[t][0], x[t][1], x[t][2]};
+    if (x[t][0] != x0[t][0] || x[t][1] != x0[t][1] || x[t][2] != x0[t][2]) {
+      set_x(t, x0[t]);
+      moved = true;
+    }
+  }
+  if (moved) {
+    locf->recompute();
+    ncompute += 1.0;
+  }
+  double **fl = locf->forces();
+  for (int k = 0; k < nm; k++) {
+    const int i = r.members[k];
+    r.fx0[k] = {fl[i][0], fl[i][1], fl[i][2]};
+  }
+  if (moved)
+    for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
+  locf->set_labels(lab.data());
+}
+
+/* ----------------------------------------------------------------------
+   the cross terms (pair terms between members of two clusters) at the
+   members' mid positions (xm): F_X(x_mid), which sets the constant cross
+   force of the second halves (see cross_at_start()). A cluster whose
+   members' cross forces changed redoes its second half
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::cross_at_mid()
 {
   if (!force->pair) {
     workX.clear();
@@ -421,8 +469,8 @@ void HSLocalEngine::cross_kicks()
   wave2.clear();
 }
 
-// the cross-term kicks of one cluster's members (dt F_X / m, from all their
-// cross terms at the members' current positions) and its cross neighbours
+// the cross-term forces on one cluster's members (from all their cross
+// terms at the members' current positions) and its cross neighbours
 void HSLocalEngine::cross_of(Run &r)
 {
   const int nm = (int) r.members.size();
@@ -437,13 +485,11 @@ void HSLocalEngine::cross_of(Run &r)
     if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back(lab[t]);
   std::sort(r.xnbrs.begin(), r.xnbrs.end());
   r.xnbrs.erase(std::unique(r.xnbrs.begin(), r.xnbrs.end()), r.xnbrs.end());
-  const double ftm2v = force->ftm2v, dt = sys->dtv;
   bool changed = (int) r.fx.size() != nm;
   r.fx.resize(nm);
   for (int k = 0; k < nm; k++) {
     const int i = r.members[k];
-    const double s = dt * ftm2v / sys->mass_of(i);
-    const Vec d = {s * fl[i][0], s * fl[i][1], s * fl[i][2]};
+    const Vec d = {fl[i][0], fl[i][1], fl[i][2]};
     if (d != r.fx[k]) changed = true;
     r.fx[k] = d;
   }
@@ -562,6 +608,16 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int i : M) set_x(i, x0[i]);
   else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
+  if (first_half) cross_at_start(r);
+  // the constant cross force on the members in this half
+  std::vector<Vec> &fc = scratch_fc;
+  fc.assign(nm, Vec{0.0, 0.0, 0.0});
+  for (int k = 0; k < nm; k++)
+    for (int d = 0; d < 3; d++) {
+      const double f0 = ((int) r.fx0.size() == nm) ? r.fx0[k][d] : 0.0;
+      const double fm = ((int) r.fx.size() == nm) ? r.fx[k][d] : f0;
+      fc[k][d] = first_half ? f0 : 2.0 * fm - f0;
+    }
   if (first_half) locf->compute(M.data(), nm, false);
   else locf->recompute(r.snap);    // the lists of the first half
   ncompute += 1.0;
@@ -625,11 +681,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       set_v(i, vn);
     }
   } else
-    for (int k = 0; k < nm; k++) {    // Phi_H2's cross-term kicks on top
-      const Vec &x = ((int) r.fx.size() == nm) ? r.fx[k] : Vec{0.0, 0.0, 0.0};
-      const double vn[3] = {r.vm[k][0] + x[0], r.vm[k][1] + x[1], r.vm[k][2] + x[2]};
-      set_v(M[k], vn);
-    }
+    for (int k = 0; k < nm; k++) set_v(M[k], r.vm[k].data());
 
   std::vector<Vec> &dv = first_half ? r.dvA : r.dvB;
   dv.assign(nt, Vec{0.0, 0.0, 0.0});
@@ -671,7 +723,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
       const double *a = fk[mi[k]].data();
-      const double ai[3] = {a[0] * im[k], a[1] * im[k], a[2] * im[k]};
+      const double ai[3] = {(a[0] + fc[k][0]) * im[k], (a[1] + fc[k][1]) * im[k],
+                            (a[2] + fc[k][2]) * im[k]};
       const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
       const double aa = sqrt(ai[0] * ai[0] + ai[1] * ai[1] + ai[2] * ai[2]);
       const double Di = tau * vv + 0.5 * tau * tau * aa;
@@ -702,7 +755,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
           const double *b = fk[mi[ko]].data();
           for (int d = 0; d < 3; d++) {
             vo[d] = v[o][d];
-            ao[d] = b[d] * im[ko];
+            ao[d] = (b[d] + fc[ko][d]) * im[ko];
           }
           Do = tau * sqrt(vo[0] * vo[0] + vo[1] * vo[1] + vo[2] * vo[2]) +
               0.5 * tau * tau * sqrt(ao[0] * ao[0] + ao[1] * ao[1] + ao[2] * ao[2]);
@@ -748,12 +801,12 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         for (int dd = 0; dd < 3; dd++) {
           s.q[dd] = x[i][dd];
           s.v[dd] = v[i][dd];
-          s.a[dd] = fk[mi[k]][dd] * im[k];
+          s.a[dd] = (fk[mi[k]][dd] + fc[k][dd]) * im[k];
         }
         segs[k].push_back(s);
         double vn[3], xn[3];
         for (int dd = 0; dd < 3; dd++) {
-          vn[dd] = v[i][dd] + dtfm * fk[mi[k]][dd];
+          vn[dd] = v[i][dd] + dtfm * (fk[mi[k]][dd] + fc[k][dd]);
           xn[dd] = x[i][dd] + d * vn[dd];
         }
         set_v(i, vn);
@@ -766,8 +819,9 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       for (int k = 0; k < nm; k++) {
         const int i = M[k];
         const double dtfm = dtfk / F.mass_of(i);
-        const double vn[3] = {v[i][0] + dtfm * fk1[mi[k]][0], v[i][1] + dtfm * fk1[mi[k]][1],
-                              v[i][2] + dtfm * fk1[mi[k]][2]};
+        const double vn[3] = {v[i][0] + dtfm * (fk1[mi[k]][0] + fc[k][0]),
+                              v[i][1] + dtfm * (fk1[mi[k]][1] + fc[k][1]),
+                              v[i][2] + dtfm * (fk1[mi[k]][2] + fc[k][2])};
         set_v(i, vn);
       }
       // partners stay put and take V_C's momentum (trapezoid over the sub-step)
@@ -1244,8 +1298,8 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
                                 x0[i][2] + dt * w[i][2]};
           set_x(i, xn);
         }
-    // Phi_H2's kicks of the cross terms, at the members' mid positions
-    cross_kicks();
+    // the cross terms' forces at the members' mid positions (second halves)
+    cross_at_mid();
     // Phi_H1(dt/2) of the clusters whose start or surroundings changed
     if (b_ran)    // (the first time there is nothing to invalidate)
       for (int a : dirty)

@@ -19,15 +19,24 @@
      two clusters and partners do not move: one independent flow per
      cluster, each with its own terms only (HSLocalForces).
    - Phi_H2(dt): one velocity-Verlet step of the non-members under V_R;
-     members do not move and take the cross terms' kick dt F_X(q_mid) / m
-     (exact: V_X depends on member positions only). An atom in no term of
-     V_C takes fix nve's step.
+     members do not move in it. An atom in no term of V_C takes fix nve's
+     step.
+   - The cross terms V_X (in V_R, on members only) act inside both halves
+     of the members' flow, as a constant force F_X(q0) in the first and
+     2 F_X(q_mid) - F_X(q0) in the second (issue 19). Their impulse over
+     the step is dt F_X(q_mid), the exact flow of V_X in Phi_H2, but a kick
+     between the halves does not commute with a contact's impulse R: R at
+     t_c reverses only the cross momentum that came before t_c, so the
+     kick leaves the normal velocity wrong by 2 min(t_c, dt - t_c) a_X.n,
+     O(dt) per collision, a first-order engine on fluids. Spread over the
+     halves, the cross momentum taken by any time is right to O(dt^2).
 
-   Each flow is exact for its Hamiltonian up to CVA's / Verlet's own error:
-   the splitting is symmetric and second order, and conserves momentum. A
-   contact found in either flow with a non-member, or between members of
-   two clusters, grows C; a growth round redoes only the clusters that
-   changed and the atoms around them.
+   Each flow is exact for its Hamiltonian up to CVA's / Verlet's own error;
+   the step is second order (measured, doc "Step engines") and conserves
+   momentum (V_X's forces at q0 and at q_mid are equal and opposite on the
+   two clusters). A contact found in either flow with a non-member, or
+   between members of two clusters, grows C; a growth round redoes only
+   the clusters that changed and the atoms around them.
 
    Why not the partners-join splitting K_R(dt/2) . Phi_C(dt) . K_R(dt/2)
    of the issue, or clusters joined by pair terms: both percolate in
@@ -127,7 +136,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<int> env;                    // static atoms of its flows (partners, contact candidates)
     std::vector<Vec> xm, vm;                 // members after Phi_H1(dt/2)
     std::vector<Vec> xe, ve;                 // members at the step's end
-    std::vector<Vec> fx;                     // members' cross-term kicks in Phi_H2 (velocity)
+    std::vector<Vec> fx0, fx;                // members' cross-term forces F_X(q0), F_X(q_mid)
     std::vector<int> xnbrs;                  // clusters (keys) it has cross terms with
     std::vector<Vec> dvA, dvB, fend;         // on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
@@ -138,7 +147,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     void reset()
     {
       for (auto *v : {&members, &touched, &env, &xnbrs}) v->clear();
-      for (auto *v : {&fk0, &xm, &vm, &xe, &ve, &fx, &dvA, &dvB, &fend}) v->clear();
+      for (auto *v : {&fk0, &xm, &vm, &xe, &ve, &fx0, &fx, &dvA, &dvB, &fend}) v->clear();
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
       a_done = b_done = contributed = false;
@@ -257,7 +266,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
                                    const double *da, double sigma, double tmax);
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
-  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1;
+  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_env_x0;
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
   void settle(const std::vector<Hit> &hits);
@@ -265,10 +274,11 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> lab, labelled;
   void label_members();
   void label_cluster(int c);
-  void cross_kicks();
+  void cross_at_mid();
   void cross_of(Run &r);
+  void cross_at_start(Run &r);
   // work lists of cluster keys: first halves to run, second halves to run,
-  // cross kicks to recompute; flows not cross-checked yet
+  // cross forces to recompute; flows not cross-checked yet
   std::vector<int> workA, workB, workX, wave2, uncheckedA, uncheckedB;
 
   std::vector<uint32_t> xstamp;

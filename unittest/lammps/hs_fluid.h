@@ -43,6 +43,19 @@ timestep )LMP" + hs_chain::f17(dt) + "\n" +
       fix + "\n";
 }
 
+// from here on, fix mx's vector entry 3 is the running max of |E(t) - E(0)|
+// per atom (E: total energy; fix ave/histo's running maximum)
+inline void track_max_energy_error(HSLammps &L)
+{
+  L.lines(R"LMP(
+thermo_modify norm yes
+run 0
+variable E0 equal $(etotal:%.17g)
+variable dE equal abs(etotal-v_E0)
+fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
+)LMP");
+}
+
 // |total momentum| after nsteps more steps, and the scale sqrt(2 M KE) to
 // compare it with (velocity create ... mom yes: zero at the start)
 inline void momentum_after(HSLammps &L, int nsteps, double &P, double &scale)

@@ -41,13 +41,7 @@ double max_energy_error(const std::string &substep, double dt, double T, double 
 {
   HSLammps L;
   L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep " + substep, dt, seed));
-  L.lines(R"LMP(
-thermo_modify norm yes
-run 0
-variable E0 equal $(etotal:%.17g)
-variable dE equal abs(etotal-v_E0)
-fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
-)LMP");
+  hs_fluid::track_max_energy_error(L);
   L.cmd("run " + std::to_string((int) std::lround(T / dt)));
   if (clusters) *clusters = L.fix_vector("hs", 5);
   return L.fix_vector("mx", 3);    // running maximum of the histogrammed value

@@ -118,13 +118,7 @@ FluidRun run_4000(const std::string &substep)
   const int nblock = 10, len = 15;
   HSLammps L;
   L.lines(fluid("fix hs all hardsphere/pcva diameter 1.0 substep " + substep, 0.005, 87287, 10));
-  L.lines(R"LMP(
-thermo_modify norm yes
-run 0
-variable E0 equal $(etotal:%.17g)
-variable dE equal abs(etotal-v_E0)
-fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
-)LMP");
+  hs_fluid::track_max_energy_error(L);
   std::vector<double> r, p;
   for (int b = 0; b < nblock; b++) {
     const double c0 = L.fix_vector("hs", 0);
