@@ -5,17 +5,18 @@
 #
 #   bash bench/overhead/run.sh            # PAIRS=3 N=1000 WARM=200 NP2=1
 #   PAIRS=5 N=2000 bash bench/overhead/run.sh
+#   LMP=/path/to/other/lmp RESULTS=/tmp/r.md bash bench/overhead/run.sh   # another build
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
-LMP=$ROOT/build/lmp
+LMP=${LMP:-$ROOT/build/lmp}
 PY=/usr/bin/python3
 PAIRS=${PAIRS:-3}
 N=${N:-1000}
 WARM=${WARM:-200}
 NP2=${NP2:-1}          # 0: skip the 2-rank variant
 NP1=${NP1:-1}          # 0: skip the serial runs (re-parse old logs if present)
-SCR=$HERE/scratch
+SCR=${SCR:-$HERE/scratch}
 
 if [ ! -x "$LMP" ]; then
   (cd "$ROOT" && cmake -S . -B build >/dev/null && cmake --build build -j2)
@@ -44,4 +45,4 @@ if [ "$NP2" = 1 ]; then
   run_set "$SCR/np2" env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2
   SPECS+=("2 ranks (mpirun -np 2):2:$SCR/np2")
 fi
-$PY "$HERE/parse.py" "$HERE/results.md" "${SPECS[@]}"
+$PY "$HERE/parse.py" "${RESULTS:-$HERE/results.md}" "${SPECS[@]}"

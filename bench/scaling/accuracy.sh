@@ -1,24 +1,48 @@
 #!/bin/bash
 # The accuracy table of doc/fix_hardsphere.rst ("Step engines"): max energy
-# error per atom over 0.5 time units, mean over 4 starting velocities (the max
-# of one trajectory is set by a few events), for local and global cva and for
-# Verlet alone (diameter 0.5: no sphere touches, fix nve's arithmetic).
-#   bash bench/scaling/accuracy.sh
+# error per atom over TSPAN time units of the hard-core LJ fluid (in.accuracy:
+# lj/smooth/linear 2.5, packing fraction 0.3, T = 1), mean over the starting
+# velocities SEEDS (the max of one trajectory is set by a few events), for
+# each method in METHODS with the local and the global engine, and for fix
+# nve on the same forces (no hard cores: Verlet's own error).
+#   bash bench/scaling/accuracy.sh                       # 500 spheres, 5 time units
+#   CELLS=10 SEEDS=111 ENGINES=local bash bench/scaling/accuracy.sh   # 4000 spheres
+# Variables: CELLS (4 x CELLS^3 spheres; 5), TSPAN (5), SEEDS ("111 222 333
+# 444"), DTS ("0.005 0.0025 0.00125"), METHODS ("cva pcva"), ENGINES ("local
+# global"), LMP (build/lmp).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 LMP=${LMP:-$HERE/../../build/lmp}
 SEEDS=${SEEDS:-"111 222 333 444"}
-printf "%-8s %-12s %-12s %-12s\n" dt local global "verlet(d=0.5)"
-for dt in ${DTS:-0.01 0.005 0.0025 0.00125}; do
-  row="$dt"
-  for f in "diameter 1.0 substep local" "diameter 1.0 substep global" "diameter 0.5"; do
+CELLS=${CELLS:-5}
+TSPAN=${TSPAN:-5}
+METHODS=${METHODS:-"cva pcva"}
+ENGINES=${ENGINES:-"local global"}
+PY=/usr/bin/python3
+
+cols=("nve")
+cmds=("fix hs all nve")
+for m in $METHODS; do
+  for e in $ENGINES; do
+    cols+=("$m-$e")
+    cmds+=("fix hs all hardsphere/$m diameter 1.0 substep $e")
+  done
+done
+echo "max |E(t) - E(0)| per atom over $TSPAN time units, $((4 * CELLS ** 3)) spheres, mean over seeds $SEEDS"
+printf "%-8s" dt; for c in "${cols[@]}"; do printf " %-12s" "$c"; done; printf " %-12s\n" "coll/step"
+for dt in ${DTS:-0.005 0.0025 0.00125}; do
+  printf "%-8s" "$dt"
+  coll=""
+  for k in "${!cols[@]}"; do
     sum=0; n=0
     for seed in $SEEDS; do
-      e=$("$LMP" -in "$HERE/in.accuracy" -var seed $seed -var dt $dt \
-          -var fixcmd "fix hs all hardsphere/cva $f" -log none -echo none | awk '/^ACC/{print $3}')
-      sum=$(/usr/bin/python3 -c "print($sum + $e)"); n=$((n + 1))
+      out=$("$LMP" -in "$HERE/in.accuracy" -var seed "$seed" -var dt "$dt" -var cells "$CELLS" \
+            -var tspan "$TSPAN" -var counts "$([ "$k" = 0 ] && echo no || echo yes)" -var fixcmd "${cmds[$k]}" -log none -echo none | grep '^ACC')
+      e=$(awk '{print $3}' <<<"$out")
+      [ "$k" = 1 ] && coll=$(awk -v s="$TSPAN" -v d="$dt" '{print $5 * d / s}' <<<"$out")
+      sum=$($PY -c "print($sum + $e)"); n=$((n + 1))
     done
-    row="$row $(/usr/bin/python3 -c "print('%.2e' % ($sum / $n))")"
+    printf " %-12s" "$($PY -c "print('%.2e' % ($sum / $n))")"
   done
-  printf "%-8s %-12s %-12s %-12s\n" $row
+  printf " %-12s\n" "${coll:--}"
 done

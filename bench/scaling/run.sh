@@ -10,7 +10,11 @@
 #
 # Variables: SIZES (fluid atom counts, 4 x cells^3), MELT (melt atom count, a
 # multiple of 2000; 0 = no melt), REPEATS, STEPS (timed steps of a baseline run;
-# default 2e6/N, at least 20), NICE (nice level, 10), CONTENDERS (file).
+# default 2e6/N, at least 20), NICE (nice level, 10), CONTENDERS (file),
+# RESULTS (the table, default results.md), BINARIES: other builds of lmp to
+# compare in the same run, "KEY=PATH ..."; a contender named NAME@KEY runs
+# with that binary (before/after a change, ratios within one repeat):
+#   BINARIES="old=/tmp/lmp-old" CONTENDERS=my-contenders.txt bash bench/scaling/run.sh
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -19,7 +23,10 @@ SIZES=${SIZES:-"4000 32000 256000"}
 MELT=${MELT:-4000}
 REPEATS=${REPEATS:-3}
 NICE=${NICE:-10}
-CONTENDERS=${CONTENDERS:-$HERE/contenders.txt}
+CONTENDERS=$(realpath "${CONTENDERS:-$HERE/contenders.txt}")
+RESULTS=$(realpath -m "${RESULTS:-$HERE/results.md}")
+declare -A BIN=()
+for kv in ${BINARIES:-}; do BIN[${kv%%=*}]=${kv#*=}; done
 SCR=$HERE/scratch
 LOGS=$SCR/logs
 mkdir -p "$SCR" "$LOGS"
@@ -31,6 +38,14 @@ if [ "${PARSE_ONLY:-0}" != 1 ]; then
   rm -f "$LOGS"/log.*
   cd "$SCR"
   run_lmp() { nice -n "$NICE" "$LMP" -screen none "$@"; }
+  # the binary of a contender: NAME@KEY -> BINARIES' KEY, else $LMP
+  lmp_of() {
+    if [[ "$1" == *@* ]]; then
+      local key=${1##*@}
+      [ -n "${BIN[$key]:-}" ] || { echo "contender $1: no binary $key in BINARIES" >&2; exit 1; }
+      echo "${BIN[$key]}"
+    else echo "$LMP"; fi
+  }
 
   # systems: "name natoms diameter datafile"
   systems=()
@@ -68,11 +83,11 @@ if [ "${PARSE_ONLY:-0}" != 1 ]; then
         counts=no; [[ "$fixcmd" == *hardsphere* ]] && counts=yes
         log=$LOGS/log.$sname.$N.$k.$name
         echo "[$(date +%T)] $sname N=$N repeat $k: $name ($n steps)"
-        run_lmp -in "$HERE/in.run" -var system "$sname" -var data "$data" -var steps "$n" \
+        nice -n "$NICE" "$(lmp_of "$name")" -screen none -in "$HERE/in.run" -var system "$sname" -var data "$data" -var steps "$n" \
           -var counts $counts -var fixcmd "$fixcmd" -log "$log"
         grep -E "^Loop time|^BENCH" "$log" | tr '\n' ' '; echo
       done < "$CONTENDERS"
     done
   done
 fi
-/usr/bin/python3 "$HERE/parse.py" "$HERE/results.md" "$LOGS" "$CONTENDERS"
+/usr/bin/python3 "$HERE/parse.py" "$RESULTS" "$LOGS" "$CONTENDERS"
