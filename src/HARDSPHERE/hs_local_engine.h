@@ -30,6 +30,10 @@
      kick leaves the normal velocity wrong by 2 min(t_c, dt - t_c) a_X.n,
      O(dt) per collision, a first-order engine on fluids. Spread over the
      halves, the cross momentum taken by any time is right to O(dt^2).
+     On several ranks (issue 20) F_X(q0) needs the start positions of the
+     cross neighbours' members and F_X(q_mid) their mid positions: the
+     ghost x0 and the members' xm exchanged after the first halves, which
+     the engine needs there anyway (its cross checks).
 
    Each flow is exact for its Hamiltonian up to CVA's / Verlet's own error;
    the step is second order (measured, doc "Step engines") and conserves
