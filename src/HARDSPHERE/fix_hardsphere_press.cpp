@@ -121,6 +121,11 @@ FixHardSpherePress::FixHardSpherePress(LAMMPS *lmp, int narg, char **arg) : Fix(
   if (domain->triclinic)
     error->all(FLERR, "Fix hardsphere/press does not support triclinic boxes");
 
+  // a fix defined before that changes the box too (one defined later: the
+  // check in init(), or LAMMPS' own "multiple fixes change box parameter")
+  for (int k = 0; k < modify->nfix; k++)
+    if (modify->fix[k]->box_change & (BOX_CHANGE_SIZE | BOX_CHANGE_SHAPE)) box_fix_error(modify->fix[k]);
+
   // the same sequence on every rank: every move is decided alike everywhere
   random = new RanPark(lmp, seed);
 
@@ -164,12 +169,7 @@ void FixHardSpherePress::init()
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == this) continue;
-    if (other->box_change & (BOX_CHANGE_SIZE | BOX_CHANGE_SHAPE))
-      error->all(FLERR,
-                 "Fix hardsphere/press cannot run beside fix {} {}: it changes the box too, "
-                 "and two fixes changing the box undo each other's moves (and the other "
-                 "one's ignore the spheres' contacts)",
-                 other->id, other->style);
+    if (other->box_change & (BOX_CHANGE_SIZE | BOX_CHANGE_SHAPE)) box_fix_error(other);
     if (utils::strmatch(HardSphere::base_style(other->style), "^hardsphere/"))
       hs.push_back(dynamic_cast<FixHardSphere *>(other));
   }
@@ -251,6 +251,15 @@ void FixHardSpherePress::init()
   // pair closer than c/s now was closer than c/s + skin <= c + 2 skin at
   // the build for s >= c / (c + skin)
   HSCompat::request_half_list(lmp, this, instance_me, contact_max + 2.0 * skin, 0);
+}
+
+void FixHardSpherePress::box_fix_error(Fix *other)
+{
+  error->all(FLERR,
+             "Fix hardsphere/press cannot run beside fix {} {}: it changes the box too, and "
+             "two fixes changing the box undo each other's moves (and the other one's ignore "
+             "the spheres' contacts)",
+             other->id, other->style);
 }
 
 void FixHardSpherePress::init_list(int, NeighList *ptr)

@@ -88,6 +88,7 @@ class FixHardSpherePress : public Fix {
 
   double volume() const;
   double target_pressure() const;
+  void box_fix_error(Fix *other);
   void check_box(const double *prd_new, double vnew);
   void check_target(double pressure);
   int overlap_anywhere();
