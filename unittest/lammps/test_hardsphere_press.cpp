@@ -141,13 +141,16 @@ TEST(PressStress, NoOverlapEverWithWideMoves)
   const int nsteps = 1500;
   HSLammps h;
   h.lines(fluid_input(10.0, "psa", 2718, "adapt 0 delta 0.05", "1", 4));
+  // compute reduce of local values needs "inputs local" in newer LAMMPS
+  // (4Feb2025), which 29Sep2021 does not know
+  const std::string inputs = lammps_version(h.lmp) >= 20230802 ? " inputs local" : "";
   h.lines(R"(
 pair_style zero 1.5
 pair_coeff * *
 compute pl all pair/local dist
-compute dmin all reduce min c_pl
-fix dmin all vector 1 c_dmin
 )");
+  h.cmd("compute dmin all reduce min c_pl" + inputs);
+  h.cmd("fix dmin all vector 1 c_dmin");
   h.cmd("run " + std::to_string(nsteps));
   const std::vector<double> d = fix_series(h, "dmin", nsteps);
   const double worst = *std::min_element(d.begin(), d.end());
