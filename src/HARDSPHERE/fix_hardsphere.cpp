@@ -277,12 +277,16 @@ void FixHardSphere::check_fixes_beside()
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == this) continue;
-    if (other->box_change & (Fix::BOX_CHANGE_SIZE | Fix::BOX_CHANGE_SHAPE))
+    // fix hardsphere/press changes the box only by moves that create no
+    // overlap (Monte Carlo volume moves with the overlap test)
+    if ((other->box_change & (Fix::BOX_CHANGE_SIZE | Fix::BOX_CHANGE_SHAPE)) &&
+        HardSphere::base_style(other->style) != "hardsphere/press")
       error->all(FLERR,
                  "Fix {} cannot run beside fix {} {}: it changes the box during the run and "
                  "rescales positions without regard to the spheres' contacts, which makes "
-                 "hard spheres overlap. Run at constant volume (a box changed between runs "
-                 "is checked for overlaps at set-up)",
+                 "hard spheres overlap. Use fix hardsphere/press for a barostat, or run at "
+                 "constant volume (a box changed between runs is checked for overlaps at "
+                 "set-up)",
                  style_name, other->id, other->style);
     const std::string base = HardSphere::base_style(other->style);
     if (HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::REFUSED)
@@ -498,6 +502,19 @@ void FixHardSphere::restart(char *buf)
   int k = 4;
   if (method)
     for (double *c : method->counters()) *c = list_[k++];
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixHardSphere::sphere_radius(int i) const
+{
+  return S.radius_of(i);
+}
+
+void FixHardSphere::box_changed()
+{
+  S.held_step = -1;
+  S.screened_step = -1;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -51,6 +51,13 @@ class FixHardSphere : public Fix, public HSTypes {
   void restart(char *) override;
   double memory_usage() override;
 
+  // for fix hardsphere/press (fix_hardsphere_press.h), which changes the
+  // box: the contact radius of a sphere of the group, and the notice that
+  // positions and the box changed at the end of a step (caches of the
+  // step's end, the held-force split and the screening ahead, are stale)
+  double sphere_radius(int i) const;
+  void box_changed();
+
  protected:
   std::string style_name;    // e.g. "hardsphere/cva", for messages
   HSSystem *sys;             // the plumbing every step shares
