@@ -68,7 +68,7 @@ def dev(a, b):
 
 rows, res = [], []
 for s in states:
-    T, rho = (float(x) for x in s.split(":"))
+    T, rho = (float(x) for x in s.split(":")[:2])
     tag = f"rho{s.split(':')[1]}_T{s.split(':')[0]}"
     a, m = md(tag, T), mc(tag)
     res.append((T, rho, tag, a, m))
@@ -130,7 +130,8 @@ try:
 except ImportError:
     sys.exit(0)
 outdir = os.path.dirname(os.path.abspath(out))
-fig, ax = plt.subplots(1, len(res), figsize=(4 * len(res), 3.2), sharey=True)
+fig, ax = plt.subplots(1, len(res), figsize=(4 * len(res), 3.2), sharey=True, squeeze=False)
+ax = ax[0]
 for k, (T, rho, tag, a, m) in enumerate(res):
     ax[k].plot(*m["gr"], "k-", lw=1.2, label="MC")
     ax[k].plot(*a["gr"], "r--", lw=1, label="MD (cva)")
