@@ -33,12 +33,12 @@ def blocking_se(x, minb=16):
 coef = {}
 res = []
 for s in states:
-    qs, rs = s.split(":")
+    qs, rs, *extra = s.split(":")    # optional third field: tag suffix of a variant run
     q, rho = float(qs), float(rs)
     if q not in coef:
         coef[q] = virial.coefficients(q)
     B2, B3, y1 = coef[q]
-    tag = f"q{qs}_rho{rs}"
+    tag = f"q{qs}_rho{rs}" + (extra[0] if extra else "")
     log = open(os.path.join(scr, "log." + tag)).read()
     run = dict(zip(*[iter(re.search(r"^RESULT (.*)$", log, re.M).group(1).split())] * 2))
     n = float(run["atoms"]) / float(run["vol"])
@@ -69,7 +69,8 @@ for s in states:
         gth.append(np.sum(w * np.exp(-virial.u(x, q)) * (1 + n * yy)) / np.sum(w))
     gth = np.array(gth)
     ratio = gm[sel] / gth
-    res.append(dict(q=q, rho=n, N=int(run["atoms"]), steps=int(run["steps"]), T=(T.mean(), blocking_se(T)),
+    dt = float(run["dt"])
+    res.append(dict(q=q, rho=n, dt=dt, N=int(run["atoms"]), steps=int(run["steps"]), T=(T.mean(), blocking_se(T)),
                     U=(U.mean(), blocking_se(U)), Ut=Ut, Z=(Z.mean(), blocking_se(Z)), Zt=Zt,
                     Zh=(Z[:half].mean(), Z[half:].mean()), B2=B2, B3=B3,
                     ratio=(ratio.mean(), ratio.std(ddof=1) / math.sqrt(len(ratio)), ratio.min(), ratio.max()),
@@ -83,11 +84,11 @@ L.append("| q | B2 / sigma^3 | B2 / B2_HS | B3 / sigma^6 |")
 L.append("|---|---|---|---|")
 for q, (B2, B3, _) in coef.items():
     L.append(f"| {q} | {B2:.5f} | {B2 / (2 * PI / 3):.5f} | {B3:.5f} |")
-L.append("\n| q | rho sigma^3 | N | steps | <T> | MD Z | 1 + B2 rho + B3 rho^2 | dev | (Z - 1 - B3 rho^2)/rho | B2 | "
+L.append("\n| q | rho sigma^3 | N | steps (dt) | <T> | MD Z | 1 + B2 rho + B3 rho^2 | dev | (Z - 1 - B3 rho^2)/rho | B2 | "
          "MD U/N | theory U/N | g_MD / g_theory on [sigma, sigma(1+q)]: mean, min, max |")
 L.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for r in res:
-    L.append(f"| {r['q']} | {r['rho']:.4f} | {r['N']} | {r['steps']} | {r['T'][0]:.4f} ± {r['T'][1]:.4f} | "
+    L.append(f"| {r['q']} | {r['rho']:.4f} | {r['N']} | {r['steps']} ({r['dt']}) | {r['T'][0]:.4f} ± {r['T'][1]:.4f} | "
              f"{r['Z'][0]:.5f} ± {r['Z'][1]:.5f} | {r['Zt']:.5f} | {(r['Z'][0] - r['Zt']) / r['Z'][1]:+.1f} | "
              f"{r['Bfit'][0]:.3f} ± {r['Bfit'][1]:.3f} | {r['B2']:.3f} | {r['U'][0]:.4f} ± {r['U'][1]:.4f} | "
              f"{r['Ut']:.4f} | {r['ratio'][0]:.4f} ± {r['ratio'][1]:.4f}, {r['ratio'][2]:.3f}, {r['ratio'][3]:.3f} |")
@@ -109,7 +110,7 @@ for k, r in enumerate(res):
     ax[k].semilogy(*r["grt"], "k-", lw=1, label="exp(-u/kT)(1 + rho y1)")
     ax[k].set_xlim(0.98, 1.0 + r["q"] + 0.1)
     ax[k].set_ylim(0.5, 40)
-    ax[k].set_title(f"q = {r['q']}, rho = {r['rho']:.3f}")
+    ax[k].set_title(f"q = {r['q']}, rho = {r['rho']:.3f}, dt {r['dt']}", fontsize=9)
     ax[k].set_xlabel("r / sigma")
 ax[0].set_ylabel("g(r)")
 ax[0].legend(fontsize=8)
