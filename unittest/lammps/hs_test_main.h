@@ -125,6 +125,19 @@ class HSLammps {
   }
 };
 
+// mean of block means and its standard error (the blocks taken as
+// independent): the error bar of the statistical checks
+inline void mean_se(const std::vector<double> &x, double &mean, double &se)
+{
+  const double n = x.size();
+  mean = 0.0;
+  for (double v : x) mean += v;
+  mean /= n;
+  double s2 = 0.0;
+  for (double v : x) s2 += (v - mean) * (v - mean);
+  se = std::sqrt(s2 / (n - 1.0) / n);
+}
+
 // A scratch file name private to this process: ctest -j runs the cases of
 // one test executable as parallel processes in the same directory, so a
 // fixed name would let two of them overwrite each other's output.

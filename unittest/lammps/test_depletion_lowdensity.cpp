@@ -39,17 +39,6 @@ template <class F> double simpson(F fn, double a, double b, int n = 2000)
   return s * h / 3.0;
 }
 
-void mean_se(const std::vector<double> &x, double &mean, double &se)
-{
-  const double n = x.size();
-  mean = 0.0;
-  for (double v : x) mean += v;
-  mean /= n;
-  double s2 = 0.0;
-  for (double v : x) s2 += (v - mean) * (v - mean);
-  se = std::sqrt(s2 / (n - 1.0) / n);
-}
-
 }    // namespace
 
 TEST(DepletionAO, LowDensityPairDistributionAndB2)

@@ -39,17 +39,6 @@ double rdu_yuk(double r)
   return std::exp(-KAPPA * (r - 1.0)) * (KAPPA * r + 1.0) / r;
 }
 
-void mean_se(const std::vector<double> &x, double &mean, double &se)
-{
-  const double n = x.size();
-  mean = 0.0;
-  for (double v : x) mean += v;
-  mean /= n;
-  double s2 = 0.0;
-  for (double v : x) s2 += (v - mean) * (v - mean);
-  se = std::sqrt(s2 / (n - 1.0) / n);
-}
-
 struct MCResult {
   std::vector<double> U, Z;    // block means
 };

@@ -75,17 +75,6 @@ Blocks read_blocks(const std::string &path)
   return b;
 }
 
-void mean_se(const std::vector<double> &x, double &mean, double &se)
-{
-  const double n = x.size();
-  mean = 0.0;
-  for (double v : x) mean += v;
-  mean /= n;
-  double s2 = 0.0;
-  for (double v : x) s2 += (v - mean) * (v - mean);
-  se = std::sqrt(s2 / (n - 1.0) / n);
-}
-
 // the fluid with fix hardsphere/<method> and a thermostat; returns the block
 // means of T, <v^2>, <v^4> over nrun steps after equil of equilibration
 Blocks run_fluid(const std::string &method, const std::string &thermo, double damp, int nrun,
