@@ -609,15 +609,14 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
   if (first_half) cross_at_start(r);
-  // the constant cross force on the members in this half
+  // the constant cross force on the members in this half (fx0 is set by
+  // every first half; fx only once cross_at_mid() ran, else F_X(q0) again)
   std::vector<Vec> &fc = scratch_fc;
-  fc.assign(nm, Vec{0.0, 0.0, 0.0});
+  const bool mid = (int) r.fx.size() == nm;
+  fc.resize(nm);
   for (int k = 0; k < nm; k++)
-    for (int d = 0; d < 3; d++) {
-      const double f0 = ((int) r.fx0.size() == nm) ? r.fx0[k][d] : 0.0;
-      const double fm = ((int) r.fx.size() == nm) ? r.fx[k][d] : f0;
-      fc[k][d] = first_half ? f0 : 2.0 * fm - f0;
-    }
+    for (int d = 0; d < 3; d++)
+      fc[k][d] = (first_half || !mid) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
   if (first_half) locf->compute(M.data(), nm, false);
   else locf->recompute(r.snap);    // the lists of the first half
   ncompute += 1.0;
