@@ -184,7 +184,35 @@ void HSLocalForces::build_index()
 
 /* ---------------------------------------------------------------------- */
 
+void HSLocalForces::compute_rows(const int *c, int nc)
+{
+  const std::string why = rows_unsupported();
+  if (!why.empty())
+    error->one(FLERR, "{}: rank-local interaction rows are not exact with {}", owner_, why);
+  rows_ = true;
+  evaluate(c, nc, false);
+}
+
 void HSLocalForces::compute(const int *c, int nc, bool record_terms)
+{
+  rows_ = false;
+  evaluate(c, nc, record_terms);
+}
+
+std::string HSLocalForces::rows_unsupported() const
+{
+  std::string why = why_;
+  auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
+  if (force->pair && force->pair->compute_flag && !force->newton_pair)
+    add("newton_pair off (the pair style then does not write the forces of ghost atoms)");
+  if (neighbor->exclude) add("neigh_modify exclude (the rows do not apply exclusions)");
+  if (comm->nprocs > 1 && atom->molecular != Atom::ATOMIC)
+    add("a molecular system on several ranks (ghost atoms carry no special neighbours or "
+        "bonded terms yet)");
+  return why;
+}
+
+void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
 {
   if (!initialized_) error->all(FLERR, "{}: local forces used before init()", owner_);
   if (!exact())
@@ -216,11 +244,23 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
       }
   };
   for (int k = 0; k < nc; k++)
-    if (c[k] < 0 || c[k] >= nlocal)
-      error->one(FLERR, "{}: local forces asked for atom index {} which is not owned (nlocal {})",
-                 owner_, c[k], nlocal);
-  if (nprocs == 1) {
-    for (int k = 0; k < nc; k++) mark_chain(c[k]);
+    if (c[k] < 0 || c[k] >= (rows_ ? nall : nlocal))
+      error->one(FLERR, "{}: local forces asked for atom index {} which is not {} (nlocal {}, "
+                 "nall {})", owner_, c[k], rows_ ? "local" : "owned", nlocal, nall);
+  // rows: C's tags (sorted, with their copies in C) decide member pairs
+  std::vector<std::pair<tagint, int>> &ctag = ctag_;
+  ctag.clear();
+  if (rows_) {
+    for (int k = 0; k < nc; k++) ctag.emplace_back(atom->tag[c[k]], c[k]);
+    std::sort(ctag.begin(), ctag.end());
+    for (size_t k = 1; k < ctag.size(); k++)
+      if (ctag[k].first == ctag[k - 1].first)
+        error->one(FLERR, "{}: local forces asked for two copies of atom {}", owner_,
+                   ctag[k].first);
+  }
+  if (rows_ || nprocs == 1) {
+    // (the chain of copies starts at atom->map()'s)
+    for (int k = 0; k < nc; k++) mark_chain(rows_ ? atom->map(atom->tag[c[k]]) : c[k]);
   } else {
     std::vector<tagint> mine(nc), all;
     for (int k = 0; k < nc; k++) mine[k] = atom->tag[c[k]];
@@ -270,7 +310,71 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
     return label_ && label_[a] >= 0 && label_[b] >= 0 && label_[a] != label_[b];
   };
   const bool only_cross = (mode_ == CROSS);
-  if (L) {
+  fold_.clear();
+  if (rows_ && L) {
+    // on-demand rows of C's copies in tag order (hs_local_forces.h)
+    double **x = atom->x;
+    const tagint *tag = atom->tag;
+    if (cells_ncalls_ != neighbor->ncalls || cells_nall_ != nall) {
+      // atoms move less than the skin between list builds (the fix
+      // rebuilds at skin/2 and errors beyond skin within a step)
+      cells_.build(x, nall, neighbor->cutneighmax + neighbor->skin);
+      cells_ncalls_ = neighbor->ncalls;
+      cells_nall_ = nall;
+    }
+    const double cut2 = neighbor->cutneighmax * neighbor->cutneighmax;
+    auto member_tag = [&](tagint t) {
+      auto it = std::lower_bound(ctag.begin(), ctag.end(), std::make_pair(t, -1));
+      return it != ctag.end() && it->first == t;
+    };
+    const bool mol = atom->molecular != Atom::ATOMIC && atom->nspecial;
+    std::vector<int> starts;
+    for (const auto &ta : ctag) {
+      const int a = ta.second;
+      // special neighbours from the owned copy's list (one rank: every
+      // atom is owned here; several ranks: atomic systems only)
+      const int o = mol ? atom->map(ta.first) : -1;
+      row_scratch_.clear();
+      cells_.for_each_candidate(x[a], [&](int j) {
+        const tagint tj = tag[j];
+        if (j == a || tj == ta.first) return;    // itself, its own images
+        const double dx = x[a][0] - x[j][0], dy = x[a][1] - x[j][1], dz = x[a][2] - x[j][2];
+        if (dx * dx + dy * dy + dz * dz > cut2) return;
+        if (tj < ta.first && member_tag(tj)) return;    // from tj's row
+        if (cross(a, j) != only_cross) return;
+        int raw = j;
+        if (mol) {
+          int which = 0;
+          const int *ns = atom->nspecial[o];
+          const tagint *sp = atom->special[o];
+          for (int k = 0; k < ns[2]; k++)
+            if (sp[k] == tj) {
+              which = (k < ns[0]) ? 1 : (k < ns[1]) ? 2 : 3;
+              break;
+            }
+          if (which && neighbor->special_flag[which] == 0) return;    // excluded
+          if (which && neighbor->special_flag[which] == 2) raw = j ^ (which << SBBITS);
+        }
+        row_scratch_.emplace_back(tj, raw);
+      });
+      if (row_scratch_.empty()) continue;
+      std::sort(row_scratch_.begin(), row_scratch_.end(),
+                [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
+                  return p.first != q.first ? p.first < q.first
+                                            : (p.second & NEIGHMASK) < (q.second & NEIGHMASK);
+                });
+      ilist_.push_back(a);
+      numneigh_[a] = (int) row_scratch_.size();
+      starts.push_back((int) neigh_.size());
+      for (const auto &e : row_scratch_) {
+        neigh_.push_back(e.second);
+        const int pr[2] = {a, e.second & NEIGHMASK};
+        add_term(pr, 2, e.second >> SBBITS & 3);
+      }
+    }
+    for (size_t k = 0; k < ilist_.size(); k++) firstneigh_[ilist_[k]] = neigh_.data() + starts[k];
+    npair_terms += (double) nterm;
+  } else if (L) {
     for (int a : marked) {
       if (a < (int) has_row_.size() && has_row_[a]) {
         const int *jl = L->firstneigh[a];
@@ -354,8 +458,25 @@ void HSLocalForces::compute(const int *c, int nc, bool record_terms)
   nbonded_terms += (double) (nterm - npair_t);
   if (terms_only_) return;
 
-  // owners of the ghosts in the terms receive their forces: zeroed too
-  if (nprocs == 1) {
+  // rows: every image folds into its copy in C, other atoms' into
+  // atom->map()'s copy (zeroed too)
+  if (rows_) {
+    const tagint *tag = atom->tag;
+    const size_t nz = zero_list_.size();
+    for (size_t k = 0; k < nz; k++) {
+      const int j = zero_list_[k];
+      const tagint t = tag[j];
+      auto it = std::lower_bound(ctag.begin(), ctag.end(), std::make_pair(t, -1));
+      const int to = (it != ctag.end() && it->first == t) ? it->second : atom->map(t);
+      if (to != j) {
+        fold_.push_back(j);
+        fold_.push_back(to);
+      }
+    }
+    for (size_t k = 1; k < fold_.size(); k += 2) zero(fold_[k]);
+    for (int k = 0; k < nc; k++) zero(c[k]);
+  } else if (nprocs == 1) {
+    // owners of the ghosts in the terms receive their forces: zeroed too
     const size_t nz = zero_list_.size();
     for (size_t k = 0; k < nz; k++)
       if (zero_list_[k] >= nlocal) zero(owner_of(zero_list_[k]));
@@ -388,7 +509,7 @@ void HSLocalForces::terms(const int *c, int nc)
 
 void HSLocalForces::recompute()
 {
-  if (comm->nprocs > 1 || last_ncalls_ != neighbor->ncalls || last_nc_ < 0)
+  if ((comm->nprocs > 1 && !rows_) || last_ncalls_ != neighbor->ncalls || last_nc_ < 0)
     error->all(FLERR, "{}: local forces recomputed without a compute() on this list", owner_);
   for (int j : zero_list_) fl_[j][0] = fl_[j][1] = fl_[j][2] = 0.0;
   bool present[4];
@@ -415,12 +536,16 @@ void HSLocalForces::save(Snapshot &sn) const
   sn.zero_list = zero_list_;
   sn.touched = touched_owned_;
   sn.ncalls = last_ncalls_;
+  sn.rows = rows_;
+  sn.fold = fold_;
 }
 
 void HSLocalForces::recompute(const Snapshot &sn)
 {
-  if (comm->nprocs > 1 || sn.ncalls != neighbor->ncalls)
+  if ((comm->nprocs > 1 && !sn.rows) || sn.ncalls != neighbor->ncalls)
     error->all(FLERR, "{}: local forces recomputed from a snapshot of another list", owner_);
+  rows_ = sn.rows;
+  fold_ = sn.fold;
   NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
   ilist_ = sn.ilist;
   neigh_ = sn.neigh;
@@ -473,7 +598,8 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
   // pack_reverse_comm(): the engine's job)
   double **f_saved = atom->f;
   const size_t nbytes = 3 * sizeof(double) * nall;
-  if (nprocs == 1)
+  const bool swap_f = nprocs == 1 || rows_;    // rows: no communication
+  if (swap_f)
     atom->f = fl_;
   else if (nall) {
     memcpy(&fl_[0][0], &atom->f[0][0], nbytes);
@@ -510,7 +636,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     *nlist[b] = n0;
     *plist[b] = l0;
   }
-  if (nprocs == 1)
+  if (swap_f)
     atom->f = f_saved;
   else if (nall) {
     // NOTE: reverse_comm() also sums the atom style's torque and extra
@@ -526,6 +652,20 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
   if (force->dihedral) put(tal[3], force->dihedral->energy, d2, force->dihedral->virial);
   if (force->improper) put(tal[4], force->improper->energy, d2, force->improper->virial);
 
+  // ---- rows: images into their copies (C's, or atom->map()'s)
+  if (rows_) {
+    for (size_t k = 0; k < fold_.size(); k += 2)
+      for (int d = 0; d < 3; d++) fl_[fold_[k + 1]][d] += fl_[fold_[k]][d];
+    if (!first) return;
+    touched_owned_.clear();
+    std::vector<char> &src = fold_src_;
+    src.assign(nall, 0);
+    for (size_t k = 0; k < fold_.size(); k += 2) src[fold_[k]] = 1;
+    for (int j : zero_list_)
+      if (!src[j]) touched_owned_.push_back(j);
+    std::sort(touched_owned_.begin(), touched_owned_.end());
+    return;
+  }
   // ---- ghosts' forces to their owners, the touched owned atoms
   if (!first) {    // recompute(): same atoms as before
     for (int j : zero_list_)

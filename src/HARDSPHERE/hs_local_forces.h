@@ -49,6 +49,7 @@
 #ifndef LMP_HS_LOCAL_FORCES_H
 #define LMP_HS_LOCAL_FORCES_H
 
+#include "hs_cells.h"
 #include "pointers.h"
 
 #include <cstdint>
@@ -101,13 +102,37 @@ class HSLocalForces : protected Pointers {
   // evaluate the same terms again later in the step without rebuilding them
   // (one rank; no list build in between)
   struct Snapshot {
-    std::vector<int> ilist, counts, offs, neigh, zero_list, touched;
+    std::vector<int> ilist, counts, offs, neigh, zero_list, touched, fold;
+    bool rows = false;
     std::vector<int *> sub[4];
     int64_t ncalls = -1;
   };
   void save(Snapshot &) const;
   void recompute(const Snapshot &);
   const std::vector<int> &touched() const { return touched_owned_; }
+
+  // ---- rank-local rows (issue 20: the local engine on several ranks)
+  // compute() restricts the pair style's own half list, which on several
+  // ranks holds a pair of an owned atom and a ghost on one of the two ranks
+  // only and has no row for a ghost; so it gathers C on every rank and
+  // reverse-communicates (a collective per call). compute_rows() needs
+  // neither: C = c[0..nc) are any local copies (owned or ghost; the local
+  // engine takes each member's copy nearest the cluster's key), and the pair
+  // terms come from on-demand rows of every local atom within the neighbor
+  // cutoff (cutforce + skin) of each member, found in a cell list of all
+  // local atoms (hs_cells.h, built once per list build). A pair of two
+  // members (by tag, whichever images) is taken once, from the lower tag's
+  // row; rows run in tag order and each row's entries in tag order, so two
+  // ranks sum V_C's forces in the same order. Every image of an atom of C
+  // folds into its copy in C, every other atom's images into atom->map()'s
+  // copy (one rank: the owned copy); touched() then holds those copies,
+  // forces() their forces. Terms of an atom with its own image are left
+  // out: their forces on the atom cancel. Bonded terms as compute() (one
+  // rank). recompute() and save()/recompute(snapshot) work as for compute().
+  // "" if compute_rows() can be used with the styles defined, else why not
+  std::string rows_unsupported() const;
+  void compute_rows(const int *c, int nc);
+  bool rows() const { return rows_; }
 
   // the terms of V_C of the last compute(), each as its atoms (local
   // indices, ghosts mapped to their owned copy on a single rank; -1 for a
@@ -157,6 +182,16 @@ class HSLocalForces : protected Pointers {
 
   std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_, term_local_, term_extra_;
   int npair_last_ = 0;
+  // rows mode: the cell list of all local atoms (per list build) and the
+  // folds (image j -> copy k) of the last compute_rows()
+  bool rows_ = false;
+  HardSphere::CellGrid cells_;
+  int64_t cells_ncalls_ = -1;
+  int cells_nall_ = -1;
+  std::vector<int> fold_;    // pairs j, k
+  std::vector<std::pair<tagint, int>> row_scratch_, ctag_;
+  std::vector<char> fold_src_;
+  void evaluate(const int *c, int nc, bool record_terms);
   void zero(int i);
   void grow();
   void run_styles(class NeighList *L, const bool present[4], bool first = true);

@@ -30,6 +30,7 @@
 #include "pair.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -406,4 +407,245 @@ TEST(LocalForces, ReportsUnrestrictableStyles)
     EXPECT_FALSE(lf.exact());
     EXPECT_NE(lf.unrestrictable().find("hybrid"), std::string::npos) << lf.unrestrictable();
   }
+}
+
+// ---- rank-local rows (compute_rows(), issue 20): C may hold any local
+// copies, owned or ghost; no communication. Checked against LAMMPS' full
+// forces gathered by tag (members) and against a brute-force V_C over the
+// gathered positions (partners), on every rank count, and on one rank
+// against compute() (the pair list restriction), with labels, after atoms
+// moved (recompute(), snapshots) and with bonded terms and special pairs.
+
+namespace {
+
+// per tag (0-based), gathered on every rank: positions and full forces
+void gather_by_tag(LAMMPS_NS::LAMMPS *lmp, std::vector<double> &x, std::vector<double> &f)
+{
+  auto *atom = lmp->atom;
+  const int n = (int) atom->natoms;
+  std::vector<double> xl(3 * n, 0.0), fl(3 * n, 0.0);
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) {
+      xl[3 * (atom->tag[i] - 1) + k] = atom->x[i][k];
+      fl[3 * (atom->tag[i] - 1) + k] = atom->f[i][k];
+    }
+  x.assign(3 * n, 0.0);
+  f.assign(3 * n, 0.0);
+  MPI_Allreduce(xl.data(), x.data(), 3 * n, MPI_DOUBLE, MPI_SUM, lmp->world);
+  MPI_Allreduce(fl.data(), f.data(), 3 * n, MPI_DOUBLE, MPI_SUM, lmp->world);
+}
+
+// -grad V_C over the gathered positions: minimum-image LJ pairs (r < 2.5)
+// with a tag of C
+std::vector<double> brute_lj_tags(LAMMPS_NS::LAMMPS *lmp, const std::vector<double> &x,
+                                  const std::set<int> &ctags)
+{
+  const int n = (int) lmp->atom->natoms;
+  auto *domain = lmp->domain;
+  const double L[3] = {domain->xprd, domain->yprd, domain->zprd};
+  std::vector<double> f(3 * n, 0.0);
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      if (!ctags.count(i + 1) && !ctags.count(j + 1)) continue;
+      double d[3], r2 = 0.0;
+      for (int k = 0; k < 3; k++) {
+        d[k] = x[3 * i + k] - x[3 * j + k];
+        d[k] -= L[k] * std::round(d[k] / L[k]);
+        r2 += d[k] * d[k];
+      }
+      if (r2 >= 2.5 * 2.5) continue;
+      const double ir6 = 1.0 / (r2 * r2 * r2);
+      const double fr = 24.0 * ir6 * (2.0 * ir6 - 1.0) / r2;
+      for (int k = 0; k < 3; k++) {
+        f[3 * i + k] += fr * d[k];
+        f[3 * j + k] -= fr * d[k];
+      }
+    }
+  return f;
+}
+
+// how far local copy j lies outside this rank's sub-domain
+double outside(LAMMPS_NS::LAMMPS *lmp, int j)
+{
+  auto *domain = lmp->domain;
+  double d2 = 0.0;
+  for (int k = 0; k < 3; k++) {
+    const double x = lmp->atom->x[j][k];
+    const double e = std::max({0.0, domain->sublo[k] - x, x - domain->subhi[k]});
+    d2 += e * e;
+  }
+  return std::sqrt(d2);
+}
+
+// a random C of n local copies, one per tag, ghosts included where all
+// their neighbours within the neighbor cutoff are local copies too
+std::vector<int> random_copies(LAMMPS_NS::LAMMPS *lmp, int n, unsigned seed)
+{
+  auto *atom = lmp->atom;
+  const double reach = lmp->comm->get_comm_cutoff() - lmp->neighbor->cutneighmax;
+  std::mt19937 rng(seed);
+  std::vector<int> all(atom->nlocal + atom->nghost);
+  for (size_t i = 0; i < all.size(); i++) all[i] = (int) i;
+  std::shuffle(all.begin(), all.end(), rng);
+  std::set<int> tags;
+  std::vector<int> c;
+  for (int j : all) {
+    if ((int) c.size() >= n) break;
+    if (j >= atom->nlocal && outside(lmp, j) > reach) continue;
+    if (!tags.insert((int) atom->tag[j]).second) continue;
+    c.push_back(j);
+  }
+  return c;
+}
+
+}    // namespace
+
+TEST(LocalForcesRows, GhostCopiesOnAnyRankCount)
+{
+  HSLammps h;
+  std::string in = fluid_input(true);
+  in.insert(in.find("run 0"), "comm_modify cutoff 5.5\n");
+  h.lines(in);
+  auto *atom = h.lmp->atom;
+  HSLocalForces lf(h.lmp, "test");
+  lf.init();
+  ASSERT_EQ(lf.rows_unsupported(), "");
+  std::vector<double> X, F;
+  gather_by_tag(h.lmp, X, F);
+  double fscale = 0.0;
+  for (double v : F) fscale = std::max(fscale, std::fabs(v));
+  int nghost_members = 0, cases = 0;
+  for (int n : {1, 2, 4, 8, 40})
+    for (unsigned seed = 1; seed <= 6; seed++) {
+      const auto c = random_copies(h.lmp, n, 1000u * seed + n + 17u * h.lmp->comm->me);
+      if (c.empty()) continue;
+      ++cases;
+      const Snapshot before = snap(h.lmp);
+      lf.compute_rows(c.data(), (int) c.size());
+      expect_unchanged(h.lmp, before, "rows");
+      std::set<int> ctags;
+      for (int j : c) {
+        ctags.insert((int) atom->tag[j]);
+        if (j >= atom->nlocal) ++nghost_members;
+      }
+      const auto ref = brute_lj_tags(h.lmp, X, ctags);
+      double **fl = lf.forces();
+      std::set<int> seen;
+      for (int j : lf.touched()) {
+        const int t = (int) atom->tag[j];
+        EXPECT_TRUE(seen.insert(t).second) << "tag " << t << " reported twice";
+        for (int k = 0; k < 3; k++) {
+          // members: the full force; partners: V_C's part of theirs
+          const double want = ctags.count(t) ? F[3 * (t - 1) + k] : ref[3 * (t - 1) + k];
+          EXPECT_NEAR(fl[j][k], want, 1e-12 * fscale)
+              << "|C| " << c.size() << " tag " << t << (j >= atom->nlocal ? " (ghost)" : "")
+              << (ctags.count(t) ? " member" : " partner") << " dim " << k;
+        }
+      }
+      for (int j : c) EXPECT_TRUE(seen.count((int) atom->tag[j])) << "member not reported";
+      for (int t = 1; t <= (int) atom->natoms; t++)
+        if (!seen.count(t))
+          for (int k = 0; k < 3; k++)
+            EXPECT_EQ(ref[3 * (t - 1) + k], 0.0) << "partner tag " << t << " missing";
+    }
+  EXPECT_GE(cases, 25);
+  int g = 0;
+  MPI_Allreduce(&nghost_members, &g, 1, MPI_INT, MPI_SUM, h.lmp->world);
+  EXPECT_GT(g, 20) << "too few ghost members tried";
+}
+
+// one rank: compute_rows() of the owned copies equals compute() (touched
+// atoms and forces), with labels (NORMAL and CROSS), after atoms moved
+// (recompute() and a snapshot), in the fluid and in the melt
+TEST(LocalForcesRows, SameAsListRestrictionOnOneRank)
+{
+  const std::string data = melt_data(scratch_name("melt_rows.data"));
+  for (bool melt : {false, true}) {
+    HSLammps h;
+    h.lines(melt ? melt_input(data, true) : fluid_input(true));
+    if (h.lmp->comm->nprocs > 1) GTEST_SKIP() << "compute() is a collective on several ranks";
+    auto *atom = h.lmp->atom;
+    HSLocalForces a(h.lmp, "test"), b(h.lmp, "test");
+    a.init();
+    b.init();
+    ASSERT_EQ(b.rows_unsupported(), "");
+    const int nall = atom->nlocal + atom->nghost;
+    std::vector<int> lab(nall, -1);
+    auto compare = [&](const std::vector<int> &c, const std::string &what) {
+      double **fa = a.forces(), **fb = b.forces();
+      ASSERT_EQ(a.touched(), b.touched()) << what;
+      double scale = 1.0;
+      for (int i : a.touched())
+        for (int k = 0; k < 3; k++) scale = std::max(scale, std::fabs(fa[i][k]));
+      for (int i : a.touched())
+        for (int k = 0; k < 3; k++)
+          EXPECT_NEAR(fb[i][k], fa[i][k], 1e-13 * scale) << what << " tag " << atom->tag[i];
+      (void) c;
+    };
+    for (int n : {1, 3, 20, atom->nlocal})
+      for (unsigned seed = 1; seed <= 3; seed++)
+        for (int mode = 0; mode < 3; mode++) {
+          const auto c = random_c(h.lmp, n, seed * 13 + n, seed == 2);
+          // labels: none, or the atoms of C in two groups (cross terms)
+          std::fill(lab.begin(), lab.end(), -1);
+          if (mode > 0)
+            for (size_t k = 0; k < c.size(); k++)
+              for (int j = c[k]; j >= 0; j = atom->sametag[j]) lab[j] = (int) (k % 2);
+          const auto m = mode == 2 ? HSLocalForces::CROSS : HSLocalForces::NORMAL;
+          a.set_labels(mode ? lab.data() : nullptr, m);
+          b.set_labels(mode ? lab.data() : nullptr, m);
+          const std::string what = std::string(melt ? "melt" : "fluid") + " |C| " +
+              std::to_string(c.size()) + " mode " + std::to_string(mode);
+          a.compute(c.data(), (int) c.size(), false);
+          b.compute_rows(c.data(), (int) c.size());
+          compare(c, what);
+        }
+    // after a move of C (no list build): recompute() and a snapshot
+    a.set_labels(nullptr);
+    b.set_labels(nullptr);
+    const auto c = random_c(h.lmp, 10, 99, true);
+    a.compute(c.data(), (int) c.size(), false);
+    b.compute_rows(c.data(), (int) c.size());
+    HSLocalForces::Snapshot sb;
+    b.save(sb);
+    std::vector<std::array<double, 3>> saved(c.size());
+    for (size_t k = 0; k < c.size(); k++)
+      for (int d = 0; d < 3; d++) {
+        saved[k][d] = atom->x[c[k]][d];
+        const double dx = 0.03 * (d + 1) * ((k % 2) ? 1 : -1);
+        for (int j = c[k]; j >= 0; j = atom->sametag[j]) atom->x[j][d] += dx;
+      }
+    a.recompute();
+    b.recompute();
+    compare(c, "recompute after a move");
+    const auto other = random_c(h.lmp, 5, 7, false);
+    b.compute_rows(other.data(), (int) other.size());
+    b.recompute(sb);
+    compare(c, "snapshot after a move");
+    for (size_t k = 0; k < c.size(); k++)
+      for (int d = 0; d < 3; d++) {
+        const double dx = saved[k][d] - atom->x[c[k]][d];
+        for (int j = c[k]; j >= 0; j = atom->sametag[j]) atom->x[j][d] += dx;
+      }
+  }
+  remove(data.c_str());
+}
+
+TEST(LocalForcesRows, SaysWhatItCannotDo)
+{
+  {
+    HSLammps h;
+    h.lines(fluid_input(false));
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    EXPECT_NE(lf.rows_unsupported().find("newton_pair off"), std::string::npos)
+        << lf.rows_unsupported();
+  }
+  HSLammps h;
+  h.lines(fluid_input(true));
+  h.lines("neigh_modify exclude type 1 1\nrun 0\n");
+  HSLocalForces lf(h.lmp, "test");
+  lf.init();
+  EXPECT_NE(lf.rows_unsupported().find("neigh_modify exclude"), std::string::npos)
+      << lf.rows_unsupported();
 }

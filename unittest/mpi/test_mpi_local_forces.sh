@@ -4,7 +4,9 @@
 # Every rank passes its own part of C; the forces on C must equal the full
 # forces, LAMMPS' f and tallies must be unchanged, and V_C's total force
 # (summed over ranks) must vanish (the fluid with newton on/off, the melt
-# with bonds, angles and dihedrals, and after reneighboring).
+# with bonds, angles and dihedrals, and after reneighboring). Rank-local rows
+# (compute_rows(), issue 20): every rank passes random local copies, ghosts
+# included; members get their full force, partners V_C's part (by tag).
 #   bash test_mpi_local_forces.sh <lmp> <source dir>
 LMP=${1:?usage: test_mpi_local_forces.sh <lmp> <source dir>}
 EXE="$(dirname "$LMP")/unittest/lammps_test_local_forces"
@@ -15,10 +17,10 @@ fi
 fail=0
 for np in 2 3 4; do
   out=$(mpirun -np "$np" --oversubscribe "$EXE" \
-        --gtest_filter='*LocalForcesFluid*:*LocalForcesMelt*:LocalForces.AfterReneighboring' 2>&1)
-  npass=$(printf '%s\n' "$out" | grep -c 'PASSED.*5 tests')
+        --gtest_filter='*LocalForcesFluid*:*LocalForcesMelt*:LocalForces.AfterReneighboring:LocalForcesRows.GhostCopiesOnAnyRankCount' 2>&1)
+  npass=$(printf '%s\n' "$out" | grep -c 'PASSED.*6 tests')
   if [ "$npass" -eq "$np" ]; then
-    echo "ok: $np ranks, 5 tests passed on every rank"
+    echo "ok: $np ranks, 6 tests passed on every rank"
   else
     echo "FAIL: $np ranks"
     printf '%s\n' "$out" | grep -E 'Failure|Expected|actual|FAILED' | head -20

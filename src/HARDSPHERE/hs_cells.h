@@ -1,0 +1,109 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: a cell list over explicit points (no periodic
+   wrapping: a rank's ghost atoms are the images), for the local engine's
+   on-demand interaction rows (issue 20, hs_local_forces.h "rows").
+
+   LAMMPS' own pair list cannot give every term of a colliding sphere on
+   several ranks: with newton on, a pair of an owned atom and a ghost is
+   listed on one of the two ranks only, and a ghost has no row at all. The
+   local engine computes a cluster on one rank (the owner of its lowest
+   tag) from that rank's copies of its members, owned or ghost, so it needs
+   the rows of any local atom on demand. The grid is built from the
+   positions at a neighbor list build; points move by less than `slack`
+   (the neighbor skin) until the next one, so a query for the points within
+   `cut` of a current position scans the cells within cut + slack of it:
+   with cells at least cut + slack wide, the 27 cells around it.
+
+   LAMMPS-free (unit-tested alone: unittest/math/test_cells.cpp).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_CELLS_H
+#define LMP_HS_CELLS_H
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace HardSphere {
+
+class CellGrid {
+ public:
+  // bin points x[0..n) (x[i][0..2]) into cells at least `width` wide
+  template <class X> void build(const X &x, int n, double width)
+  {
+    n_ = n;
+    if (n == 0 || !(width > 0.0)) {
+      for (int d = 0; d < 3; d++) nc_[d] = 1;
+      head_.assign(1, -1);
+      next_.assign(n, -1);
+      return;
+    }
+    for (int d = 0; d < 3; d++) {
+      lo_[d] = hi_[d] = x[0][d];
+    }
+    for (int i = 1; i < n; i++)
+      for (int d = 0; d < 3; d++) {
+        lo_[d] = std::min(lo_[d], x[i][d]);
+        hi_[d] = std::max(hi_[d], x[i][d]);
+      }
+    size_t total = 1;
+    for (int d = 0; d < 3; d++) {
+      const double span = hi_[d] - lo_[d];
+      // cells at least `width` wide, at most ~2 per point along an axis
+      int m = (int) std::floor(span / width);
+      m = std::max(1, std::min(m, 2 * n + 1));
+      nc_[d] = m;
+      inv_[d] = (span > 0.0) ? m / span : 0.0;
+      total *= (size_t) m;
+    }
+    head_.assign(total, -1);
+    next_.assign(n, -1);
+    // in reverse, so that each cell's chain runs in increasing index
+    for (int i = n - 1; i >= 0; i--) {
+      const size_t c = cell_of(x[i]);
+      next_[i] = head_[c];
+      head_[c] = i;
+    }
+  }
+
+  int size() const { return n_; }
+
+  // every point j whose cell is within one cell of q's (with cells at
+  // least `width` wide: every point within `width` of q, and more); calls
+  // fn(j). The caller tests distances.
+  template <class F> void for_each_candidate(const double *q, F fn) const
+  {
+    if (n_ == 0) return;
+    int c[3];
+    for (int d = 0; d < 3; d++) c[d] = axis_cell(q[d], d);
+    for (int a = std::max(0, c[0] - 1); a <= std::min(nc_[0] - 1, c[0] + 1); a++)
+      for (int b = std::max(0, c[1] - 1); b <= std::min(nc_[1] - 1, c[1] + 1); b++)
+        for (int e = std::max(0, c[2] - 1); e <= std::min(nc_[2] - 1, c[2] + 1); e++)
+          for (int j = head_[((size_t) a * nc_[1] + b) * nc_[2] + e]; j >= 0; j = next_[j])
+            fn(j);
+  }
+
+ private:
+  int n_ = 0;
+  int nc_[3] = {1, 1, 1};
+  double lo_[3] = {0.0, 0.0, 0.0}, hi_[3] = {0.0, 0.0, 0.0}, inv_[3] = {0.0, 0.0, 0.0};
+  std::vector<int> head_, next_;
+
+  // a position outside the grid's box (a point that moved since the build,
+  // or a query) goes to the nearest boundary cell: the cells beyond the
+  // box are empty, so the candidates within one cell are still all there
+  int axis_cell(double v, int d) const
+  {
+    const int k = (int) std::floor((v - lo_[d]) * inv_[d]);
+    return std::max(0, std::min(nc_[d] - 1, k));
+  }
+  template <class P> size_t cell_of(const P &p) const
+  {
+    return ((size_t) axis_cell(p[0], 0) * nc_[1] + axis_cell(p[1], 1)) * nc_[2] +
+        axis_cell(p[2], 2);
+  }
+};
+
+}    // namespace HardSphere
+
+#endif

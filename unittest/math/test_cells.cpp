@@ -1,0 +1,111 @@
+// hs_cells.h: the cell list of the local engine's on-demand rows, against
+// brute force: every point within `cut` of a query must be a candidate,
+// also after the points moved by up to `slack` since the build (cells
+// cut + slack wide), for queries inside and outside the points' box,
+// degenerate boxes (flat, one point, all points equal) and no points.
+
+#include "hs_cells.h"
+
+#include "gtest/gtest.h"
+
+#include <array>
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+using HardSphere::CellGrid;
+using P = std::array<double, 3>;
+
+namespace {
+
+double dist(const P &a, const double *b)
+{
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                   (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+// the points within cut of q (brute force) must all be candidates; the
+// candidates are distinct
+void check_query(const CellGrid &g, const std::vector<P> &now, const double *q, double cut)
+{
+  std::set<int> cand;
+  int calls = 0;
+  g.for_each_candidate(q, [&](int j) {
+    cand.insert(j);
+    calls++;
+  });
+  EXPECT_EQ(calls, (int) cand.size()) << "a candidate came twice";
+  for (int j = 0; j < (int) now.size(); j++)
+    if (dist(now[j], q) <= cut) EXPECT_TRUE(cand.count(j)) << "point " << j << " missed";
+}
+
+}    // namespace
+
+TEST(CellGrid, FindsEveryPointWithinCutAfterMoves)
+{
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 200; trial++) {
+    const int n = 1 + (int) (U(rng) * 400);
+    const double L[3] = {0.5 + 20 * U(rng), 0.5 + 20 * U(rng), trial % 7 == 0 ? 0.0 : 0.5 + 20 * U(rng)};
+    const double cut = 0.2 + 3.0 * U(rng), slack = 0.5 * U(rng);
+    std::vector<P> built(n), now(n);
+    for (int i = 0; i < n; i++)
+      for (int d = 0; d < 3; d++) built[i][d] = L[d] * U(rng) - 3.0;
+    CellGrid g;
+    g.build(built, n, cut + slack);
+    ASSERT_EQ(g.size(), n);
+    // each point moved by at most slack since the build
+    for (int i = 0; i < n; i++) {
+      P s;
+      double r2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        s[d] = 2.0 * U(rng) - 1.0;
+        r2 += s[d] * s[d];
+      }
+      const double f = slack * U(rng) / std::max(1e-300, std::sqrt(r2));
+      for (int d = 0; d < 3; d++) now[i][d] = built[i][d] + f * s[d];
+    }
+    // queries at the points, and anywhere around and beyond the box
+    for (int k = 0; k < 30; k++) {
+      const P &q = now[(size_t) (U(rng) * n) % n];
+      check_query(g, now, q.data(), cut);
+      double r[3];
+      for (int d = 0; d < 3; d++) r[d] = (L[d] + 2.0 * cut) * U(rng) - 3.0 - cut;
+      check_query(g, now, r, cut);
+    }
+  }
+}
+
+TEST(CellGrid, DegenerateBoxes)
+{
+  const double cut = 1.0;
+  // all points equal
+  std::vector<P> same(50, P{1.0, 2.0, 3.0});
+  CellGrid g;
+  g.build(same, 50, cut);
+  const double q[3] = {1.5, 2.0, 3.0};
+  check_query(g, same, q, cut);
+  // one point
+  std::vector<P> one(1, P{0.0, 0.0, 0.0});
+  g.build(one, 1, cut);
+  check_query(g, one, q, 2.0);
+  // none: no candidate at all
+  std::vector<P> none;
+  g.build(none, 0, cut);
+  int calls = 0;
+  g.for_each_candidate(q, [&](int) { calls++; });
+  EXPECT_EQ(calls, 0);
+  // a line of points far apart: the grid has many cells along one axis
+  std::vector<P> line(100);
+  for (int i = 0; i < 100; i++) line[i] = {0.0, 0.0, 3.0 * i};
+  g.build(line, 100, cut);
+  for (int i = 0; i < 100; i++) {
+    std::set<int> c;
+    g.for_each_candidate(line[i].data(), [&](int j) { c.insert(j); });
+    EXPECT_TRUE(c.count(i));
+    // cells of width >= 1 on a 297-long line: not every point is a candidate
+    EXPECT_LT(c.size(), 10u);
+  }
+}
