@@ -12,7 +12,8 @@
    positions at a neighbor list build; points move by less than `slack`
    (the neighbor skin) until the next one, so a query for the points within
    `cut` of a current position scans the cells within cut + slack of it:
-   with cells at least cut + slack wide, the 27 cells around it.
+   with cells at least (cut + slack) / sub wide, the (2 sub + 1)^3 cells
+   around it.
 
    LAMMPS-free (unit-tested alone: unittest/math/test_cells.cpp).
 ------------------------------------------------------------------------- */
@@ -28,14 +29,27 @@ namespace HardSphere {
 
 class CellGrid {
  public:
-  // bin points x[0..n) (x[i][0..2]) into cells at least `width` wide
-  template <class X> void build(const X &x, int n, double width)
+  // bin points x[0..n) (x[i][0..2]) into cells at least width / sub wide;
+  // a query scans the cells within sub cells of its own (finer cells, sub
+  // > 1, scan less volume: (2 sub + 1)^3 / sub^3 of width^3 against 27)
+  template <class X> void build(const X &x, int n, double width, int sub = 1)
   {
     n_ = n;
+    sub_ = std::max(1, sub);
+    width /= sub_;
     if (n == 0 || !(width > 0.0)) {
-      for (int d = 0; d < 3; d++) nc_[d] = 1;
-      head_.assign(1, -1);
-      next_.assign(n, -1);
+      for (int d = 0; d < 3; d++) {
+        nc_[d] = 1;
+        lo_[d] = hi_[d] = inv_[d] = 0.0;
+      }
+      start_.assign(2, 0);
+      start_[1] = n;
+      idx_.resize(n);
+      pos_.resize(3 * (size_t) n);
+      for (int i = 0; i < n; i++) {
+        idx_[i] = i;
+        for (int d = 0; d < 3; d++) pos_[3 * (size_t) i + d] = x[i][d];
+      }
       return;
     }
     for (int d = 0; d < 3; d++) {
@@ -56,38 +70,54 @@ class CellGrid {
       inv_[d] = (span > 0.0) ? m / span : 0.0;
       total *= (size_t) m;
     }
-    head_.assign(total, -1);
-    next_.assign(n, -1);
-    // in reverse, so that each cell's chain runs in increasing index
-    for (int i = n - 1; i >= 0; i--) {
-      const size_t c = cell_of(x[i]);
-      next_[i] = head_[c];
-      head_[c] = i;
+    // the points in cell order, their positions copied alongside: a query
+    // reads each cell's points from one contiguous stretch (the scan is
+    // bound by memory reads, not arithmetic)
+    start_.assign(total + 1, 0);
+    std::vector<size_t> cell(n);
+    for (int i = 0; i < n; i++) {
+      cell[i] = cell_of(x[i]);
+      start_[cell[i] + 1]++;
+    }
+    for (size_t c = 0; c < total; c++) start_[c + 1] += start_[c];
+    idx_.resize(n);
+    pos_.resize(3 * (size_t) n);
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (int i = 0; i < n; i++) {    // increasing index within each cell
+      const int k = fill[cell[i]]++;
+      idx_[k] = i;
+      for (int d = 0; d < 3; d++) pos_[3 * (size_t) k + d] = x[i][d];
     }
   }
 
   int size() const { return n_; }
 
-  // every point j whose cell is within one cell of q's (with cells at
-  // least `width` wide: every point within `width` of q, and more); calls
-  // fn(j). The caller tests distances.
+  // every point j whose cell is within sub cells of q's (every point within
+  // `width` of q, and more); calls fn(j, xj) with xj its position at the
+  // build. The caller tests distances.
   template <class F> void for_each_candidate(const double *q, F fn) const
   {
     if (n_ == 0) return;
     int c[3];
     for (int d = 0; d < 3; d++) c[d] = axis_cell(q[d], d);
-    for (int a = std::max(0, c[0] - 1); a <= std::min(nc_[0] - 1, c[0] + 1); a++)
-      for (int b = std::max(0, c[1] - 1); b <= std::min(nc_[1] - 1, c[1] + 1); b++)
-        for (int e = std::max(0, c[2] - 1); e <= std::min(nc_[2] - 1, c[2] + 1); e++)
-          for (int j = head_[((size_t) a * nc_[1] + b) * nc_[2] + e]; j >= 0; j = next_[j])
-            fn(j);
+    const int s = sub_;
+    const int b0 = std::max(0, c[1] - s), b1 = std::min(nc_[1] - 1, c[1] + s);
+    const int e0 = std::max(0, c[2] - s), e1 = std::min(nc_[2] - 1, c[2] + s);
+    for (int a = std::max(0, c[0] - s); a <= std::min(nc_[0] - 1, c[0] + s); a++)
+      for (int b = b0; b <= b1; b++) {
+        // cells (a, b, e0..e1) are consecutive: one stretch of points
+        const size_t first = ((size_t) a * nc_[1] + b) * nc_[2];
+        for (int k = start_[first + e0], e = start_[first + e1 + 1]; k < e; k++)
+          fn(idx_[k], &pos_[3 * (size_t) k]);
+      }
   }
 
  private:
-  int n_ = 0;
+  int n_ = 0, sub_ = 1;
   int nc_[3] = {1, 1, 1};
   double lo_[3] = {0.0, 0.0, 0.0}, hi_[3] = {0.0, 0.0, 0.0}, inv_[3] = {0.0, 0.0, 0.0};
-  std::vector<int> head_, next_;
+  std::vector<int> start_, idx_;    // cell -> its points (CSR), in cell order
+  std::vector<double> pos_;          // their positions at the build
 
   // a position outside the grid's box (a point that moved since the build,
   // or a query) goes to the nearest boundary cell: the cells beyond the

@@ -79,6 +79,9 @@ std::string HSLocalEngine::limits()
                       "terms)",
                       other->id, other->style));
   }
+  // V_C's forces from rank-local rows (the form several ranks need), else
+  // from the pair list restriction (newton_pair off, neigh_modify exclude)
+  rows = locf->exact() && locf->rows_unsupported().empty();
   cand_version = -1;
   bonded = (atom->molecular != Atom::ATOMIC) &&
       (force->bond || force->angle || force->dihedral || force->improper);
@@ -86,6 +89,57 @@ std::string HSLocalEngine::limits()
 }
 
 /* ---------------------------------------------------------------------- */
+
+// -grad V_C for the atoms c[0..n) (HSLocalForces)
+void HSLocalEngine::vc(const int *c, int n)
+{
+  if (rows) {
+    // the rows are taken at the list build's positions (HSSystem::xref,
+    // owned and ghosts, set at every build)
+    locf->set_reference(sys->xref);
+    locf->compute_rows(c, n);
+  } else
+    locf->compute(c, n, false);
+}
+
+const int *HSLocalEngine::crow(int a, int &n)
+{
+  HSSystem &F = *sys;
+  const int nall = atom->nlocal + atom->nghost;
+  if (ccells_version != F.cand_version) {
+    ccells.build(F.xref, nall, F.list_cutoff, 2);
+    ccells_version = F.cand_version;
+    for (int b : crow_built) crow_start[b] = -1;
+    crow_built.clear();
+    crow_pool.clear();
+    if ((int) crow_start.size() < nall) {
+      crow_start.resize(nall, -1);
+      crow_len.resize(nall, 0);
+    }
+  }
+  if (crow_start[a] < 0) {
+    const int *mask = atom->mask;
+    const tagint *tag = atom->tag;
+    const double cut2 = F.list_cutoff * F.list_cutoff;
+    const double *xa = F.xref[a];
+    const size_t s0 = crow_pool.size();
+    ccells.for_each_candidate(xa, [&](int j, const double *xj) {
+      const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
+      // (bonded partners too: the fix adds those LAMMPS' lists leave out)
+      if (dx * dx + dy * dy + dz * dz > cut2) return;
+      if (j == a || tag[j] == tag[a] || !(mask[j] & F.groupbit)) return;
+      crow_pool.push_back(j);
+    });
+    std::sort(crow_pool.begin() + s0, crow_pool.end(), [tag](int p, int q) {
+      return tag[p] != tag[q] ? tag[p] < tag[q] : p < q;
+    });
+    crow_start[a] = (int) s0;
+    crow_len[a] = (int) (crow_pool.size() - s0);
+    crow_built.push_back(a);
+  }
+  n = crow_len[a];
+  return crow_pool.data() + crow_start[a];
+}
 
 void HSLocalEngine::grow_arrays()
 {
@@ -355,7 +409,7 @@ void HSLocalEngine::held_at_start(const std::vector<int> &newm)
   if (!sys->nheld || newm.empty()) return;
   double **x = atom->x, **f = atom->f;
   locf->set_labels(nullptr);
-  locf->compute(newm.data(), (int) newm.size(), false);
+  vc(newm.data(), (int) newm.size());
   const std::vector<int> T = locf->touched();
   std::vector<Vec> saved(T.size());
   for (size_t k = 0; k < T.size(); k++) {
@@ -391,7 +445,7 @@ void HSLocalEngine::cross_at_start(Run &r)
   if (!force->pair) return;
   double **x = atom->x;
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
-  locf->compute(r.members.data(), nm, false);
+  vc(r.members.data(), nm);
   ncompute += 1.0;
   const std::vector<int> T = locf->touched();
   std::vector<Vec> &saved = scratch_env_x0;
@@ -475,7 +529,7 @@ void HSLocalEngine::cross_of(Run &r)
 {
   const int nm = (int) r.members.size();
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
-  locf->compute(r.members.data(), nm, false);
+  vc(r.members.data(), nm);
   locf->set_labels(lab.data());
   ncompute += 1.0;
   double **fl = locf->forces();
@@ -617,7 +671,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   for (int k = 0; k < nm; k++)
     for (int d = 0; d < 3; d++)
       fc[k][d] = (first_half || !mid) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
-  if (first_half) locf->compute(M.data(), nm, false);
+  if (first_half) vc(M.data(), nm);
   else locf->recompute(r.snap);    // the lists of the first half
   ncompute += 1.0;
   std::vector<Vec> &env_saved = scratch_env;
@@ -627,15 +681,16 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     r.touched = locf->touched();
     // the static atoms of this flow: partners and contact candidates
     r.env.clear();
-    const std::vector<int> &cand0 = F.cand;
     for (int t : r.touched)
       if (!cs.is_member(t)) r.env.push_back(t);
-    for (int i : M)
-      for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
-        const int p = adj[e];
-        const int o = (own[cand0[2 * p]] == i) ? own[cand0[2 * p + 1]] : own[cand0[2 * p]];
+    for (int i : M) {
+      int nc;
+      const int *cr = crow(i, nc);
+      for (int e = 0; e < nc; e++) {
+        const int o = own[cr[e]];
         if (!cs.is_member(o)) r.env.push_back(o);
       }
+    }
     std::sort(r.env.begin(), r.env.end());
     r.env.erase(std::unique(r.env.begin(), r.env.end()), r.env.end());
     // after the drift of Phi_H2 (a later growth round) they wait at x0 for
@@ -742,10 +797,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
           bstatic = false;
         }
       }
-      for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
-        const int p = adj[e];
-        const int la = cand[2 * p], lb = cand[2 * p + 1];
-        const int mine = (own[la] == i) ? la : lb, theirs = (own[la] == i) ? lb : la;
+      int ncr;
+      const int *cr = crow(i, ncr);
+      for (int e = 0; e < ncr; e++) {
+        const int mine = i, theirs = cr[e];
         const int o = own[theirs];
         const int ko = member_k(o);
         double vo[3] = {0.0, 0.0, 0.0}, ao[3] = {0.0, 0.0, 0.0}, Do = 0.0;
@@ -920,10 +975,10 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
     const Run &r = *runs.at(M[0]);
     for (int k = 0; k < (int) M.size(); k++) {
       const int i = M[k];
-      for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
-        const int p = adj[e];
-        const int la = cand[2 * p], lb = cand[2 * p + 1];
-        const int mine = (own[la] == i) ? la : lb, theirs = (own[la] == i) ? lb : la;
+      int ncr;
+      const int *cr = crow(i, ncr);
+      for (int e = 0; e < ncr; e++) {
+        const int mine = i, theirs = cr[e];
         const int o = own[theirs];
         if (!cs.is_member(o)) continue;
         const int oc = cs.cluster_of(o);
@@ -1501,7 +1556,7 @@ void HSLocalEngine::final_kick()
   if (F.nheld) {
     std::vector<int> all;
     for (tagint t : end_mtags) all.push_back(owned(t));
-    locf->compute(all.data(), (int) all.size(), false);
+    vc(all.data(), (int) all.size());
     ncompute += 1.0;
     double **fl = locf->forces();
     for (int i : all) {

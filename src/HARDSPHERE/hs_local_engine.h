@@ -53,6 +53,13 @@
    start and end (as the global engine's K_held(dt/2) . Phi . K_held(dt/2)),
    a non-member with V_R in Phi_H2's kicks, as beside fix nve.
 
+   Rows: V_C's forces come from rank-local interaction rows of the
+   members' copies (HSLocalForces::compute_rows) and their contact
+   candidates from rows of the same kind (crow()), both at the list build's
+   positions: the form several ranks need, where a member may be a ghost
+   (issue 20, doc/Developer_hardsphere.rst). The pair list restriction
+   (HSLocalForces::compute) serves newton_pair off and neigh_modify exclude.
+
    Restrictions (FixHardSphere::choose_engine() falls back to the global
    engine, or errors when `substep local` was given): one MPI rank; pair,
    bond, angle, dihedral and improper styles HSLocalForces can restrict
@@ -63,6 +70,7 @@
 #ifndef LMP_HS_LOCAL_ENGINE_H
 #define LMP_HS_LOCAL_ENGINE_H
 
+#include "hs_cells.h"
 #include "hs_cluster.h"
 #include "hs_contact.h"
 #include "hs_local_forces.h"
@@ -299,6 +307,18 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   uint32_t kepoch = 0;
   void remap_after_rebuild();
   int bonded = 0;              // bonded styles present: their terms join clusters
+  bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
+  void vc(const int *c, int n);
+  // contact candidates of any local copy (a cluster's members may be
+  // ghosts on several ranks, which the fix's half contact list has no rows
+  // for): every group atom within the contact list's cutoff at the list
+  // build (HSSystem::xref), bonded partners included (as the fix's list,
+  // HSSystem::reset_reference), not its images, in tag order; kept per build.
+  // The pointer is valid until the next crow() of an atom without a row.
+  const int *crow(int a, int &n);
+  HardSphere::CellGrid ccells;
+  bigint ccells_version = -1;
+  std::vector<int> crow_start, crow_len, crow_built, crow_pool;
   void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
 };
 

@@ -184,6 +184,61 @@ void HSLocalForces::build_index()
 
 /* ---------------------------------------------------------------------- */
 
+void HSLocalForces::set_reference(double **xb)
+{
+  ref_ = xb;
+  ref_ncalls_ = neighbor->ncalls;
+}
+
+// the row of local atom a: every local atom within the neighbor cutoff at
+// the list build's positions (not a, not its images), in tag order, with
+// its special bits as LAMMPS' lists carry them
+void HSLocalForces::build_row(int a)
+{
+  const tagint *tag = atom->tag;
+  const tagint ta = tag[a];
+  const double cut2 = neighbor->cutneighmax * neighbor->cutneighmax;
+  const double *xa = ref_[a];
+  const bool mol = atom->molecular != Atom::ATOMIC && atom->nspecial;
+  const size_t start = row_pool_.size();
+  cells_.for_each_candidate(xa, [&](int j, const double *xj) {
+    const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
+    if (dx * dx + dy * dy + dz * dz > cut2) return;
+    const tagint tj = tag[j];
+    if (j == a || tj == ta) return;    // itself, its own images
+    const int code = mol ? special_code(a, tj) : 0;
+    if (code < 0) return;    // excluded
+    row_pool_.emplace_back(tj, code ? j ^ (code << SBBITS) : j);
+  });
+  std::sort(row_pool_.begin() + start, row_pool_.end(),
+            [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
+              return p.first != q.first ? p.first < q.first
+                                        : (p.second & NEIGHMASK) < (q.second & NEIGHMASK);
+            });
+  row_start_[a] = (int) start;
+  row_len_[a] = (int) (row_pool_.size() - start);
+  row_built_.push_back(a);
+}
+
+int HSLocalForces::special_code(int a, tagint tj) const
+{
+  if (atom->molecular == Atom::ATOMIC || !atom->nspecial) return 0;
+  // the owned copy's list (ghosts carry none: one rank, where every atom
+  // is owned here; rows_unsupported() refuses molecular systems on more)
+  const int o = atom->map(atom->tag[a]);
+  const int *ns = atom->nspecial[o];
+  const tagint *sp = atom->special[o];
+  int which = 0;
+  for (int k = 0; k < ns[2]; k++)
+    if (sp[k] == tj) {
+      which = (k < ns[0]) ? 1 : (k < ns[1]) ? 2 : 3;
+      break;
+    }
+  if (which == 0) return 0;
+  if (neighbor->special_flag[which] == 0) return -1;
+  return neighbor->special_flag[which] == 2 ? which : 0;
+}
+
 void HSLocalForces::compute_rows(const int *c, int nc)
 {
   const std::string why = rows_unsupported();
@@ -313,64 +368,42 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   fold_.clear();
   if (rows_ && L) {
     // on-demand rows of C's copies in tag order (hs_local_forces.h)
-    double **x = atom->x;
-    const tagint *tag = atom->tag;
-    if (cells_ncalls_ != neighbor->ncalls || cells_nall_ != nall) {
-      // atoms move less than the skin between list builds (the fix
-      // rebuilds at skin/2 and errors beyond skin within a step)
-      cells_.build(x, nall, neighbor->cutneighmax + neighbor->skin);
+    if (ref_ncalls_ != neighbor->ncalls)
+      error->one(FLERR, "{}: interaction rows asked for without the positions of this neighbor "
+                 "list build (set_reference)", owner_);
+    if (cells_ncalls_ != neighbor->ncalls) {
+      cells_.build(ref_, nall, neighbor->cutneighmax, 2);
       cells_ncalls_ = neighbor->ncalls;
-      cells_nall_ = nall;
+      for (int a : row_built_) row_start_[a] = -1;
+      row_built_.clear();
+      row_pool_.clear();
+      if ((int) row_start_.size() < nall) {
+        row_start_.resize(nall, -1);
+        row_len_.resize(nall, 0);
+      }
     }
-    const double cut2 = neighbor->cutneighmax * neighbor->cutneighmax;
     auto member_tag = [&](tagint t) {
       auto it = std::lower_bound(ctag.begin(), ctag.end(), std::make_pair(t, -1));
       return it != ctag.end() && it->first == t;
     };
-    const bool mol = atom->molecular != Atom::ATOMIC && atom->nspecial;
     std::vector<int> starts;
     for (const auto &ta : ctag) {
       const int a = ta.second;
-      // special neighbours from the owned copy's list (one rank: every
-      // atom is owned here; several ranks: atomic systems only)
-      const int o = mol ? atom->map(ta.first) : -1;
-      row_scratch_.clear();
-      cells_.for_each_candidate(x[a], [&](int j) {
-        const tagint tj = tag[j];
-        if (j == a || tj == ta.first) return;    // itself, its own images
-        const double dx = x[a][0] - x[j][0], dy = x[a][1] - x[j][1], dz = x[a][2] - x[j][2];
-        if (dx * dx + dy * dy + dz * dz > cut2) return;
-        if (tj < ta.first && member_tag(tj)) return;    // from tj's row
-        if (cross(a, j) != only_cross) return;
-        int raw = j;
-        if (mol) {
-          int which = 0;
-          const int *ns = atom->nspecial[o];
-          const tagint *sp = atom->special[o];
-          for (int k = 0; k < ns[2]; k++)
-            if (sp[k] == tj) {
-              which = (k < ns[0]) ? 1 : (k < ns[1]) ? 2 : 3;
-              break;
-            }
-          if (which && neighbor->special_flag[which] == 0) return;    // excluded
-          if (which && neighbor->special_flag[which] == 2) raw = j ^ (which << SBBITS);
-        }
-        row_scratch_.emplace_back(tj, raw);
-      });
-      if (row_scratch_.empty()) continue;
-      std::sort(row_scratch_.begin(), row_scratch_.end(),
-                [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
-                  return p.first != q.first ? p.first < q.first
-                                            : (p.second & NEIGHMASK) < (q.second & NEIGHMASK);
-                });
-      ilist_.push_back(a);
-      numneigh_[a] = (int) row_scratch_.size();
-      starts.push_back((int) neigh_.size());
-      for (const auto &e : row_scratch_) {
-        neigh_.push_back(e.second);
-        const int pr[2] = {a, e.second & NEIGHMASK};
-        add_term(pr, 2, e.second >> SBBITS & 3);
+      if (row_start_[a] < 0) build_row(a);
+      const int n0 = (int) neigh_.size();
+      for (int k = row_start_[a], e = k + row_len_[a]; k < e; k++) {
+        const tagint tj = row_pool_[k].first;
+        const int raw = row_pool_[k].second;
+        if (tj < ta.first && member_tag(tj)) continue;    // from tj's row
+        if (cross(a, raw & NEIGHMASK) != only_cross) continue;
+        neigh_.push_back(raw);
+        const int pr[2] = {a, raw & NEIGHMASK};
+        add_term(pr, 2, raw >> SBBITS & 3);
       }
+      if ((int) neigh_.size() == n0) continue;
+      ilist_.push_back(a);
+      numneigh_[a] = (int) neigh_.size() - n0;
+      starts.push_back(n0);
     }
     for (size_t k = 0; k < ilist_.size(); k++) firstneigh_[ilist_[k]] = neigh_.data() + starts[k];
     npair_terms += (double) nterm;

@@ -131,6 +131,12 @@ class HSLocalForces : protected Pointers {
   // rank). recompute() and save()/recompute(snapshot) work as for compute().
   // "" if compute_rows() can be used with the styles defined, else why not
   std::string rows_unsupported() const;
+  // the positions of all local atoms (owned and ghost) at the current
+  // neighbor list build: a row holds the atoms within the neighbor cutoff
+  // there (LAMMPS' own criterion: valid while atoms move less than skin/2),
+  // and is kept until the next build. Call after every list build, before
+  // compute_rows(); the array must stay unchanged until the next build.
+  void set_reference(double **xb);
   void compute_rows(const int *c, int nc);
   bool rows() const { return rows_; }
 
@@ -186,10 +192,19 @@ class HSLocalForces : protected Pointers {
   // folds (image j -> copy k) of the last compute_rows()
   bool rows_ = false;
   HardSphere::CellGrid cells_;
-  int64_t cells_ncalls_ = -1;
-  int cells_nall_ = -1;
+  double **ref_ = nullptr;
+  int64_t ref_ncalls_ = -1, cells_ncalls_ = -1;
+  // rows by local atom, kept per list build: entries (tag, raw j) of
+  // row_pool_ from row_start_[a] (-1: not built yet), row_len_[a] long
+  std::vector<int> row_start_, row_len_, row_built_;
+  std::vector<std::pair<tagint, int>> row_pool_;
+  void build_row(int a);
+  // how LAMMPS' lists carry the pair (a, tj) (a local, tj a tag): 0 plain,
+  // 1-3 a special pair with its bits, -1 a special pair left out
+  // (special_flag 0)
+  int special_code(int a, tagint tj) const;
   std::vector<int> fold_;    // pairs j, k
-  std::vector<std::pair<tagint, int>> row_scratch_, ctag_;
+  std::vector<std::pair<tagint, int>> ctag_;
   std::vector<char> fold_src_;
   void evaluate(const int *c, int nc, bool record_terms);
   void zero(int i);

@@ -175,7 +175,9 @@ void HSSystem::reset_reference(int at_setup)
       : "after a step (a collision was missed)";
   const double cut2 = list_cutoff * list_cutoff;
 
-  for (int i = 0; i < nlocal; i++) {
+  // ghosts too: the local engine's interaction rows are taken at the list
+  // build's positions, as LAMMPS' own (HSLocalForces::set_reference)
+  for (int i = 0; i < nall; i++) {
     xref[i][0] = x[i][0];
     xref[i][1] = x[i][1];
     xref[i][2] = x[i][2];

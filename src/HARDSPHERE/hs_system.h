@@ -65,7 +65,7 @@ class HSSystem : protected Pointers, public HSTypes {
   std::vector<double> ftm2v_mass;    // ftm2v / mass[type], when there is no rmass
 
   // per-atom state, sized atom->nmax
-  double **xref = nullptr;    // positions at the last neighbor list build
+  double **xref = nullptr;    // positions at the last neighbor list build (owned and ghosts)
   double *gap = nullptr;      // a sphere that moved less than gap since xref can touch nothing
   double *active = nullptr;   // 1 if it may touch something within the rest of the step
   double **acc = nullptr;     // accelerations, forwarded to ghosts with v and active

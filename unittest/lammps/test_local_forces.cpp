@@ -498,6 +498,21 @@ std::vector<int> random_copies(LAMMPS_NS::LAMMPS *lmp, int n, unsigned seed)
   return c;
 }
 
+// the positions of all local atoms now (right after a run 0: those of the
+// list build), for HSLocalForces::set_reference()
+struct Reference {
+  std::vector<double> buf;
+  std::vector<double *> rows;
+  explicit Reference(LAMMPS_NS::LAMMPS *lmp)
+  {
+    auto *atom = lmp->atom;
+    const int nall = atom->nlocal + atom->nghost;
+    buf.assign(&atom->x[0][0], &atom->x[0][0] + 3 * nall);
+    for (int i = 0; i < nall; i++) rows.push_back(buf.data() + 3 * i);
+  }
+  double **get() { return rows.data(); }
+};
+
 }    // namespace
 
 TEST(LocalForcesRows, GhostCopiesOnAnyRankCount)
@@ -510,6 +525,8 @@ TEST(LocalForcesRows, GhostCopiesOnAnyRankCount)
   HSLocalForces lf(h.lmp, "test");
   lf.init();
   ASSERT_EQ(lf.rows_unsupported(), "");
+  Reference ref(h.lmp);
+  lf.set_reference(ref.get());
   std::vector<double> X, F;
   gather_by_tag(h.lmp, X, F);
   double fscale = 0.0;
@@ -569,6 +586,8 @@ TEST(LocalForcesRows, SameAsListRestrictionOnOneRank)
     a.init();
     b.init();
     ASSERT_EQ(b.rows_unsupported(), "");
+    Reference ref(h.lmp);
+    b.set_reference(ref.get());
     const int nall = atom->nlocal + atom->nghost;
     std::vector<int> lab(nall, -1);
     auto compare = [&](const std::vector<int> &c, const std::string &what) {

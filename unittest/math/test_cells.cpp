@@ -27,13 +27,18 @@ double dist(const P &a, const double *b)
 
 // the points within cut of q (brute force) must all be candidates; the
 // candidates are distinct
+std::vector<P> built_;    // the points at the build (check_query's)
+
 void check_query(const CellGrid &g, const std::vector<P> &now, const double *q, double cut)
 {
   std::set<int> cand;
   int calls = 0;
-  g.for_each_candidate(q, [&](int j) {
+  g.for_each_candidate(q, [&](int j, const double *xj) {
     cand.insert(j);
     calls++;
+    // the position handed over is the point's at the build
+    EXPECT_EQ(xj[0], built_[j][0]);
+    EXPECT_EQ(xj[2], built_[j][2]);
   });
   EXPECT_EQ(calls, (int) cand.size()) << "a candidate came twice";
   for (int j = 0; j < (int) now.size(); j++)
@@ -54,7 +59,8 @@ TEST(CellGrid, FindsEveryPointWithinCutAfterMoves)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < 3; d++) built[i][d] = L[d] * U(rng) - 3.0;
     CellGrid g;
-    g.build(built, n, cut + slack);
+    g.build(built, n, cut + slack, 1 + trial % 3);
+    built_ = built;
     ASSERT_EQ(g.size(), n);
     // each point moved by at most slack since the build
     for (int i = 0; i < n; i++) {
@@ -85,25 +91,28 @@ TEST(CellGrid, DegenerateBoxes)
   std::vector<P> same(50, P{1.0, 2.0, 3.0});
   CellGrid g;
   g.build(same, 50, cut);
+  built_ = same;
   const double q[3] = {1.5, 2.0, 3.0};
   check_query(g, same, q, cut);
   // one point
   std::vector<P> one(1, P{0.0, 0.0, 0.0});
   g.build(one, 1, cut);
+  built_ = one;
   check_query(g, one, q, 2.0);
   // none: no candidate at all
   std::vector<P> none;
   g.build(none, 0, cut);
   int calls = 0;
-  g.for_each_candidate(q, [&](int) { calls++; });
+  g.for_each_candidate(q, [&](int, const double *) { calls++; });
   EXPECT_EQ(calls, 0);
   // a line of points far apart: the grid has many cells along one axis
   std::vector<P> line(100);
   for (int i = 0; i < 100; i++) line[i] = {0.0, 0.0, 3.0 * i};
   g.build(line, 100, cut);
+  built_ = line;
   for (int i = 0; i < 100; i++) {
     std::set<int> c;
-    g.for_each_candidate(line[i].data(), [&](int j) { c.insert(j); });
+    g.for_each_candidate(line[i].data(), [&](int j, const double *) { c.insert(j); });
     EXPECT_TRUE(c.count(i));
     // cells of width >= 1 on a 297-long line: not every point is a candidate
     EXPECT_LT(c.size(), 10u);
