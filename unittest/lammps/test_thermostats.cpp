@@ -18,7 +18,7 @@
 //   (fluctuation-dissipation): <T> = T0 3N/(3N-3) g_L / (g_L + g_v/m),
 //   g_L = 1/damp;
 // - temp/berendsen and temp/rescale act on compute temp: <T> = T0.
-// Error bars: 20 block means (each block much longer than the correlation
+// Error bars: 20 or 100 block means (each block much longer than the correlation
 // time of the kinetic energy); a check is meaningful only with a standard
 // error well below the 1 % tolerance, which is asserted too.
 //
@@ -78,7 +78,7 @@ Blocks read_blocks(const std::string &path)
 // the fluid with fix hardsphere/<method> and a thermostat; returns the block
 // means of T, <v^2>, <v^4> over nrun steps after equil of equilibration
 Blocks run_fluid(const std::string &method, const std::string &thermo, double damp, int nrun,
-                 int seed, int equil = 1000, std::string *log = nullptr)
+                 int seed, int equil = 1000, std::string *log = nullptr, int nblocks = 20)
 {
   const int cells = 3;
   NATOMS = 4.0 * cells * cells * cells;
@@ -92,7 +92,7 @@ Blocks run_fluid(const std::string &method, const std::string &thermo, double da
   else if (thermo == "berendsen") th = "fix th all temp/berendsen " + T + " " + T + " " + d;
   else if (thermo == "rescale") th = "fix th all temp/rescale 1 " + T + " " + T + " 0.015 1.0";
   const std::string blocks = scratch_name("blocks_" + method + "_" + thermo + ".txt");
-  const int nb = nrun / 20;
+  const int nb = nrun / nblocks;
   const std::string input = R"LMP(
 units lj
 atom_style atomic
@@ -114,7 +114,7 @@ fix int all hardsphere/)LMP" + method + R"LMP( diameter 1.05
 )LMP" + th + R"LMP(
 thermo 1000
 run )LMP" + std::to_string(equil) + R"LMP(
-# step 0 again: the 20 blocks of nrun/20 steps then end on multiples of it
+# step 0 again: the blocks of nrun/nblocks steps then end on multiples of it
 reset_timestep 0
 variable v2 atom (vx*vx+vy*vy+vz*vz)/3
 variable v4 atom (vx^4+vy^4+vz^4)/3
@@ -139,7 +139,7 @@ print "COLLISIONS $(f_int[1]-v_cstart) STEPS )LMP" + std::to_string(nrun) + R"LM
     ADD_FAILURE() << "no COLLISIONS line:\n" << res.output;
   if (log) *log = res.output;
   Blocks b = read_blocks(blocks);
-  EXPECT_EQ(b.T.size(), 20u) << res.output;
+  EXPECT_EQ(b.T.size(), (size_t) nblocks) << res.output;
   return b;
 }
 
@@ -156,7 +156,7 @@ double expected_T(const std::string &thermo, double damp)
 
 // check <T> and the kurtosis of one run against statistical mechanics
 void check_run(const std::string &method, const std::string &thermo, double damp,
-               const Blocks &b, double se_max, bool strict_T = true)
+               const Blocks &b, double se_max)
 {
   if (b.T.size() < 2) return;
   double Tm, Tse;
@@ -181,10 +181,15 @@ void check_run(const std::string &method, const std::string &thermo, double damp
          klo, khi);
   EXPECT_LT(Tse / Tx, se_max) << "error bar too large for a meaningful check";
   // the weak-coupling runs check T to three error bars (their error bar is
-  // about 0.5 %: the 1 % check is the damp 0.1 suite's)
-  const double tol = strict_T ? 0.01 : std::max(0.01, 3.0 * Tse / Tx);
+  // about 0.5 %: the 1 % check is the damp 0.1 suite's). The 1 % check:
+  // within 1 %, or within three error bars where an error bar exceeds 1/3 %
+  // (at most 1.35 % with se_max 0.45 %): a bare 1 % at an error bar of
+  // 0.4 % would fail one correct run in a hundred, and a dozen such cases
+  // fail together whenever a round-off change reshuffles the trajectories
+  const double tol = std::max(0.01, 3.0 * Tse / Tx);
   EXPECT_NEAR(Tm / Tx, 1.0, tol) << "<T> " << Tm << " +- " << Tse << ", expected " << Tx;
-  // four error bars: 20 blocks give the error bar itself to ~16 %, and the
+  // four error bars: 20 blocks give the error bar itself to ~16 % (100 to
+  // ~7 %), and the
   // short blocks of the berendsen/rescale runs (0.5 time units) are not
   // quite independent
   EXPECT_GT(km, klo - 4.0 * kse);
@@ -201,7 +206,8 @@ std::string case_name(const ::testing::TestParamInfo<Param> &info)
 
 }    // namespace
 
-// <T> within 1 % (error bar < 0.45 %; mcva: see below) and kurtosis bounds, damp 0.1
+// <T> within 1 % or three error bars (error bar < 0.45 %; mcva: see below)
+// and kurtosis bounds, damp 0.1
 TEST_P(Thermostat, TemperatureAndMaxwellian)
 {
   const std::string method = std::get<0>(GetParam()), thermo = std::get<1>(GetParam());
@@ -212,17 +218,24 @@ TEST_P(Thermostat, TemperatureAndMaxwellian)
   // steps (error bar ~0.05 %, blocks of 50 steps = 2.5 damp); the three langevin
   // cases 800 steps each, checked to three error bars (2-4 %), which tells
   // the old behaviour (a third of the target for cva, a stop on step 10 for
-  // mcva) from the right one. Their 1 % check would need the 12000 steps of
-  // the other methods, ~16 CPU minutes each (a 12000-step run of 32 atoms
+  // mcva) from the right one. Their 1 % check would need the 18000 steps of
+  // the other methods, ~25 CPU minutes each (a 12000-step run of 32 atoms
   // with fix langevin: examples/thermostats/README.md).
   const bool rescaling = thermo == "berendsen" || thermo == "rescale";
   const bool mcva = method == "mcva";
   const bool short_run = mcva && !rescaling;
-  const int nrun = short_run ? 800 : (rescaling ? (mcva ? 1000 : 2000) : 12000);
+  // the langevin cases: 18000 steps in 100 blocks of 180 (0.9 time units,
+  // ~20 correlation times of the kinetic energy at damp 0.1). 20 blocks
+  // gave the error bar itself to +-16 %, and 12000 steps an error bar of
+  // ~0.45 %, at the 0.45 % bound: about every other run failed the bound
+  // (pcva_langevin_zero at 0.4503 % after a round-off change). Now ~0.37 %
+  // +- 7 %: the bound is 3 of its own error bars away.
+  const int nrun = short_run ? 800 : (rescaling ? (mcva ? 1000 : 2000) : 18000);
+  const int nblocks = (short_run || rescaling) ? 20 : 100;
   const double se_max = short_run ? 0.03 : 0.0045;
   const double damp = 0.1;
-  Blocks b = run_fluid(method, thermo, damp, nrun, 4711, mcva ? 200 : 1000);
-  check_run(method, thermo, damp, b, se_max, !short_run);
+  Blocks b = run_fluid(method, thermo, damp, nrun, 4711, mcva ? 200 : 1000, nullptr, nblocks);
+  check_run(method, thermo, damp, b, se_max);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -247,7 +260,7 @@ TEST_P(ThermostatWeak, LangevinMaxwellian)
 {
   const std::string method = GetParam();
   Blocks b = run_fluid(method, "langevin", 0.5, 20000, 917);
-  check_run(method, "langevin", 0.5, b, 0.008, false);
+  check_run(method, "langevin", 0.5, b, 0.008);
 }
 
 // (vci's kurtosis is checked at damp 0.1 only: its E_d solves make 20000
