@@ -152,22 +152,20 @@ std::string fluid_input(bool newton)
       "neighbor 0.3 bin\nrun 0\n";
 }
 
-// -grad V_C by brute force: minimum-image LJ pairs (r < 2.5) with an atom of C
-std::vector<double> brute_lj(LAMMPS_NS::LAMMPS *lmp, const std::vector<int> &c)
+// -grad V_C by brute force: minimum-image LJ pairs (r < 2.5) of n points
+// x[3 n] in the box of lmp, where in_c(i) or in_c(j)
+template <class InC>
+std::vector<double> brute_lj_points(LAMMPS_NS::LAMMPS *lmp, const double *x, int n, InC in_c)
 {
-  auto *atom = lmp->atom;
   auto *domain = lmp->domain;
-  const int n = atom->nlocal;
-  std::vector<char> inc(n, 0);
-  for (int i : c) inc[i] = 1;
-  std::vector<double> f(3 * n, 0.0);
   const double L[3] = {domain->xprd, domain->yprd, domain->zprd};
+  std::vector<double> f(3 * n, 0.0);
   for (int i = 0; i < n; i++)
     for (int j = i + 1; j < n; j++) {
-      if (!inc[i] && !inc[j]) continue;
+      if (!in_c(i) && !in_c(j)) continue;
       double d[3], r2 = 0.0;
       for (int k = 0; k < 3; k++) {
-        d[k] = atom->x[i][k] - atom->x[j][k];
+        d[k] = x[3 * i + k] - x[3 * j + k];
         d[k] -= L[k] * std::round(d[k] / L[k]);
         r2 += d[k] * d[k];
       }
@@ -180,6 +178,16 @@ std::vector<double> brute_lj(LAMMPS_NS::LAMMPS *lmp, const std::vector<int> &c)
       }
     }
   return f;
+}
+
+// the same over this rank's owned atoms (serial: all), C by local index
+std::vector<double> brute_lj(LAMMPS_NS::LAMMPS *lmp, const std::vector<int> &c)
+{
+  auto *atom = lmp->atom;
+  const int n = atom->nlocal;
+  std::vector<char> inc(n, 0);
+  for (int i : c) inc[i] = 1;
+  return brute_lj_points(lmp, &atom->x[0][0], n, [&](int i) { return inc[i] != 0; });
 }
 
 }    // namespace
@@ -435,33 +443,12 @@ void gather_by_tag(LAMMPS_NS::LAMMPS *lmp, std::vector<double> &x, std::vector<d
   MPI_Allreduce(fl.data(), f.data(), 3 * n, MPI_DOUBLE, MPI_SUM, lmp->world);
 }
 
-// -grad V_C over the gathered positions: minimum-image LJ pairs (r < 2.5)
-// with a tag of C
+// -grad V_C over the gathered positions (by tag), C by tag
 std::vector<double> brute_lj_tags(LAMMPS_NS::LAMMPS *lmp, const std::vector<double> &x,
                                   const std::set<int> &ctags)
 {
-  const int n = (int) lmp->atom->natoms;
-  auto *domain = lmp->domain;
-  const double L[3] = {domain->xprd, domain->yprd, domain->zprd};
-  std::vector<double> f(3 * n, 0.0);
-  for (int i = 0; i < n; i++)
-    for (int j = i + 1; j < n; j++) {
-      if (!ctags.count(i + 1) && !ctags.count(j + 1)) continue;
-      double d[3], r2 = 0.0;
-      for (int k = 0; k < 3; k++) {
-        d[k] = x[3 * i + k] - x[3 * j + k];
-        d[k] -= L[k] * std::round(d[k] / L[k]);
-        r2 += d[k] * d[k];
-      }
-      if (r2 >= 2.5 * 2.5) continue;
-      const double ir6 = 1.0 / (r2 * r2 * r2);
-      const double fr = 24.0 * ir6 * (2.0 * ir6 - 1.0) / r2;
-      for (int k = 0; k < 3; k++) {
-        f[3 * i + k] += fr * d[k];
-        f[3 * j + k] -= fr * d[k];
-      }
-    }
-  return f;
+  return brute_lj_points(lmp, x.data(), (int) lmp->atom->natoms,
+                         [&](int i) { return ctags.count(i + 1) > 0; });
 }
 
 // how far local copy j lies outside this rank's sub-domain
