@@ -12,7 +12,6 @@
 
 #include "angle.h"
 #include "atom.h"
-#include "atom_vec.h"
 #include "bond.h"
 #include "comm.h"
 #include "dihedral.h"
@@ -529,7 +528,8 @@ void FixHardSpherePress::rebuild()
 }
 
 // the forces at the new positions, as Verlet computes them, with the
-// energy and virial tallies this step had asked for (thermo output follows)
+// energy and virial tallies this step had asked for (thermo output follows);
+// the thermostats' forces of the step's end are added back, not drawn again
 void FixHardSpherePress::forces_after_move()
 {
   const bigint n = update->ntimestep;
@@ -538,36 +538,7 @@ void FixHardSpherePress::forces_after_move()
   if (update->eflag_atom == n) eflag |= ENERGY_ATOM;
   if (update->vflag_global == n) vflag |= force->newton_pair ? VIRIAL_FDOTR : VIRIAL_PAIR;
   if (update->vflag_atom == n) vflag |= VIRIAL_ATOM;
-
-  size_t nbytes = sizeof(double) * atom->nlocal;
-  if (force->newton) nbytes += sizeof(double) * atom->nghost;
-  if (nbytes) {
-    memset(&atom->f[0][0], 0, 3 * nbytes);
-    if (atom->torque_flag) memset(&atom->torque[0][0], 0, 3 * nbytes);
-    if (atom->avec->forceclearflag) atom->avec->force_clear(0, nbytes);
-  }
-  if (modify->n_pre_force) modify->pre_force(vflag);
-  if (force->pair && force->pair->compute_flag) force->pair->compute(eflag, vflag);
-  if (atom->molecular != Atom::ATOMIC) {
-    if (force->bond) force->bond->compute(eflag, vflag);
-    if (force->angle) force->angle->compute(eflag, vflag);
-    if (force->dihedral) force->dihedral->compute(eflag, vflag);
-    if (force->improper) force->improper->compute(eflag, vflag);
-  }
-  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(eflag, vflag);
-  if (modify->n_pre_reverse) modify->pre_reverse(eflag, vflag);
-  if (force->newton) comm->reverse_comm();
-  // post_force of every fix but the thermostats, whose forces of the step's
-  // end are added back (one random draw per step, as without the move)
-  if (HSCompat::n_post_force(modify)) {
-    if (!held) modify->post_force(vflag);
-    else
-      for (int k = 0; k < modify->nfix; k++)
-        if ((modify->fmask[k] & POST_FORCE) &&
-            HardSphere::fix_force_kind(modify->fix[k]->style) !=
-                HardSphere::FixForceKind::HELD)
-          modify->fix[k]->post_force(vflag);
-  }
+  pot->evaluate_flags(eflag, vflag);
   if (held) {
     double **f = atom->f;
     for (int i = 0; i < atom->nlocal; i++)
