@@ -134,7 +134,7 @@ FixHardSpherePress::FixHardSpherePress(LAMMPS *lmp, int narg, char **arg) : Fix(
   force_reneighbor = 1;    // the lists are built on the step of each move
   next_reneighbor = -1;
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 8;
   global_freq = 1;
   extvector = 0;
   restart_global = 1;
@@ -405,6 +405,7 @@ void FixHardSpherePress::end_of_step()
     noverlap += 1.0;
   } else {
     const double u_new = smooth ? pot->energy() : 0.0;
+    du_last = u_new - u_old;
     // beta (dU + P dV) - (N + 1) ln(V'/V); PV / nktv2p is an energy
     const double w = (u_new - u_old + p_current * (v_new - v_old) / force->nktv2p) / kt -
         (ngroup + 1.0) * dlnv;
@@ -593,7 +594,7 @@ double FixHardSpherePress::memory_usage()
 /* ---------------------------------------------------------------------- */
 
 // volume, attempts, accepted, rejected by overlap, target pressure,
-// acceptance ratio, delta
+// acceptance ratio, delta, dU of the last move that passed the overlap test
 double FixHardSpherePress::compute_vector(int n)
 {
   switch (n) {
@@ -611,6 +612,8 @@ double FixHardSpherePress::compute_vector(int n)
       return nattempt > 0.0 ? naccept / nattempt : 0.0;
     case 6:
       return delta;
+    case 7:
+      return du_last;
   }
   return 0.0;
 }

@@ -66,6 +66,7 @@ class FixHardSpherePress : public Fix {
   double block_attempt = 0.0, block_accept = 0.0;    // adaptation block
   RanPark *random = nullptr;
   double p_current = 0.0;
+  double du_last = 0.0;    // U' - U of the last move tested for energy (output)
 
   std::vector<FixHardSphere *> hs;    // fixes whose spheres must not overlap
   HSPotential *pot = nullptr;         // the smooth energy (none: pure hard spheres)
