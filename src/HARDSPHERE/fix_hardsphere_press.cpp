@@ -12,7 +12,6 @@
 
 #include "angle.h"
 #include "atom.h"
-#include "atom_vec.h"
 #include "bond.h"
 #include "comm.h"
 #include "dihedral.h"
@@ -47,6 +46,11 @@ constexpr double ETA_CP = 0.74048;
 constexpr double TARGET_ACCEPTANCE = 0.4;
 constexpr int ADAPT_BLOCK = 20;    // attempts per adaptation of delta
 enum { NRESTART = 7 };
+// number of dimensions in a set (bit mask of x, y, z)
+inline int nbits(int set)
+{
+  return (set & 1) + ((set >> 1) & 1) + ((set >> 2) & 1);
+}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -56,11 +60,13 @@ FixHardSpherePress::FixHardSpherePress(LAMMPS *lmp, int narg, char **arg) : Fix(
   if (narg < 7)
     error->all(FLERR,
                "Illegal fix hardsphere/press command: expected fix ID group hardsphere/press "
-               "iso Pstart Pstop Pdamp temp T seed S [keyword value ...]");
-  if (strcmp(arg[3], "iso") != 0)
+               "iso|aniso Pstart Pstop Pdamp temp T seed S [keyword value ...]");
+  if (strcmp(arg[3], "iso") == 0) couple = "xyz";
+  else if (strcmp(arg[3], "aniso") == 0) couple = "none";
+  else
     error->all(FLERR,
-               "Fix hardsphere/press supports iso only (one volume, all periodic dimensions "
-               "scaled alike), got {}",
+               "Fix hardsphere/press: expected iso (one volume, all dimensions scaled alike) or "
+               "aniso (each dimension, or each coupled set, scaled by its own moves), got {}",
                arg[3]);
   p_start = utils::numeric(FLERR, arg[4], false, lmp);
   p_stop = utils::numeric(FLERR, arg[5], false, lmp);
@@ -94,6 +100,17 @@ FixHardSpherePress::FixHardSpherePress(LAMMPS *lmp, int narg, char **arg) : Fix(
       delta = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (!(delta > 0.0))
         error->all(FLERR, "Fix hardsphere/press delta must be > 0, got {}", arg[iarg + 1]);
+    } else if (key == "couple") {
+      couple = arg[iarg + 1];
+      if (couple != "none" && couple != "xyz" && couple != "xy" && couple != "yz" &&
+          couple != "xz")
+        error->all(FLERR, "Fix hardsphere/press couple must be none, xyz, xy, yz or xz, got {}",
+                   couple);
+      if (strcmp(arg[3], "iso") == 0 && couple != "xyz")
+        error->all(FLERR,
+                   "Fix hardsphere/press iso scales x, y and z together (couple xyz); couple "
+                   "{} needs aniso",
+                   couple);
     } else if (key == "adapt") {
       adapt_attempts = utils::bnumeric(FLERR, arg[iarg + 1], false, lmp);
       if (adapt_attempts < 0)
@@ -114,12 +131,23 @@ FixHardSpherePress::FixHardSpherePress(LAMMPS *lmp, int narg, char **arg) : Fix(
   for (int d = 0; d < dimension; d++)
     if (!domain->periodicity[d])
       error->all(FLERR,
-                 "Fix hardsphere/press iso scales the {} dimension, which is not periodic: "
+                 "Fix hardsphere/press {} scales the {} dimension, which is not periodic: "
                  "use boundary p p p (p p in 2d); a wall or shrink-wrapped boundary does not "
                  "move with the volume",
-                 "xyz"[d]);
+                 arg[3], "xyz"[d]);
   if (domain->triclinic)
     error->all(FLERR, "Fix hardsphere/press does not support triclinic boxes");
+
+  // the sets of dimensions a move scales together (one set per move, drawn
+  // uniformly): iso one set of all; aniso one per dimension or coupled set
+  int coupled = 0;
+  if (couple != "none")
+    for (char c : couple) coupled |= 1 << (c - 'x');
+  if (dimension == 2) coupled &= 3;    // z is not a dimension in 2d
+  if (coupled == 1 || coupled == 2 || coupled == 4) coupled = 0;
+  if (coupled) move_sets.push_back(coupled);
+  for (int d = 0; d < dimension; d++)
+    if (!(coupled & (1 << d))) move_sets.push_back(1 << d);
 
   // a fix defined before that changes the box too (one defined later: the
   // check in init(), or LAMMPS' own "multiple fixes change box parameter")
@@ -135,7 +163,7 @@ FixHardSpherePress::FixHardSpherePress(LAMMPS *lmp, int narg, char **arg) : Fix(
   force_reneighbor = 1;    // the lists are built on the step of each move
   next_reneighbor = -1;
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 8;
   global_freq = 1;
   extvector = 0;
   restart_global = 1;
@@ -226,7 +254,10 @@ void FixHardSpherePress::init()
                "what the neighbor lists built with that skin can hold");
   double smin = contact_max / (contact_max + skin);
   if (smooth && cut_max > 0.0) smin = MAX(smin, cut_max / (cut_max + skin));
-  delta_max = 2.0 * dimension * log(1.0 / smin);
+  // a move of ln V by x scales each of its k dimensions by exp(x/k)
+  int kmin = dimension;
+  for (int set : move_sets) kmin = MIN(kmin, nbits(set));
+  delta_max = 2.0 * kmin * log(1.0 / smin);
   if (delta > delta_max) {
     if (comm->me == 0)
       error->warning(FLERR,
@@ -375,14 +406,21 @@ void FixHardSpherePress::end_of_step()
 
   const double kt = force->boltz * t_target;
   const double v_old = volume();
+  // which dimensions (one random number more only if there is a choice)
+  int set = move_sets[0];
+  if (move_sets.size() > 1)
+    set = move_sets[MIN((int) (random->uniform() * move_sets.size()), (int) move_sets.size() - 1)];
   const double dlnv = delta * (random->uniform() - 0.5);
   const double v_new = v_old * exp(dlnv);
-  const double s = exp(dlnv / dimension);
+  const double s1 = exp(dlnv / nbits(set));
+  double s[3] = {1.0, 1.0, 1.0};
+  for (int d = 0; d < dimension; d++)
+    if (set & (1 << d)) s[d] = s1;
   nattempt += 1.0;
   block_attempt += 1.0;
 
-  double prd_new[3] = {domain->prd[0] * s, domain->prd[1] * s, domain->prd[2]};
-  if (dimension == 3) prd_new[2] *= s;
+  double prd_new[3];
+  for (int d = 0; d < 3; d++) prd_new[d] = domain->prd[d] * s[d];
   check_box(prd_new, v_new);
 
   const double u_old = smooth ? pot->energy() : 0.0;
@@ -398,7 +436,7 @@ void FixHardSpherePress::end_of_step()
     hi_save[d] = domain->boxhi[d];
   }
 
-  scale_box_and_atoms(s);
+  scale_box_and_atoms(s, set);
   comm->forward_comm();    // ghosts at the new box's images
 
   bool accept = false;
@@ -406,6 +444,7 @@ void FixHardSpherePress::end_of_step()
     noverlap += 1.0;
   } else {
     const double u_new = smooth ? pot->energy() : 0.0;
+    du_last = u_new - u_old;
     // beta (dU + P dV) - (N + 1) ln(V'/V); PV / nktv2p is an energy
     const double w = (u_new - u_old + p_current * (v_new - v_old) / force->nktv2p) / kt -
         (ngroup + 1.0) * dlnv;
@@ -441,15 +480,17 @@ void FixHardSpherePress::end_of_step()
   }
 }
 
-// box and the group's positions scaled by s about the box centre
+// box and the group's positions scaled by s[d] about the box centre in the
+// dimensions d of set
 // (wrapped coordinates: with fixed image flags this scales the unwrapped
 // ones alike)
-void FixHardSpherePress::scale_box_and_atoms(double s)
+void FixHardSpherePress::scale_box_and_atoms(const double *s, int set)
 {
   double c[3];
   for (int d = 0; d < dimension; d++) {
+    if (!(set & (1 << d))) continue;    // left to the bit
     c[d] = 0.5 * (domain->boxlo[d] + domain->boxhi[d]);
-    const double half = 0.5 * s * domain->prd[d];
+    const double half = 0.5 * s[d] * domain->prd[d];
     domain->boxlo[d] = c[d] - half;
     domain->boxhi[d] = c[d] + half;
   }
@@ -460,7 +501,8 @@ void FixHardSpherePress::scale_box_and_atoms(double s)
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
     if (mask[i] & groupbit)
-      for (int d = 0; d < dimension; d++) x[i][d] = c[d] + s * (x[i][d] - c[d]);
+      for (int d = 0; d < dimension; d++)
+        if (set & (1 << d)) x[i][d] = c[d] + s[d] * (x[i][d] - c[d]);
   if (force->kspace) force->kspace->setup();
 }
 
@@ -529,7 +571,8 @@ void FixHardSpherePress::rebuild()
 }
 
 // the forces at the new positions, as Verlet computes them, with the
-// energy and virial tallies this step had asked for (thermo output follows)
+// energy and virial tallies this step had asked for (thermo output follows);
+// the thermostats' forces of the step's end are added back, not drawn again
 void FixHardSpherePress::forces_after_move()
 {
   const bigint n = update->ntimestep;
@@ -538,36 +581,7 @@ void FixHardSpherePress::forces_after_move()
   if (update->eflag_atom == n) eflag |= ENERGY_ATOM;
   if (update->vflag_global == n) vflag |= force->newton_pair ? VIRIAL_FDOTR : VIRIAL_PAIR;
   if (update->vflag_atom == n) vflag |= VIRIAL_ATOM;
-
-  size_t nbytes = sizeof(double) * atom->nlocal;
-  if (force->newton) nbytes += sizeof(double) * atom->nghost;
-  if (nbytes) {
-    memset(&atom->f[0][0], 0, 3 * nbytes);
-    if (atom->torque_flag) memset(&atom->torque[0][0], 0, 3 * nbytes);
-    if (atom->avec->forceclearflag) atom->avec->force_clear(0, nbytes);
-  }
-  if (modify->n_pre_force) modify->pre_force(vflag);
-  if (force->pair && force->pair->compute_flag) force->pair->compute(eflag, vflag);
-  if (atom->molecular != Atom::ATOMIC) {
-    if (force->bond) force->bond->compute(eflag, vflag);
-    if (force->angle) force->angle->compute(eflag, vflag);
-    if (force->dihedral) force->dihedral->compute(eflag, vflag);
-    if (force->improper) force->improper->compute(eflag, vflag);
-  }
-  if (force->kspace && force->kspace->compute_flag) force->kspace->compute(eflag, vflag);
-  if (modify->n_pre_reverse) modify->pre_reverse(eflag, vflag);
-  if (force->newton) comm->reverse_comm();
-  // post_force of every fix but the thermostats, whose forces of the step's
-  // end are added back (one random draw per step, as without the move)
-  if (HSCompat::n_post_force(modify)) {
-    if (!held) modify->post_force(vflag);
-    else
-      for (int k = 0; k < modify->nfix; k++)
-        if ((modify->fmask[k] & POST_FORCE) &&
-            HardSphere::fix_force_kind(modify->fix[k]->style) !=
-                HardSphere::FixForceKind::HELD)
-          modify->fix[k]->post_force(vflag);
-  }
+  pot->evaluate_flags(eflag, vflag);
   if (held) {
     double **f = atom->f;
     for (int i = 0; i < atom->nlocal; i++)
@@ -622,7 +636,7 @@ double FixHardSpherePress::memory_usage()
 /* ---------------------------------------------------------------------- */
 
 // volume, attempts, accepted, rejected by overlap, target pressure,
-// acceptance ratio, delta
+// acceptance ratio, delta, dU of the last move that passed the overlap test
 double FixHardSpherePress::compute_vector(int n)
 {
   switch (n) {
@@ -640,6 +654,8 @@ double FixHardSpherePress::compute_vector(int n)
       return nattempt > 0.0 ? naccept / nattempt : 0.0;
     case 6:
       return delta;
+    case 7:
+      return du_last;
   }
   return 0.0;
 }

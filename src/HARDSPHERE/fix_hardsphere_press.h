@@ -4,6 +4,7 @@
    moves (doc/fix_hardsphere_press.rst).
 
    Every N steps, at the end of a step: ln V' = ln V + delta (u - 1/2),
+   all dimensions (iso) or one set of them (aniso, couple) and the
    positions of the group scaled about the box centre, momenta unchanged;
    a move that makes two spheres of a hardsphere fix overlap is rejected at
    once, else it is accepted with probability
@@ -25,6 +26,7 @@ FixStyle(hardsphere/press,FixHardSpherePress);
 
 #include "fix.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -60,12 +62,15 @@ class FixHardSpherePress : public Fix {
   double delta_max = 0.0;     // the widest move the neighbor lists allow
   bigint adapt_attempts = 0;  // the first this many attempts tune delta
   int dimension = 3;
+  std::string couple;             // iso: xyz; aniso: none (default), xy, yz, xz, xyz
+  std::vector<int> move_sets;     // bit masks of the dimensions a move scales together
 
   // state (restart): counters and the random generator, identical on all ranks
   double nattempt = 0.0, naccept = 0.0, noverlap = 0.0;
   double block_attempt = 0.0, block_accept = 0.0;    // adaptation block
   RanPark *random = nullptr;
   double p_current = 0.0;
+  double du_last = 0.0;    // U' - U of the last move tested for energy (output)
 
   std::vector<FixHardSphere *> hs;    // fixes whose spheres must not overlap
   HSPotential *pot = nullptr;         // the smooth energy (none: pure hard spheres)
@@ -92,7 +97,7 @@ class FixHardSpherePress : public Fix {
   void check_box(const double *prd_new, double vnew);
   void check_target(double pressure);
   int overlap_anywhere();
-  void scale_box_and_atoms(double s);
+  void scale_box_and_atoms(const double *s, int set);
   void rebuild();
   void forces_after_move();
 };

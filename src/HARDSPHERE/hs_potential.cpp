@@ -206,12 +206,12 @@ struct HSPotential::Impl : protected Pointers {
 
   // post_force() of the fixes whose forces are evaluated again at
   // sub-steps: all of them, in LAMMPS' order, unless some are held
-  void post_force_conservative()
+  void post_force_conservative(int vflag = 0)
   {
     if (held.empty()) {
-      if (!post_all.empty()) modify->post_force(0);
+      if (!post_all.empty()) modify->post_force(vflag);
     } else
-      for (int k : post_cons) modify->fix[k]->post_force(0);
+      for (int k : post_cons) modify->fix[k]->post_force(vflag);
   }
 
   std::string names(const std::vector<int> &ks) const
@@ -314,18 +314,18 @@ struct HSPotential::Impl : protected Pointers {
   // the styles' compute(ef, 0) in Verlet::run's order: all of them, or
   // (fd_only) those whose derivatives come from force differences (the fd_
   // flags are set in init() only for styles that are present and computed)
-  void compute_styles(int ef, bool fd_only)
+  void compute_styles(int ef, bool fd_only, int vf = 0)
   {
     if (force->pair && force->pair->compute_flag && (!fd_only || fd_pair))
-      force->pair->compute(ef, 0);
+      force->pair->compute(ef, vf);
     if (molecular()) {
-      if (force->bond && (!fd_only || fd_bond)) force->bond->compute(ef, 0);
-      if (force->angle && (!fd_only || fd_angle)) force->angle->compute(ef, 0);
-      if (force->dihedral && (!fd_only || fd_dihedral)) force->dihedral->compute(ef, 0);
-      if (force->improper && (!fd_only || fd_improper)) force->improper->compute(ef, 0);
+      if (force->bond && (!fd_only || fd_bond)) force->bond->compute(ef, vf);
+      if (force->angle && (!fd_only || fd_angle)) force->angle->compute(ef, vf);
+      if (force->dihedral && (!fd_only || fd_dihedral)) force->dihedral->compute(ef, vf);
+      if (force->improper && (!fd_only || fd_improper)) force->improper->compute(ef, vf);
     }
     if (force->kspace && force->kspace->compute_flag && (!fd_only || fd_kspace))
-      force->kspace->compute(ef, 0);
+      force->kspace->compute(ef, vf);
   }
 
   // -grad of the FDIFF part of V at the current x, owned atoms, into out
@@ -840,17 +840,21 @@ std::string HSPotential::describe() const
 
 double HSPotential::evaluate(int eflag)
 {
-  const int ef = eflag ? 1 : 0;    // ENERGY_GLOBAL
+  return evaluate_flags(eflag ? ENERGY_GLOBAL : 0, 0);
+}
+
+double HSPotential::evaluate_flags(int eflag, int vflag)
+{
   comm->forward_comm();
   impl->force_clear();
-  if (modify->n_pre_force) modify->pre_force(0);
-  impl->compute_styles(ef, false);
+  if (modify->n_pre_force) modify->pre_force(vflag);
+  impl->compute_styles(eflag, false, vflag);
   impl->frozen_correction();    // forces only; the tallies stay the style's
-  if (modify->n_pre_reverse) modify->pre_reverse(ef, 0);
+  if (modify->n_pre_reverse) modify->pre_reverse(eflag, vflag);
   if (force->newton) comm->reverse_comm();
-  impl->post_force_conservative();
+  impl->post_force_conservative(vflag);
   nevals_ += 1.0;
-  return eflag ? impl->tally_energy() : 0.0;
+  return (eflag & ENERGY_GLOBAL) ? impl->tally_energy() : 0.0;
 }
 
 void HSPotential::conservative_forces(double **out)

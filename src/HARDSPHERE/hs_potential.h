@@ -88,6 +88,10 @@ class HSPotential : protected Pointers {
   // atom->f (it is the force evaluation of the fixes' sub-steps); ghosts' x
   // are forward-communicated first.
   double evaluate(int eflag);
+  // the same with LAMMPS' eflag / vflag bits passed to the styles and fixes,
+  // so that their tallies are those Verlet would leave on this step (a
+  // barostat's move re-evaluates a step's end); V returned with ENERGY_GLOBAL
+  double evaluate_flags(int eflag, int vflag);
 
   // the conservative forces of evaluate() at the current x into out (owned
   // atoms); x, f and tallies are left unchanged

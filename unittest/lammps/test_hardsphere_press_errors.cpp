@@ -33,6 +33,9 @@ TEST(PressErrors, NonPeriodicDimension)
 {
   expect_error(fluid(P5, 4, 0.5, "", "p p f"),
                {"hardsphere/press iso scales the z dimension, which is not periodic"});
+  expect_error(fluid("fix press all hardsphere/press aniso 5 5 0.05 temp 1.0 seed 11", 4, 0.5,
+                     "", "p f p"),
+               {"hardsphere/press aniso scales the y dimension, which is not periodic"});
 }
 
 TEST(PressErrors, BoxBelowTwiceTheCutoffAtSetup)
@@ -88,8 +91,12 @@ TEST(PressErrors, MissingKeywordsAndFixes)
                {"needs the temp keyword"});
   expect_error(fluid("fix press all hardsphere/press iso 5 5 0.05 temp 1.0"),
                {"needs the seed keyword"});
-  expect_error(fluid("fix press all hardsphere/press aniso 5 5 0.05 temp 1.0 seed 11"),
-               {"supports iso only"});
+  expect_error(fluid("fix press all hardsphere/press tri 5 5 0.05 temp 1.0 seed 11"),
+               {"expected iso", "or aniso", "got tri"});
+  expect_error(fluid("fix press all hardsphere/press aniso 5 5 0.05 temp 1.0 seed 11 couple xw"),
+               {"couple must be none, xyz, xy, yz or xz, got xw"});
+  expect_error(fluid("fix press all hardsphere/press iso 5 5 0.05 temp 1.0 seed 11 couple xy"),
+               {"iso scales x, y and z together", "couple xy needs aniso"});
   expect_error(fluid("fix press all hardsphere/press iso 5 5 0.05 temp 1.0 seed 11 bogus 1"),
                {"Unknown fix hardsphere/press keyword: bogus"});
   expect_error(fluid(P5, 4, 0.5, "fix nve all nve\n", "p p p", ""),
