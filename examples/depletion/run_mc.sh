@@ -33,10 +33,10 @@ done
 # MD: "rho:equil:nrun:seed:tag:nve" (nve yes: fix langevin in equilibration only)
 for s in 0.3:10000:60000:2024:q0.2_rho0.3:no 0.05:10000:200000:5077:q0.2_rho0.05_s5077:no \
          0.05:10000:200000:6151:q0.2_rho0.05_nve:yes; do
-  # (and q0.2_rho0.05_damp0.5: the same with -var damp 0.5, seed 7301, run by hand, see README)
+  # (and q0.2_rho0.05_damp0.5[_dt0.0025]: -var damp 0.5 [-var dt 0.0025], run by hand, see README)
   IFS=: read -r rho eq nrun seed tag nve <<< "$s"
   fin "$SCR/md/log.$tag" || run sh -c "cd '$SCR/md' && nice -n 19 '$LMP' -in '$HERE/in.ao' -var q 0.2 -var rho $rho \
     -var root '$ROOT' -var equil $eq -var nrun $nrun -var seed $seed -var nve $nve -var tag $tag -log log.$tag -screen none > /dev/null"
 done
 for p in $pids; do wait $p; done
-/usr/bin/python3 "$HERE/analyze_mc.py" "$SCR" "$OUT" "0.2:0.05:_s5077 0.2:0.05:_damp0.5 0.2:0.05:_nve 0.2:0.3"
+/usr/bin/python3 "$HERE/analyze_mc.py" "$SCR" "$OUT" "0.2:0.05:_s5077 0.2:0.05:_damp0.5 0.2:0.05:_damp0.5_dt0.0025 0.2:0.05:_nve 0.2:0.3"
