@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""Summarise the NPT runs of run_npt.sh: analyze_npt.py SCRATCHDIR OUT.md "T:rho:P:dP ..."
+
+Per block (each averages every step): T, shifted U/N, V, N/V. The mean
+density with one standard error by blocking (as analyze.py). The NVT
+pressure P carries its own error dP; it moves the density the NPT run
+should find by dP / (dP/drho)_T, with (dP/drho)_T = kT <V> / (rho <dV^2>)
+from this run's volume fluctuations (<dV^2> = kT V kappa_T). dev =
+(<N/V> - rho) / sqrt(se^2 + (dP / (dP/drho))^2).
+"""
+import math, os, re, sys
+import numpy as np
+
+scr, out, states = sys.argv[1], sys.argv[2], sys.argv[3].split()
+
+
+def blocking_se(x, minb=16):
+    x = np.asarray(x, float)
+    best = x.std(ddof=1) / math.sqrt(len(x))
+    while len(x) >= minb:
+        best = max(best, x.std(ddof=1) / math.sqrt(len(x)))
+        m = len(x) // 2
+        x = 0.5 * (x[0:2 * m:2] + x[1:2 * m:2])
+    return best
+
+
+def tau_int(x):
+    """Integrated autocorrelation time in samples (Sokal's window: the first
+    W >= 5 tau(W)); None if the run is too short for the window to close."""
+    x = np.asarray(x, float) - np.mean(x)
+    n = len(x)
+    f = np.fft.rfft(x, 2 * n)
+    acf = np.fft.irfft(f * np.conj(f))[:n] / (x.var() * np.arange(n, 0, -1))
+    tau = 0.5
+    for w in range(1, n // 2):
+        tau += acf[w]
+        if w >= 5 * tau:
+            return tau
+    return None
+
+
+rows = []
+for s in states:
+    T, rho, P, dP = (float(x) for x in s.split(":"))
+    tag = "rho%s_T%s" % tuple(s.split(":")[1::-1])
+    log = open(os.path.join(scr, "log.npt." + tag)).read()
+    m = re.search(r"^RESULT (.*)$", log, re.M)
+    b = np.loadtxt(os.path.join(scr, "blocks.npt." + tag + ".txt"))
+    if m:
+        run = dict(zip(*[iter(m.group(1).split())] * 2))
+    else:    # a run stopped early: its finished blocks are still samples; say so
+        th = re.findall(r"^\s+\d+\s+\S+\s+\S+\s+\S+\s+\S+\s+(\d+)\s+(\S+)\s+(\S+)\s*$", log, re.M)
+        run = dict(attempts="-", accepted="-", delta=th[-1][2] if th else "nan",
+                   steps=f"{int(b[-1, 0]) - int(b[0, 0]) + int(b[1, 0] - b[0, 0])} (stopped)")
+    Tb, U, V, n = b[:, 1], b[:, 2], b[:, 3], b[:, 4]
+    # <dV^2> from the volume every 10 steps (block means would smooth it)
+    vfile = os.path.join(scr, "vol.npt." + tag + ".txt")
+    vs = np.loadtxt(vfile)[:, 1]
+    dPdrho = T * vs.mean() / (rho * vs.var())
+    # the volume walks slowly: an error bar from the integrated
+    # autocorrelation time of the volume series too, the larger one is used
+    tv = tau_int(vs)
+    se_tau = (vs.std() * math.sqrt(2 * tv / len(vs)) / vs.mean() * n.mean()) if tv else float("inf")
+    se = max(blocking_se(n), se_tau)
+    shift = dP / dPdrho
+    dev = (n.mean() - rho) / math.hypot(se, shift) if math.isfinite(se) else float("nan")
+    rows.append((T, rho, P, dP, n.mean(), se, (10 * tv if tv else None), dPdrho, shift, dev, Tb.mean(), blocking_se(Tb),
+                 run["attempts"], run["accepted"], float(run["delta"]), run["steps"], len(n)))
+
+L = ["# Hard-core Yukawa fluid in NPT (fix hardsphere/press) at the NVT pressures\n",
+     "Written by `analyze_npt.py` from the runs of `run_npt.sh` (README.md, \"NPT\"). "
+     "P = Z rho T with Z from the NVT MD of results.md; dP its standard error. "
+     "Uncertainties: one standard error, the larger of blocking and of the volume's integrated "
+     "autocorrelation time (Sokal window; 'None': the run is too short for the window to close, "
+     "error bar infinite). (dP/drho)_T from the NPT run's volume "
+     "fluctuations; rho shift = dP / (dP/drho), the density error that the NVT pressure's "
+     "error carries; dev = (<N/V> - rho) / sqrt(se^2 + shift^2).\n",
+     "| T* | rho* (NVT) | P | <N/V> (NPT) | <N/V>/rho - 1 | volume tau_int (steps) | (dP/drho)_T | rho shift from dP | dev | <T>/T* - 1 | volume moves (accepted) | d | steps (blocks) |",
+     "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+for (T, rho, P, dP, nm, se, tv, dpr, sh, dev, Tm, Tse, att, acc, d, st, nb) in rows:
+    devs = "-" if dev != dev else f"{dev:+.1f}"
+    L.append(f"| {T} | {rho} | {P:.4f} ± {dP:.4f} | {nm:.4f} ± {se:.4f} | {100*(nm/rho-1):+.2f} ± {100*se/rho:.2f} % "
+             f"| {tv if tv is None else round(tv)} | {dpr:.2f} | ± {sh:.4f} | {devs} | {100*(Tm/T-1):+.2f} ± {100*Tse/T:.2f} % | {att} ({acc}) | {d:.4g} | {st} ({nb}) |")
+open(out, "w").write("\n".join(L) + "\n")
+print("\n".join(L))
