@@ -134,6 +134,47 @@ class CellGrid {
   }
 };
 
+// a row of entries T per point (its neighbours, as the caller defines
+// them), built on first demand from the grid and kept until the grid is
+// built again: the local engine's interaction rows (HSLocalForces) and
+// contact candidates (HSLocalEngine::crow) both live for one list build
+template <class T> class CellRows {
+ public:
+  CellGrid grid;
+
+  // a new grid over x[0..n); every row is forgotten
+  template <class X> void rebuild(const X &x, int n, double width, int sub = 1)
+  {
+    grid.build(x, n, width, sub);
+    for (int a : built_) start_[a] = -1;
+    built_.clear();
+    pool_.clear();
+    if ((int) start_.size() < n) {
+      start_.resize(n, -1);
+      len_.resize(n, 0);
+    }
+  }
+
+  // the row of point a (n entries); fill(pool) appends its entries the
+  // first time. The pointer is valid until the next row() that builds.
+  template <class F> const T *row(int a, int &n, F fill)
+  {
+    if (start_[a] < 0) {
+      const size_t first = pool_.size();
+      fill(pool_);
+      start_[a] = (int) first;
+      len_[a] = (int) (pool_.size() - first);
+      built_.push_back(a);
+    }
+    n = len_[a];
+    return pool_.data() + start_[a];
+  }
+
+ private:
+  std::vector<int> start_, len_, built_;    // -1: not built since the grid
+  std::vector<T> pool_;
+};
+
 }    // namespace HardSphere
 
 #endif

@@ -105,40 +105,27 @@ void HSLocalEngine::vc(const int *c, int n)
 const int *HSLocalEngine::crow(int a, int &n)
 {
   HSSystem &F = *sys;
-  const int nall = atom->nlocal + atom->nghost;
-  if (ccells_version != F.cand_version) {
-    ccells.build(F.xref, nall, F.list_cutoff, 2);
-    ccells_version = F.cand_version;
-    for (int b : crow_built) crow_start[b] = -1;
-    crow_built.clear();
-    crow_pool.clear();
-    if ((int) crow_start.size() < nall) {
-      crow_start.resize(nall, -1);
-      crow_len.resize(nall, 0);
-    }
+  if (crows_version != F.cand_version) {
+    crows.rebuild(F.xref, atom->nlocal + atom->nghost, F.list_cutoff, 2);
+    crows_version = F.cand_version;
   }
-  if (crow_start[a] < 0) {
+  return crows.row(a, n, [&](std::vector<int> &out) {
     const int *mask = atom->mask;
     const tagint *tag = atom->tag;
     const double cut2 = F.list_cutoff * F.list_cutoff;
     const double *xa = F.xref[a];
-    const size_t s0 = crow_pool.size();
-    ccells.for_each_candidate(xa, [&](int j, const double *xj) {
+    const size_t s0 = out.size();
+    crows.grid.for_each_candidate(xa, [&](int j, const double *xj) {
       const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
       // (bonded partners too: the fix adds those LAMMPS' lists leave out)
       if (dx * dx + dy * dy + dz * dz > cut2) return;
       if (j == a || tag[j] == tag[a] || !(mask[j] & F.groupbit)) return;
-      crow_pool.push_back(j);
+      out.push_back(j);
     });
-    std::sort(crow_pool.begin() + s0, crow_pool.end(), [tag](int p, int q) {
+    std::sort(out.begin() + s0, out.end(), [tag](int p, int q) {
       return tag[p] != tag[q] ? tag[p] < tag[q] : p < q;
     });
-    crow_start[a] = (int) s0;
-    crow_len[a] = (int) (crow_pool.size() - s0);
-    crow_built.push_back(a);
-  }
-  n = crow_len[a];
-  return crow_pool.data() + crow_start[a];
+  });
 }
 
 void HSLocalEngine::grow_arrays()

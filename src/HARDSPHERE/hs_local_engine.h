@@ -316,9 +316,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // HSSystem::reset_reference), not its images, in tag order; kept per build.
   // The pointer is valid until the next crow() of an atom without a row.
   const int *crow(int a, int &n);
-  HardSphere::CellGrid ccells;
-  bigint ccells_version = -1;
-  std::vector<int> crow_start, crow_len, crow_built, crow_pool;
+  HardSphere::CellRows<int> crows;
+  bigint crows_version = -1;
   void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
 };
 

@@ -193,31 +193,28 @@ void HSLocalForces::set_reference(double **xb)
 // the row of local atom a: every local atom within the neighbor cutoff at
 // the list build's positions (not a, not its images), in tag order, with
 // its special bits as LAMMPS' lists carry them
-void HSLocalForces::build_row(int a)
+void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out) const
 {
   const tagint *tag = atom->tag;
   const tagint ta = tag[a];
   const double cut2 = neighbor->cutneighmax * neighbor->cutneighmax;
   const double *xa = ref_[a];
   const bool mol = atom->molecular != Atom::ATOMIC && atom->nspecial;
-  const size_t start = row_pool_.size();
-  cells_.for_each_candidate(xa, [&](int j, const double *xj) {
+  const size_t start = out.size();
+  rows_cache_.grid.for_each_candidate(xa, [&](int j, const double *xj) {
     const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
     if (dx * dx + dy * dy + dz * dz > cut2) return;
     const tagint tj = tag[j];
     if (j == a || tj == ta) return;    // itself, its own images
     const int code = mol ? special_code(a, tj) : 0;
     if (code < 0) return;    // excluded
-    row_pool_.emplace_back(tj, code ? j ^ (code << SBBITS) : j);
+    out.emplace_back(tj, code ? j ^ (code << SBBITS) : j);
   });
-  std::sort(row_pool_.begin() + start, row_pool_.end(),
+  std::sort(out.begin() + start, out.end(),
             [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
               return p.first != q.first ? p.first < q.first
                                         : (p.second & NEIGHMASK) < (q.second & NEIGHMASK);
             });
-  row_start_[a] = (int) start;
-  row_len_[a] = (int) (row_pool_.size() - start);
-  row_built_.push_back(a);
 }
 
 int HSLocalForces::special_code(int a, tagint tj) const
@@ -313,6 +310,11 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         error->one(FLERR, "{}: local forces asked for two copies of atom {}", owner_,
                    ctag[k].first);
   }
+  // the copy in C of the atom with tag t, -1 if t is not in C
+  auto copy_in_c = [&ctag](tagint t) {
+    auto it = std::lower_bound(ctag.begin(), ctag.end(), std::make_pair(t, -1));
+    return (it != ctag.end() && it->first == t) ? it->second : -1;
+  };
   if (rows_ || nprocs == 1) {
     // (the chain of copies starts at atom->map()'s)
     for (int k = 0; k < nc; k++) mark_chain(rows_ ? atom->map(atom->tag[c[k]]) : c[k]);
@@ -372,29 +374,22 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       error->one(FLERR, "{}: interaction rows asked for without the positions of this neighbor "
                  "list build (set_reference)", owner_);
     if (cells_ncalls_ != neighbor->ncalls) {
-      cells_.build(ref_, nall, neighbor->cutneighmax, 2);
+      rows_cache_.rebuild(ref_, nall, neighbor->cutneighmax, 2);
       cells_ncalls_ = neighbor->ncalls;
-      for (int a : row_built_) row_start_[a] = -1;
-      row_built_.clear();
-      row_pool_.clear();
-      if ((int) row_start_.size() < nall) {
-        row_start_.resize(nall, -1);
-        row_len_.resize(nall, 0);
-      }
     }
-    auto member_tag = [&](tagint t) {
-      auto it = std::lower_bound(ctag.begin(), ctag.end(), std::make_pair(t, -1));
-      return it != ctag.end() && it->first == t;
-    };
     std::vector<int> starts;
     for (const auto &ta : ctag) {
       const int a = ta.second;
-      if (row_start_[a] < 0) build_row(a);
+      int len;
+      const std::pair<tagint, int> *row =
+          rows_cache_.row(a, len, [&](std::vector<std::pair<tagint, int>> &out) {
+            build_row(a, out);
+          });
       const int n0 = (int) neigh_.size();
-      for (int k = row_start_[a], e = k + row_len_[a]; k < e; k++) {
-        const tagint tj = row_pool_[k].first;
-        const int raw = row_pool_[k].second;
-        if (tj < ta.first && member_tag(tj)) continue;    // from tj's row
+      for (int k = 0; k < len; k++) {
+        const tagint tj = row[k].first;
+        const int raw = row[k].second;
+        if (tj < ta.first && copy_in_c(tj) >= 0) continue;    // from tj's row
         if (cross(a, raw & NEIGHMASK) != only_cross) continue;
         neigh_.push_back(raw);
         const int pr[2] = {a, raw & NEIGHMASK};
@@ -498,9 +493,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
     const size_t nz = zero_list_.size();
     for (size_t k = 0; k < nz; k++) {
       const int j = zero_list_[k];
-      const tagint t = tag[j];
-      auto it = std::lower_bound(ctag.begin(), ctag.end(), std::make_pair(t, -1));
-      const int to = (it != ctag.end() && it->first == t) ? it->second : atom->map(t);
+      const int in_c = copy_in_c(tag[j]);
+      const int to = in_c >= 0 ? in_c : atom->map(tag[j]);
       if (to != j) {
         fold_.push_back(j);
         fold_.push_back(to);
@@ -691,11 +685,13 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
       for (int d = 0; d < 3; d++) fl_[fold_[k + 1]][d] += fl_[fold_[k]][d];
     if (!first) return;
     touched_owned_.clear();
+    // (the fold sources marked and unmarked again: no pass over all atoms)
     std::vector<char> &src = fold_src_;
-    src.assign(nall, 0);
+    if ((int) src.size() < nall) src.resize(nall, 0);
     for (size_t k = 0; k < fold_.size(); k += 2) src[fold_[k]] = 1;
     for (int j : zero_list_)
       if (!src[j]) touched_owned_.push_back(j);
+    for (size_t k = 0; k < fold_.size(); k += 2) src[fold_[k]] = 0;
     std::sort(touched_owned_.begin(), touched_owned_.end());
     return;
   }

@@ -138,7 +138,6 @@ class HSLocalForces : protected Pointers {
   // compute_rows(); the array must stay unchanged until the next build.
   void set_reference(double **xb);
   void compute_rows(const int *c, int nc);
-  bool rows() const { return rows_; }
 
   // the terms of V_C of the last compute(), each as its atoms (local
   // indices, ghosts mapped to their owned copy on a single rank; -1 for a
@@ -191,21 +190,18 @@ class HSLocalForces : protected Pointers {
   // rows mode: the cell list of all local atoms (per list build) and the
   // folds (image j -> copy k) of the last compute_rows()
   bool rows_ = false;
-  HardSphere::CellGrid cells_;
   double **ref_ = nullptr;
   int64_t ref_ncalls_ = -1, cells_ncalls_ = -1;
-  // rows by local atom, kept per list build: entries (tag, raw j) of
-  // row_pool_ from row_start_[a] (-1: not built yet), row_len_[a] long
-  std::vector<int> row_start_, row_len_, row_built_;
-  std::vector<std::pair<tagint, int>> row_pool_;
-  void build_row(int a);
+  // rows by local atom, kept per list build: entries (tag, raw j)
+  HardSphere::CellRows<std::pair<tagint, int>> rows_cache_;
+  void build_row(int a, std::vector<std::pair<tagint, int>> &out) const;
   // how LAMMPS' lists carry the pair (a, tj) (a local, tj a tag): 0 plain,
   // 1-3 a special pair with its bits, -1 a special pair left out
   // (special_flag 0)
   int special_code(int a, tagint tj) const;
   std::vector<int> fold_;    // pairs j, k
   std::vector<std::pair<tagint, int>> ctag_;
-  std::vector<char> fold_src_;
+  std::vector<char> fold_src_;    // all 0 between calls
   void evaluate(const int *c, int nc, bool record_terms);
   void zero(int i);
   void grow();

@@ -118,3 +118,35 @@ TEST(CellGrid, DegenerateBoxes)
     EXPECT_LT(c.size(), 10u);
   }
 }
+
+// CellRows: a row is filled once per grid build, kept until the next build
+// (then filled again), and holds what its fill appended
+TEST(CellRows, FilledOncePerBuild)
+{
+  std::vector<P> pts(20);
+  for (int i = 0; i < 20; i++) pts[i] = {0.5 * i, 0.0, 0.0};
+  HardSphere::CellRows<int> rows;
+  int fills = 0;
+  auto neighbours = [&](int a) {
+    return [&, a](std::vector<int> &out) {
+      ++fills;
+      rows.grid.for_each_candidate(pts[a].data(), [&](int j, const double *xj) {
+        if (j != a && std::fabs(xj[0] - pts[a][0]) <= 1.0) out.push_back(j);
+      });
+    };
+  };
+  for (int build = 0; build < 2; build++) {
+    rows.rebuild(pts, 20, 1.0, 2);
+    fills = 0;
+    for (int pass = 0; pass < 3; pass++)
+      for (int a : {0, 7, 19}) {
+        int n;
+        const int *r = rows.row(a, n, neighbours(a));
+        std::set<int> got(r, r + n), want;
+        for (int j = 0; j < 20; j++)
+          if (j != a && std::fabs(pts[j][0] - pts[a][0]) <= 1.0) want.insert(j);
+        EXPECT_EQ(got, want) << "point " << a << " build " << build;
+      }
+    EXPECT_EQ(fills, 3) << "each row filled once per build";
+  }
+}
