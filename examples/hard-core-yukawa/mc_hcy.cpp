@@ -20,6 +20,8 @@
 //   g++ -O2 -o mc_hcy mc_hcy.cpp
 //   ./mc_hcy --rho 0.6 --T 1.5 --cells 5 --sweeps 100000 --seed 1
 
+#include "../common/mc_stats.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -85,66 +87,9 @@ struct System {
   }
 };
 
-// g(sigma+): the cavity function y(r) = g(r) exp(u_w(r)/kT) is smooth through
-// contact where g itself has the Yukawa slope, so ln y is fitted by a
-// quadratic in (r - sigma) over the first NFIT bins (each bin holds the
-// average of exp(u_w/kT) over its pairs) and g(sigma+) = y(sigma) exp(-u_w(sigma)/kT).
-double contact_value(const System &s, const std::vector<double> &ybin, double nsamples)
-{
-  const double PI = 3.14159265358979323846;
-  const double ideal = 0.5 * s.n * (s.n - 1) / (s.L * s.L * s.L);    // pairs per volume
-  double A[3][4] = {{0}};
-  for (int b = 0; b < NFIT; ++b) {
-    const double r0 = 1.0 + b * H, r1 = r0 + H;
-    const double shell = 4.0 / 3.0 * PI * (r1 * r1 * r1 - r0 * r0 * r0);
-    const double y = ybin[b] / (nsamples * ideal * shell);
-    if (!(y > 0)) return NAN;
-    const double t = 0.5 * (r0 + r1) - 1.0, ly = std::log(y);
-    const double f[3] = {1.0, t, t * t};
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) A[i][j] += f[i] * f[j];
-      A[i][3] += f[i] * ly;
-    }
-  }
-  // 3x3 normal equations, Gauss elimination; we need the constant term
-  for (int c = 0; c < 3; ++c)
-    for (int r = c + 1; r < 3; ++r) {
-      const double m = A[r][c] / A[c][c];
-      for (int k = c; k < 4; ++k) A[r][k] -= m * A[c][k];
-    }
-  double coef[3];
-  for (int r = 2; r >= 0; --r) {
-    double v = A[r][3];
-    for (int k = r + 1; k < 3; ++k) v -= A[r][k] * coef[k];
-    coef[r] = v / A[r][r];
-  }
-  return std::exp(coef[0]) * std::exp(-s.uw(1.0) / s.p.T);
-}
-
-// blocking error as in the MD analysis: coarsen by pairs while >= 16 blocks
-// remain and keep the largest standard error
-double block_se(std::vector<double> v)
-{
-  double best = 0;
-  while (v.size() >= 16) {
-    double m = 0, q = 0;
-    for (double a : v) m += a;
-    m /= v.size();
-    for (double a : v) q += (a - m) * (a - m);
-    best = std::max(best, std::sqrt(q / (v.size() - 1) / v.size()));
-    std::vector<double> w;
-    for (size_t i = 0; i + 1 < v.size(); i += 2) w.push_back(0.5 * (v[i] + v[i + 1]));
-    v.swap(w);
-  }
-  return best;
-}
-
-double mean(const std::vector<double> &v)
-{
-  double m = 0;
-  for (double a : v) m += a;
-  return m / v.size();
-}
+using mc_stats::block_se;    // ../common/mc_stats.h
+using mc_stats::contact_value;
+using mc_stats::mean;
 
 void usage()
 {
@@ -276,7 +221,7 @@ int main(int argc, char **argv)
     if ((sw + 1) % per_block == 0) {
       bU.push_back(sumU / nblk_samples);
       bZ.push_back(sumW / nblk_samples);
-      bG.push_back(contact_value(s, yblk, (double) nblk_samples));
+      bG.push_back(contact_value(s, yblk, (double) nblk_samples, H, NFIT));
       for (int b = 0; b < NCB; ++b) {
         ytot[b] += yblk[b];
         yblk[b] = 0;
@@ -287,7 +232,7 @@ int main(int argc, char **argv)
   }
 
   const double PI = 3.14159265358979323846;
-  const double gc = contact_value(s, ytot, (double) ntot_samples);
+  const double gc = contact_value(s, ytot, (double) ntot_samples, H, NFIT);
   std::vector<double> bZtot(bZ.size());
   for (size_t b = 0; b < bZ.size(); ++b) bZtot[b] = 1.0 + bZ[b] + 2.0 * PI / 3.0 * p.rho * bG[b];
   std::printf("# mc_hcy N %d rho %.6g T %.6g kappa %.6g rc %.6g eps %.6g weight %s sweeps %ld "
