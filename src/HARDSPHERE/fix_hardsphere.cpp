@@ -46,7 +46,7 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
   virial_global_flag = 1;
   thermo_virial = 1;
   comm_forward = 7;
-  comm_reverse = 1;
+  comm_reverse = HSSystem::COMM_COLUMNS;    // the gap, or an engine's columns
   restart_global = 1;
   force_reneighbor = 1;    // we ask for a list build when a sphere moved skin/2
   next_reneighbor = -1;
@@ -133,7 +133,7 @@ void FixHardSphere::post_constructor()
 {
   size_vector = 5 + (method ? method->nvector() : 0);
   local_vec_offset = size_vector;
-  size_vector += 6;
+  size_vector += HSStepEngine::NCOUNTERS;
 }
 
 void FixHardSphere::init()
@@ -248,6 +248,7 @@ void FixHardSphere::choose_engine()
   if (!own.empty()) why += (why.empty() ? "" : "; ") + own;
   if (why.empty()) {
     engine = local_engine;
+    local_engine->chosen();
     if (comm->me == 0 && local_why_told != "local")
       utils::logmesg(lmp, "fix {}: substep local (collisions sub-stepped per cluster)\n",
                      style_name);

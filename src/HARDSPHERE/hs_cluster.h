@@ -51,6 +51,16 @@ class UnionFind {
     }
   }
   int n() const { return n_; }
+  // more elements within the current reset (their state: untouched)
+  void grow(int n)
+  {
+    if ((int) parent_.size() < n) {
+      parent_.resize(n);
+      size_.resize(n);
+      stamp_.resize(n, 0);
+    }
+    if (n > n_) n_ = n;
+  }
   bool touched(int i) const { return stamp_[i] == epoch_; }
   int find(int i)
   {
@@ -131,6 +141,26 @@ class ClusterSet {
     ++count_.steps;
   }
 
+  // more elements within the current step (a set over dense ids that
+  // grows as contacts name new atoms)
+  void grow(int n)
+  {
+    uf_.grow(n);
+    if ((int) mstamp_.size() < n) {
+      mstamp_.resize(n, 0);
+      rstamp_.resize(n, 0);
+      root_id_.resize(n, -1);
+      clstamp_.resize(n, 0);
+      cl_.resize(n, -1);
+      oldstamp_.resize(n, 0);
+      old_.resize(n, -1);
+    }
+  }
+  // number clusters and sort members by order[i] instead of i (a set over
+  // dense ids of atom IDs, replicated on every MPI rank, orders by ID so
+  // that every rank numbers the clusters alike); nullptr: by i. The caller
+  // keeps the vector alive.
+  void set_order(const std::vector<int64_t> *order) { order_ = order; }
   // sphere i collides in this step (it is a member of C)
   void add_member(int i)
   {
@@ -198,7 +228,11 @@ class ClusterSet {
     }
     // every touched atom is a member or shares a term with one, so every
     // set of touched atoms is a cluster
-    std::sort(touched_.begin(), touched_.end());
+    if (order_) {
+      const std::vector<int64_t> &o = *order_;
+      std::sort(touched_.begin(), touched_.end(), [&o](int a, int b) { return o[a] < o[b]; });
+    } else
+      std::sort(touched_.begin(), touched_.end());
     int nc = 0;
     for (int i : touched_) {
       const int r = uf_.find(i);
@@ -315,6 +349,7 @@ class ClusterSet {
   std::vector<std::vector<int>> members_, atoms_;
   bool built_ = false, counted_ = false;
   bool partners_join_ = true;
+  const std::vector<int64_t> *order_ = nullptr;
   ClusterCounters count_;
 };
 

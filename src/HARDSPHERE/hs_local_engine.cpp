@@ -1,6 +1,17 @@
 /* ----------------------------------------------------------------------
    HARDSPHERE package: the local step engine (`substep local`).
    See hs_local_engine.h and doc/fix_hardsphere.rst, "Step engines".
+
+   One code for any number of MPI ranks (issue 20, doc/Developer_
+   hardsphere.rst "The local engine on several ranks"): the step's clusters
+   are a ClusterSet over the members' atom IDs, the same on every rank; a
+   cluster's flows are run by the owner of its key (lowest member ID) on its
+   own copies (owned or ghost); what they produce goes to the other ranks as
+   packets (MPI_Allgatherv, one per phase) or, for the partners' sums,
+   through the ghosts' reverse communication; Phi_H2's velocities go from
+   the owners to the ghosts by a forward communication. Every discrete
+   decision is made by one rank and shared: a contact by the rank that
+   lists the pair (the fix's half list) or runs the flow.
 ------------------------------------------------------------------------- */
 
 #include "hs_local_engine.h"
@@ -13,6 +24,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix.h"
 #include "force.h"
@@ -36,6 +48,8 @@ using HardSphere::Contact;
 static constexpr double LINE_MARGIN = 1.0e-3;
 // growth rounds of one step beyond which something is wrong
 static constexpr int MAX_ROUNDS = 10000;
+// doubles per path segment in a packet: t0, t1, q, v, a
+static constexpr int SEG_DOUBLES = 11;
 
 /* ---------------------------------------------------------------------- */
 
@@ -43,12 +57,14 @@ HSLocalEngine::HSLocalEngine(LAMMPS *lmp, HSSystem &system, HSMethod &method) :
     HSStepEngine(lmp), sys(&system), meth(method)
 {
   locf = new HSLocalForces(lmp, "Fix " + system.style_name);
+  nprocs = comm->nprocs;
+  me = comm->me;
 }
 
 HSLocalEngine::~HSLocalEngine()
 {
   delete locf;
-  for (double ***a : peratom()) memory->destroy(*a);
+  for (auto &a : peratom()) memory->destroy(*a.first);
 }
 
 /* ----------------------------------------------------------------------
@@ -59,8 +75,8 @@ std::string HSLocalEngine::limits()
 {
   std::string why;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
-  if (comm->nprocs > 1)
-    add(fmt::format("{} MPI ranks (the local engine runs on one rank so far)", comm->nprocs));
+  nprocs = comm->nprocs;
+  me = comm->me;
   if (atom->map_style == Atom::MAP_NONE)
     add("no atom map (use atom_modify map array or yes)");
   else {
@@ -79,18 +95,54 @@ std::string HSLocalEngine::limits()
                       "terms)",
                       other->id, other->style));
   }
-  // V_C's forces from rank-local rows (the form several ranks need), else
-  // from the pair list restriction (newton_pair off, neigh_modify exclude)
+  // V_C's forces from rank-local rows (what several ranks need), else from
+  // the pair list restriction (newton_pair off, neigh_modify exclude: one
+  // rank only, its evaluation is collective)
   rows = locf->exact() && locf->rows_unsupported().empty();
+  if (locf->exact() && !rows && nprocs > 1)
+    add(fmt::format("{} MPI ranks and {} (the local engine's interaction rows, which several "
+                    "ranks need)",
+                    nprocs, locf->rows_unsupported()));
   cand_version = -1;
+  crows_version = -1;
   bonded = (atom->molecular != Atom::ATOMIC) &&
       (force->bond || force->angle || force->dihedral || force->improper);
   return why;
 }
 
+/* ----------------------------------------------------------------------
+   the ghost cutoff: the rank that runs a cluster takes a member owned
+   elsewhere by its ghost copy nearest the key (on several ranks), which
+   needs all atoms within the neighbor cutoff, so ghosts must reach that far
+   beyond the farthest such member. The engine asks for the neighbor cutoff
+   plus two contact-list cutoffs (three members in a row across a rank's
+   face) and checks every cluster (member_copies())
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::chosen()
+{
+  // one rank: every member is owned, its rows complete
+  if (comm->nprocs == 1) return;
+  double cutneigh = sys->list_cutoff;
+  if (force->pair && force->pair->cutforce > 0.0)
+    cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
+  ghost_needed = cutneigh + 2.0 * sys->list_cutoff;
+  if (comm->cutghostuser < ghost_needed) {
+    if (me == 0)
+      utils::logmesg(lmp,
+                     "fix {}: substep local sets comm_modify cutoff {:.8g} (was {:.8g}): the "
+                     "neighbor cutoff {:.8g} plus two contact-list cutoffs {:.8g}, so that a "
+                     "collision cluster's members have their interaction rows on the rank "
+                     "that runs it\n",
+                     sys->style_name, ghost_needed, comm->cutghostuser, cutneigh,
+                     sys->list_cutoff);
+    comm->cutghostuser = ghost_needed;
+  }
+}
+
 /* ---------------------------------------------------------------------- */
 
-// -grad V_C for the atoms c[0..n) (HSLocalForces)
+// -grad V_C for the copies c[0..n) (HSLocalForces)
 void HSLocalEngine::vc(const int *c, int n)
 {
   if (rows) {
@@ -100,6 +152,7 @@ void HSLocalEngine::vc(const int *c, int n)
     locf->compute_rows(c, n);
   } else
     locf->compute(c, n, false);
+  ncompute_here += 1.0;
 }
 
 const int *HSLocalEngine::crow(int a, int &n)
@@ -132,28 +185,20 @@ void HSLocalEngine::grow_arrays()
 {
   if (atom->nmax > nmax) {
     nmax = atom->nmax;
-    for (double ***a : peratom()) {
-      memory->destroy(*a);
-      memory->create(*a, nmax, 3, "hardsphere/local:peratom");
+    for (auto &a : peratom()) {
+      memory->destroy(*a.first);
+      memory->create(*a.first, nmax, a.second, "hardsphere/local:peratom");
     }
   }
-  if ((int) cnt.size() < nmax) {
-    // per-atom bookkeeping that refers to local indices: a new size means
-    // a new step's indices, so nothing of a previous step is kept
-    cnt.assign(nmax, 0);
-    in_sums.assign(nmax, 0);
-    sums_used.clear();
-    dstamp.assign(nmax, 0);
-    hstamp.assign(nmax, 0);
-    atom_runs.assign(nmax, {});
-    runs_used.clear();
-  }
-  if ((int) estamp.size() < nmax) {
+  if ((int) mid.size() < nmax) {
+    mid.resize(nmax, -1);
+    lab.resize(nmax, -1);
+    hmem.resize(nmax, 0);
+    atom_runs.resize(nmax);
     estamp.resize(nmax, 0);
     astamp.resize(nmax, 0);
     astamp0.resize(nmax, 0);
-    xstamp.resize(nmax, 0);
-    pathv.resize(nmax, 0.0);
+    dstamp.resize(nmax, 0);
   }
 }
 
@@ -165,39 +210,42 @@ void HSLocalEngine::bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp)
   }
 }
 
+int HSLocalEngine::id_of(tagint t)
+{
+  auto it = idof.find(t);
+  if (it != idof.end()) return it->second;
+  const int id = (int) idtag.size();
+  idof.emplace(t, id);
+  idtag.push_back((int64_t) t);
+  cs.grow(id + 1);
+  return id;
+}
+
 /* ----------------------------------------------------------------------
-   the contact candidates by owned atom, once per list build (one rank:
-   every ghost is an image of an owned atom)
+   the contact candidates by local copy, once per list build (each pair
+   is listed on one rank: the fix's half list)
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::build_adjacency()
 {
   if (sys->cand_version == cand_version) return;
-  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
-  own.resize(nall);
-  for (int k = 0; k < nlocal; k++) own[k] = k;
-  for (int k = nlocal; k < nall; k++) {
-    const int o = atom->map(atom->tag[k]);
-    if (o < 0 || o >= nlocal)
-      error->one(FLERR, "Fix {} substep local: ghost atom {} has no owned copy on this rank",
-                 sys->style_name, atom->tag[k]);
-    own[k] = o;
-  }
+  const int nall = atom->nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
   const std::vector<int> &cand = sys->cand;
   const int np = (int) cand.size() / 2;
-  adj_off.assign(nlocal + 1, 0);
+  adj_off.assign(nall + 1, 0);
   for (int p = 0; p < np; p++) {
-    const int a = own[cand[2 * p]], b = own[cand[2 * p + 1]];
-    if (a == b) continue;
+    const int a = cand[2 * p], b = cand[2 * p + 1];
+    if (tag[a] == tag[b]) continue;
     adj_off[a + 1]++;
     adj_off[b + 1]++;
   }
-  for (int i = 0; i < nlocal; i++) adj_off[i + 1] += adj_off[i];
-  adj.resize(adj_off[nlocal]);
+  for (int i = 0; i < nall; i++) adj_off[i + 1] += adj_off[i];
+  adj.resize(adj_off[nall]);
   std::vector<int> pos(adj_off.begin(), adj_off.end() - 1);
   for (int p = 0; p < np; p++) {
-    const int a = own[cand[2 * p]], b = own[cand[2 * p + 1]];
-    if (a == b) continue;
+    const int a = cand[2 * p], b = cand[2 * p + 1];
+    if (tag[a] == tag[b]) continue;
     adj[pos[a]++] = p;
     adj[pos[b]++] = p;
   }
@@ -207,7 +255,8 @@ void HSLocalEngine::build_adjacency()
 }
 
 /* ----------------------------------------------------------------------
-   move owned atom i (and its images) to xn, resp. give it velocity vn
+   move local copy i (and every other copy of its atom on this rank) to
+   xn, resp. give them velocity vn
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::set_x(int i, const double *xn)
@@ -217,7 +266,8 @@ void HSLocalEngine::set_x(int i, const double *xn)
   x[i][0] = xn[0];
   x[i][1] = xn[1];
   x[i][2] = xn[2];
-  for (int k = atom->sametag[i]; k >= 0; k = atom->sametag[k]) {
+  for (int k = atom->map(atom->tag[i]); k >= 0; k = atom->sametag[k]) {
+    if (k == i) continue;
     x[k][0] += d[0];
     x[k][1] += d[1];
     x[k][2] += d[2];
@@ -227,7 +277,7 @@ void HSLocalEngine::set_x(int i, const double *xn)
 void HSLocalEngine::set_v(int i, const double *vn)
 {
   double **v = atom->v;
-  for (int k = i; k >= 0; k = atom->sametag[k]) {
+  for (int k = atom->map(atom->tag[i]); k >= 0; k = atom->sametag[k]) {
     v[k][0] = vn[0];
     v[k][1] = vn[1];
     v[k][2] = vn[2];
@@ -235,9 +285,174 @@ void HSLocalEngine::set_v(int i, const double *vn)
 }
 
 /* ----------------------------------------------------------------------
+   the collectives of a step: every rank's sendbuf, in rank order (one
+   MPI_Allgather of the sizes and one MPI_Allgatherv), and a maximum
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::allgather(std::vector<double> &out)
+{
+  ncollective += 1.0;
+  if (nprocs == 1) {
+    out = sendbuf;
+    return;
+  }
+  int n = (int) sendbuf.size();
+  rcounts.resize(nprocs);
+  rdispl.resize(nprocs);
+  MPI_Allgather(&n, 1, MPI_INT, rcounts.data(), 1, MPI_INT, world);
+  int tot = 0;
+  for (int p = 0; p < nprocs; p++) {
+    rdispl[p] = tot;
+    tot += rcounts[p];
+  }
+  out.resize(tot);
+  MPI_Allgatherv(sendbuf.data(), n, MPI_DOUBLE, out.data(), rcounts.data(), rdispl.data(),
+                 MPI_DOUBLE, world);
+}
+
+double HSLocalEngine::max_all(double v)
+{
+  ncollective += 1.0;
+  if (nprocs == 1) return v;
+  double g;
+  MPI_Allreduce(&v, &g, 1, MPI_DOUBLE, MPI_MAX, world);
+  return g;
+}
+
+// every rank's hits, sorted and unique (the same list on every rank)
+void HSLocalEngine::gather_hits(std::vector<Hit> &hits)
+{
+  start_packets(hits);
+  allgather(recvbuf);
+  unpack_runs(hits, nullptr);
+}
+
+/* ----------------------------------------------------------------------
+   the packets of a run's half: members' IDs, displacements from their
+   start and velocities after the half, its path segments (displacements
+   from the start too), its collision counts. Layout: key, half, nmembers,
+   npair, nwall, then per member: ID, dx(3), v(3), nseg, nseg x SEG_DOUBLES
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::pack_run(const Run &r, bool first_half)
+{
+  const int h = first_half ? 0 : 1;
+  const int nm = (int) r.mtags.size();
+  sendbuf.push_back((double) r.mtags[0]);
+  sendbuf.push_back((double) h);
+  sendbuf.push_back((double) nm);
+  sendbuf.push_back(r.npair[h]);
+  sendbuf.push_back(r.nwall[h]);
+  const std::vector<Vec> &dx = first_half ? r.dxm : r.dxe;
+  const std::vector<Vec> &vv = first_half ? r.vm : r.ve;
+  const std::vector<std::vector<Seg>> &segs = first_half ? r.segsA : r.segsB;
+  for (int k = 0; k < nm; k++) {
+    sendbuf.push_back((double) r.mtags[k]);
+    for (int d = 0; d < 3; d++) sendbuf.push_back(dx[k][d]);
+    for (int d = 0; d < 3; d++) sendbuf.push_back(vv[k][d]);
+    sendbuf.push_back((double) segs[k].size());
+    for (const Seg &s : segs[k]) {
+      sendbuf.push_back(s.t0);
+      sendbuf.push_back(s.t1);
+      for (int d = 0; d < 3; d++) sendbuf.push_back(s.q[d]);
+      for (int d = 0; d < 3; d++) sendbuf.push_back(s.v[d]);
+      for (int d = 0; d < 3; d++) sendbuf.push_back(s.a[d]);
+    }
+  }
+}
+
+// hits first (count, pairs), then packets; the hits of every rank go to
+// hits (sorted, unique), the packets of other ranks' runs into the
+// registry; arrived: the keys of every packet (own ones too)
+void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arrived)
+{
+  hits.clear();
+  const std::vector<double> &b = recvbuf;
+  size_t m = 0;
+  const size_t n = b.size();
+  while (m < n) {
+    const int nh = (int) b[m++];
+    for (int k = 0; k < nh; k++, m += 2) hits.push_back({(tagint) b[m], (tagint) b[m + 1]});
+    const int npk = (int) b[m++];
+    for (int pk = 0; pk < npk; pk++) {
+      const tagint key = (tagint) b[m];
+      const int h = (int) b[m + 1];
+      const int nm = (int) b[m + 2];
+      Run *rp = run_of(key);
+      const bool mine = rp && rp->mine;
+      if (arrived) arrived->push_back(key);
+      Run &r = mine ? *rp : runs[key];
+      const double np = b[m + 3], nw = b[m + 4];
+      m += 5;
+      if (!mine) {
+        r.mtags.resize(nm);
+        std::vector<Vec> &dx = h == 0 ? r.dxm : r.dxe;
+        std::vector<Vec> &vv = h == 0 ? r.vm : r.ve;
+        std::vector<std::vector<Seg>> &segs = h == 0 ? r.segsA : r.segsB;
+        dx.resize(nm);
+        vv.resize(nm);
+        segs.resize(nm);
+        r.npair[h] = np;
+        r.nwall[h] = nw;
+        for (int k = 0; k < nm; k++) {
+          r.mtags[k] = (tagint) b[m++];
+          for (int d = 0; d < 3; d++) dx[k][d] = b[m++];
+          for (int d = 0; d < 3; d++) vv[k][d] = b[m++];
+          const int ns = (int) b[m++];
+          segs[k].resize(ns);
+          for (int q = 0; q < ns; q++) {
+            Seg &s = segs[k][q];
+            s.t0 = b[m++];
+            s.t1 = b[m++];
+            for (int d = 0; d < 3; d++) s.q[d] = b[m++];
+            for (int d = 0; d < 3; d++) s.v[d] = b[m++];
+            for (int d = 0; d < 3; d++) s.a[d] = b[m++];
+          }
+        }
+        if (h == 0) {
+          r.a_done = true;
+          r.b_done = false;
+          place_members(r);
+        } else
+          r.b_done = true;
+      } else
+        for (int k = 0; k < nm; k++) m += 8 + SEG_DOUBLES * (int) b[m + 7];
+    }
+  }
+  std::sort(hits.begin(), hits.end());
+  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
+}
+
+// every local copy of the members of another rank's run waits at its mid
+// position (x0 + the run's displacement) with its mid velocity
+void HSLocalEngine::place_members(const Run &r)
+{
+  double **x = atom->x, **v = atom->v;
+  for (size_t k = 0; k < r.mtags.size(); k++)
+    for (int l = atom->map(r.mtags[k]); l >= 0; l = atom->sametag[l]) {
+      for (int d = 0; d < 3; d++) {
+        x[l][d] = x0[l][d] + r.dxm[k][d];
+        v[l][d] = r.vm[k][d];
+      }
+    }
+}
+
+void HSLocalEngine::start_packets(const std::vector<Hit> &hits)
+{
+  sendbuf.clear();
+  sendbuf.push_back((double) hits.size());
+  for (const Hit &h : hits) {
+    sendbuf.push_back((double) h.i);
+    sendbuf.push_back((double) h.j);
+  }
+  npk_pos = sendbuf.size();
+  sendbuf.push_back(0.0);
+}
+
+/* ----------------------------------------------------------------------
    every contact of the step on the unsplit Verlet paths q + t v + t^2/2 a
    (the first guess of C): walls of active spheres, candidate pairs with an
-   active sphere
+   active sphere (this rank's part; the caller gathers them)
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::predict_all(std::vector<Hit> &hits)
@@ -245,8 +460,9 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   HSSystem &F = *sys;
   double **x = atom->x, **v = atom->v, **acc = F.acc;
   const double *active = F.active;
-  const int nlocal = atom->nlocal;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
   double **xref = F.xref;
   const double *gap = F.gap;
   const double dt = F.dtv;
@@ -257,7 +473,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     return dt * vv + 0.5 * dt * dt * aa;
   };
   // the screen's active spheres, and those within LINE_MARGIN / 2 of being
-  // active (Phi_H2's lines may deviate that much from fix nve's, below)
+  // active (Phi_H2's lines may deviate that much from fix nve's, below);
+  // flags and free gaps go to the ghosts (cols: gap, flag)
   bump_epoch(pepoch0, astamp0);
   act0.clear();
   near_pairs.clear();
@@ -265,6 +482,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
   const double t2 = dt * dt, h4 = 0.25 * t2 * t2;
   for (int i = 0; i < nlocal; i++) {
+    cols[i][0] = gap[i];
+    cols[i][1] = 0.0;
     if (!(mask[i] & F.groupbit)) continue;
     if (active[i] == 0.0) {
       // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
@@ -279,11 +498,14 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) continue;
     }
     act0.push_back(i);
-    astamp0[i] = pepoch0;
-    pathv[i] = path(i);
+    cols[i][1] = 1.0;
   }
+  sys->forward_columns(cols, 2);
+  ncollective += 1.0;
+  for (int l = 0; l < nall; l++)
+    if (cols[l][1] != 0.0) astamp0[l] = pepoch0;
   for (int i : act0) {
-    const double Di = pathv[i], r = F.radius_of(i);
+    const double Di = path(i), r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
       const Wall &W = F.walls[wl];
       const double g = F.wall_gap(W, x[i], r);
@@ -291,7 +513,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       const double s = (W.side < 0) ? 1.0 : -1.0;
       const Contact ct = wall_contact(i, wl, g, v[i][W.dim], acc[i][W.dim], dt);
       if (ct.status != HardSphere::NO_CONTACT) {
-        hits.push_back({i, -1 - wl});
+        hits.push_back({tag[i], -1 - (tagint) wl});
         continue;
       }
       // fix nve's straight line (Phi_H2's, up to the V_C kicks): a contact
@@ -304,99 +526,166 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
         continue;
       HardSphere::wall_gap_poly(g, wn, 0.0, c);
       const Contact cl = HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r);
-      if (cl.status != HardSphere::NO_CONTACT) hits.push_back({i, -1 - wl});
+      if (cl.status != HardSphere::NO_CONTACT) hits.push_back({tag[i], -1 - (tagint) wl});
       else near_walls.push_back(i);
     }
   }
-  // candidate pairs with an active sphere (ghosts are active with their
-  // owner): a sequential pass, as HSSystem::predict()
+  // candidate pairs with an active sphere (each listed on one rank)
   const std::vector<int> &cand = F.cand;
   const int np = (int) cand.size() / 2;
   for (int p = 0; p < np; p++) {
-      const int i = cand[2 * p], j = cand[2 * p + 1];
-      if (astamp0[own[i]] != pepoch0 && astamp0[own[j]] != pepoch0) continue;
-      if (own[i] == own[j]) continue;
-      const double sigma = F.radius_of(i) + F.radius_of(j);
-      const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-      const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
-      const double sm = sigma * (1.0 + LINE_MARGIN);
-      // the path bound of act0's atoms is kept; a pair may have one other end
-      const double pi = (astamp0[own[i]] == pepoch0) ? pathv[own[i]] : path(i);
-      const double pj = (astamp0[own[j]] == pepoch0) ? pathv[own[j]] : path(j);
-      const double reach = sm + pi + pj;
-      if (r2 > reach * reach) continue;
-      const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
-      const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
-      const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt);
-      if (ct.status != HardSphere::NO_CONTACT) {
-        hits.push_back({own[i], own[j]});
+    const int i = cand[2 * p], j = cand[2 * p + 1];
+    if (astamp0[i] != pepoch0 && astamp0[j] != pepoch0) continue;
+    if (tag[i] == tag[j]) continue;
+    const double sigma = F.radius_of(i) + F.radius_of(j);
+    const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+    const double sm = sigma * (1.0 + LINE_MARGIN);
+    const double reach = sm + path(i) + path(j);
+    if (r2 > reach * reach) continue;
+    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+    const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
+    const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt);
+    if (ct.status != HardSphere::NO_CONTACT) {
+      hits.push_back({tag[i], tag[j]});
+      continue;
+    }
+    // fix nve's straight lines (Phi_H2's, up to the V_C kicks of the
+    // partners): a contact joins the guess, a near miss within the margin
+    // is listed for Phi_H2's check
+    const double dw[3] = {dv[0] + 0.5 * dt * da[0], dv[1] + 0.5 * dt * da[1],
+                          dv[2] + 0.5 * dt * da[2]};
+    const double zero[3] = {0.0, 0.0, 0.0};
+    if (r2 >= sm * sm) {
+      HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
+      if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm).status ==
+          HardSphere::NO_CONTACT)
         continue;
-      }
-      // fix nve's straight lines (Phi_H2's, up to the V_C kicks of the
-      // partners): a contact joins the guess, a near miss within the margin
-      // is listed for Phi_H2's check
-      const double dw[3] = {dv[0] + 0.5 * dt * da[0], dv[1] + 0.5 * dt * da[1],
-                            dv[2] + 0.5 * dt * da[2]};
-      const double zero[3] = {0.0, 0.0, 0.0};
-      if (r2 >= sm * sm) {
-        HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
-        if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm).status ==
-            HardSphere::NO_CONTACT)
-          continue;
-      }
-      HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
-      const Contact cl =
-          HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma);
-      if (cl.status != HardSphere::NO_CONTACT) hits.push_back({own[i], own[j]});
-      else near_pairs.push_back(p);
+    }
+    HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
+    const Contact cl = HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma);
+    if (cl.status != HardSphere::NO_CONTACT) hits.push_back({tag[i], tag[j]});
+    else near_pairs.push_back(p);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   new members (dense ids): their local copies are marked; their bonded
+   terms join clusters (pair terms between members do not: cross terms, a
+   constant force in each half of the flow)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::add_members(const std::vector<int> &newids)
+{
+  std::vector<int> copies;
+  for (int id : newids)
+    for (int l = atom->map((tagint) idtag[id]); l >= 0; l = atom->sametag[l]) {
+      if (mid[l] < 0) mid_set.push_back(l);
+      mid[l] = id;
+      if (l < atom->nlocal) copies.push_back(l);
+    }
+  if (newids.empty() || !bonded) return;
+  // (one rank: limits() refuses molecular systems on several)
+  locf->terms(copies.data(), (int) copies.size());
+  const std::vector<int> &ta = locf->term_atoms();
+  const std::vector<int> &off = locf->term_offsets();
+  const int npair = locf->npair_last();
+  std::vector<int> ids;
+  for (size_t t = npair; t + 1 < off.size(); t++) {
+    ids.clear();
+    for (int k = off[t]; k < off[t + 1]; k++) {
+      const int a = ta[k];
+      if (a >= 0 && mid[a] >= 0) ids.push_back(mid[a]);
+    }
+    if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
+  }
+}
+
+// the cluster labels (the key's dense id) on every local copy of its members
+void HSLocalEngine::label_cluster(int c)
+{
+  const int key = cs.members(c)[0];
+  for (int id : cs.members(c))
+    for (int l = atom->map((tagint) idtag[id]); l >= 0; l = atom->sametag[l]) {
+      lab[l] = key;
+      labelled.push_back(l);
     }
 }
 
 /* ----------------------------------------------------------------------
-   the terms of new members join V_C: members sharing a term are one
-   cluster (partners stay out: frozen-partner clusters)
+   the member copies of a cluster this rank runs: a member it owns by its
+   owned copy, another by its ghost copy nearest the key's. A ghost member
+   must have all atoms within the neighbor cutoff as local copies (its
+   interaction rows): its list-build position at least the neighbor cutoff
+   inside the ghost region. (The flows need no particular images: rows fold
+   images into the members' copies, contacts are taken copy to copy.)
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::add_terms(const std::vector<int> &newm)
+void HSLocalEngine::member_copies(Run &r)
 {
-  // pair terms between members do not join clusters (cross terms: a
-  // constant force in each half of the flow), bonded terms with two members do
-  if (newm.empty() || !bonded) return;
-  locf->terms(newm.data(), (int) newm.size());
-  const std::vector<int> &ta = locf->term_atoms();
-  const std::vector<int> &off = locf->term_offsets();
-  const int npair = locf->npair_last();
-  for (size_t t = npair; t + 1 < off.size(); t++) cs.add_term(ta.data() + off[t], off[t + 1] - off[t]);
-}
-
-// the cluster labels (key: smallest member) on every local copy of the
-// members, for HSLocalForces' cross terms
-void HSLocalEngine::label_members()
-{
-  for (int k : labelled) lab[k] = -1;
-  labelled.clear();
-  for (int c = 0; c < cs.nclusters(); c++) label_cluster(c);
-}
-
-void HSLocalEngine::label_cluster(int c)
-{
-  const int key = cs.members(c)[0];
-  for (int m : cs.members(c))
-    for (int k = m; k >= 0; k = atom->sametag[k]) {
-      lab[k] = key;
-      labelled.push_back(k);
+  const int nm = (int) r.mtags.size();
+  r.members.resize(nm);
+  const int key = atom->map(r.mtags[0]);
+  double cutneigh = sys->list_cutoff;
+  if (force->pair && force->pair->cutforce > 0.0)
+    cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
+  for (int k = 0; k < nm; k++) {
+    // an owned copy has its rows; of a ghost, the copy nearest the key
+    int l = atom->map(r.mtags[k]);
+    if (l >= atom->nlocal) l = domain->closest_image(key, l);
+    bool inside = l >= 0;
+    if (inside && l >= atom->nlocal) {
+      // the list build's position, in the ghost region's coordinates
+      double p[3] = {sys->xref[l][0], sys->xref[l][1], sys->xref[l][2]};
+      const double *lo = domain->sublo, *hi = domain->subhi;
+      double cut[3] = {cutneigh, cutneigh, cutneigh};
+      if (domain->triclinic) {
+        domain->x2lamda(p, p);
+        lo = domain->sublo_lamda;
+        hi = domain->subhi_lamda;
+        const double *h_inv = domain->h_inv;
+        cut[0] *= sqrt(h_inv[0] * h_inv[0] + h_inv[5] * h_inv[5] + h_inv[4] * h_inv[4]);
+        cut[1] *= sqrt(h_inv[1] * h_inv[1] + h_inv[3] * h_inv[3]);
+        cut[2] *= h_inv[2];
+      }
+      for (int d = 0; d < 3 && inside; d++) {
+        if (d == 2 && domain->dimension == 2) break;
+        inside = p[d] - cut[d] >= lo[d] - comm->cutghost[d] &&
+            p[d] + cut[d] <= hi[d] + comm->cutghost[d];
+      }
     }
+    if (!inside) {
+      std::string ids;
+      for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
+      error->one(FLERR,
+                 "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches "
+                 "beyond what the ghost cutoff {} covers (atom {} needs every atom within the "
+                 "neighbor cutoff {} of it on the rank of atom {}): use a larger comm_modify "
+                 "cutoff (the engine set {}), a smaller timestep, or substep global",
+                 sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
+                 comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_needed);
+    }
+    r.members[k] = l;
+  }
 }
 
-// the held (thermostat) force f - F(x0) of new members (nheld only):
-// their conservative force at the step's start from all their terms, with
-// every atom in them put back at x0 for the evaluation
-void HSLocalEngine::held_at_start(const std::vector<int> &newm)
+/* ----------------------------------------------------------------------
+   the held (thermostat) force f - F(x0) of a run's members that have none
+   yet this step: their conservative force at the step's start from all
+   their terms, with every atom in them put back at x0 for the evaluation.
+   f from the forwarded acceleration (a member may be a ghost here)
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::held_of(Run &r)
 {
-  if (!sys->nheld || newm.empty()) return;
-  double **x = atom->x, **f = atom->f;
+  if (!sys->nheld) return;
+  std::vector<int> need;
+  for (int l : r.members)
+    if (hstampv[l] != heldepoch) need.push_back(l);
+  if (need.empty()) return;
+  double **x = atom->x, **acc = sys->acc;
   locf->set_labels(nullptr);
-  vc(newm.data(), (int) newm.size());
+  vc(need.data(), (int) need.size());
   const std::vector<int> T = locf->touched();
   std::vector<Vec> saved(T.size());
   for (size_t k = 0; k < T.size(); k++) {
@@ -404,10 +693,14 @@ void HSLocalEngine::held_at_start(const std::vector<int> &newm)
     set_x(T[k], x0[T[k]]);
   }
   locf->recompute();
-  ncompute += 2.0;
+  ncompute_here += 1.0;
   double **fl = locf->forces();
-  for (int i : newm)
-    for (int d = 0; d < 3; d++) held0[i][d] = f[i][d] - fl[i][d];
+  const double ftm2v = force->ftm2v;
+  for (int i : need) {
+    const double m = sys->mass_of(i) / ftm2v;
+    for (int d = 0; d < 3; d++) held0[i][d] = acc[i][d] * m - fl[i][d];
+    hstampv[i] = heldepoch;
+  }
   for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
   locf->set_labels(lab.data());
 }
@@ -433,7 +726,6 @@ void HSLocalEngine::cross_at_start(Run &r)
   double **x = atom->x;
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
   vc(r.members.data(), nm);
-  ncompute += 1.0;
   const std::vector<int> T = locf->touched();
   std::vector<Vec> &saved = scratch_env_x0;
   saved.resize(T.size());
@@ -448,7 +740,7 @@ void HSLocalEngine::cross_at_start(Run &r)
   }
   if (moved) {
     locf->recompute();
-    ncompute += 1.0;
+    ncompute_here += 1.0;
   }
   double **fl = locf->forces();
   for (int k = 0; k < nm; k++) {
@@ -462,9 +754,11 @@ void HSLocalEngine::cross_at_start(Run &r)
 
 /* ----------------------------------------------------------------------
    the cross terms (pair terms between members of two clusters) at the
-   members' mid positions (xm): F_X(x_mid), which sets the constant cross
-   force of the second halves (see cross_at_start()). A cluster whose
-   members' cross forces changed redoes its second half
+   members' mid positions: F_X(x_mid), which sets the constant cross force
+   of the second halves (see cross_at_start()). A cluster whose members'
+   cross forces changed redoes its second half. The clusters whose members
+   moved (ran a first half) recompute theirs; their cross neighbours before
+   and after, on any rank, are told by one gather and recompute theirs
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::cross_at_mid()
@@ -473,41 +767,42 @@ void HSLocalEngine::cross_at_mid()
     workX.clear();
     return;
   }
-  // the clusters whose members moved (ran their first half) and their
-  // cross neighbours before and after: one wave (the neighbours' members
-  // did not move, so their neighbours' kicks stay)
-  bump_epoch(xepoch, xstamp);
-  std::vector<int> wave;
-  for (int key : workX)
-    if (xstamp[key] != xepoch) {
-      xstamp[key] = xepoch;
-      wave.push_back(key);
+  // this rank's runs among the keys: their cross forces again, once each
+  std::vector<tagint> done;
+  auto redo = [&](tagint key, std::vector<tagint> *nbrs) {
+    if (std::find(done.begin(), done.end(), key) != done.end()) return;
+    const int c = clusters_of_key(key);
+    if (c < 0) return;
+    Run *r = run_of(key);
+    if (!r || !r->mine || !r->a_done) return;
+    done.push_back(key);
+    std::vector<tagint> old = r->xnbrs;
+    cross_of(*r);
+    if (nbrs) {
+      nbrs->insert(nbrs->end(), old.begin(), old.end());
+      nbrs->insert(nbrs->end(), r->xnbrs.begin(), r->xnbrs.end());
     }
+  };
+  std::vector<tagint> wave2;
+  std::sort(workX.begin(), workX.end());
+  workX.erase(std::unique(workX.begin(), workX.end()), workX.end());
+  for (tagint key : workX) {
+    Run *r = run_of(key);
+    if (r && r->mine) redo(key, &wave2);
+    else wave2.push_back(key);    // another rank's (a neighbour of a run retired here)
+  }
   workX.clear();
-  for (size_t w = 0; w < wave.size(); w++) {
-    const int key = wave[w];
-    const int c = cs.cluster_of(key);
-    if (c < 0 || cs.members(c)[0] != key) continue;
-    auto it = runs.find(key);
-    if (it == runs.end() || !it->second->a_done) continue;
-    Run &r = *it->second;
-    std::vector<int> old = r.xnbrs;
-    cross_of(r);
-    for (const std::vector<int> *L : {&old, &r.xnbrs})
-        for (int k : *L)
-          if (xstamp[k] != xepoch) {
-            xstamp[k] = xepoch;
-            wave2.push_back(k);
-          }
-  }
-  for (int key : wave2) {
-    const int c = cs.cluster_of(key);
-    if (c < 0 || cs.members(c)[0] != key) continue;
-    auto it = runs.find(key);
-    if (it == runs.end() || !it->second->a_done) continue;
-    cross_of(*it->second);
-  }
-  wave2.clear();
+  // the neighbours, whichever rank runs them
+  std::sort(wave2.begin(), wave2.end());
+  wave2.erase(std::unique(wave2.begin(), wave2.end()), wave2.end());
+  sendbuf.clear();
+  for (tagint k : wave2) sendbuf.push_back((double) k);
+  allgather(recvbuf);
+  std::vector<tagint> all;
+  for (double k : recvbuf) all.push_back((tagint) k);
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  for (tagint key : all) redo(key, nullptr);
 }
 
 // the cross-term forces on one cluster's members (from all their cross
@@ -518,12 +813,11 @@ void HSLocalEngine::cross_of(Run &r)
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
   vc(r.members.data(), nm);
   locf->set_labels(lab.data());
-  ncompute += 1.0;
   double **fl = locf->forces();
-  const int key = r.members[0];
+  const int key = lab[r.members[0]];
   r.xnbrs.clear();
   for (int t : locf->touched())
-    if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back(lab[t]);
+    if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back((tagint) idtag[lab[t]]);
   std::sort(r.xnbrs.begin(), r.xnbrs.end());
   r.xnbrs.erase(std::unique(r.xnbrs.begin(), r.xnbrs.end()), r.xnbrs.end());
   bool changed = (int) r.fx.size() != nm;
@@ -536,131 +830,114 @@ void HSLocalEngine::cross_of(Run &r)
   }
   if (changed && r.b_done) {
     r.b_done = false;
-    workB.push_back(key);
+    workB.push_back(r.mtags[0]);
   }
 }
 
-void HSLocalEngine::grow_clusters(const std::vector<Hit> &hits)
+/* ----------------------------------------------------------------------
+   the clusters grow by the hits (the same on every rank): a cluster that
+   changed, or whose flows (on this rank) saw a new member as a partner or
+   a static atom, is redone
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::grow_clusters(std::vector<Hit> &hits)
 {
-  for (const Hit &h : hits) {
-    cs.grow_contact(h.i, h.j < 0 ? -1 : h.j);
-    mark_dirty(h.i);
-    if (h.j >= 0) mark_dirty(h.j);
-  }
+  for (const Hit &h : hits) cs.grow_contact(id_of(h.i), h.j < 0 ? -1 : id_of(h.j));
   const std::vector<int> newm = cs.new_members();
-  add_terms(newm);
+  add_members(newm);
   const std::vector<int> redo = cs.rebuild();
-  // a cluster whose flows saw a new member as a partner or a static atom
-  // is redone too: the terms between them are cross terms now
+  // a run whose flows saw a new member as a partner or a static atom is
+  // redone too: the terms between them are cross terms now
   for (int m : newm)
-    for (int key : atom_runs[m]) {
-      auto it = runs.find(key);
-      if (it == runs.end() || it->second->members.empty()) continue;
-      retire(*it->second);
-      runs.erase(it);
-      const int c = cs.cluster_of(key);
-      if (c >= 0) workA.push_back(cs.members(c)[0]);
-    }
+    for (int l = atom->map((tagint) idtag[m]); l >= 0; l = atom->sametag[l])
+      for (tagint key : atom_runs[l]) {
+        Run *r = run_of(key);
+        if (!r || !r->mine || r->members.empty()) continue;
+        retire(key);
+        const int c = cs.cluster_of(idof.at(key));
+        if (c >= 0) workA.push_back(key_of(c));
+      }
   for (int c : redo) {
     label_cluster(c);
-    workA.push_back(cs.members(c)[0]);
-    for (int m : cs.members(c)) {
-      auto it = runs.find(m);
-      if (it == runs.end()) continue;
-      retire(*it->second);
-      runs.erase(it);
-    }
+    workA.push_back(key_of(c));
+    for (int m : cs.members(c)) retire((tagint) idtag[m]);
   }
-  held_at_start(newm);
   nrounds += 1.0;
 }
 
-
-/* ----------------------------------------------------------------------
-   the sums over clusters of V_C's start forces and the partners' first-half
-   kicks (for Phi_H2's velocities), kept as clusters are run and dropped
-------------------------------------------------------------------------- */
-
-void HSLocalEngine::contribute(Run &r, double sign)
+// a run that is dropped (on every rank: its packets go too)
+void HSLocalEngine::retire(tagint key)
 {
-  const int *mask = atom->mask;
-  for (size_t k = 0; k < r.touched.size(); k++) {
-    const int p = r.touched[k];
-    if (sign > 0.0 && cnt[p] == 0) {
-      for (int d = 0; d < 3; d++) fc0[p][d] = dvt[p][d] = 0.0;
-      if (!in_sums[p]) {
-        in_sums[p] = 1;
-        sums_used.push_back(p);
-      }
-    }
-    cnt[p] += (sign > 0.0) ? 1 : -1;
-    if (cnt[p] == 0) {    // no cluster left: exactly fix nve's kick again
-      for (int d = 0; d < 3; d++) fc0[p][d] = dvt[p][d] = 0.0;
-      continue;
-    }
-    for (int d = 0; d < 3; d++) fc0[p][d] += sign * r.fk0[k][d];
-    if (mask[p] & sys->groupbit)
-      for (int d = 0; d < 3; d++) dvt[p][d] += sign * r.dvA[k][d];
-  }
-  r.contributed = sign > 0.0;
+  auto it = runs.find(key);
+  if (it == runs.end()) return;
+  Run &r = *it->second;
+  if (r.mine)
+    for (tagint k : r.xnbrs) workX.push_back(k);    // their cross terms with it change
+  runs.erase(it);
 }
 
-// a run that is dropped: its contributions go, its atoms' paths change
-void HSLocalEngine::retire(Run &r)
+// the cluster of a key, -1 if it is no longer a cluster's key
+int HSLocalEngine::clusters_of_key(tagint key) const
 {
-  if (r.contributed) contribute(r, -1.0);
-  for (int k : r.xnbrs) workX.push_back(k);    // their cross terms with it change
-  for (int t : r.touched) mark_dirty(t);
-  for (int e : r.env) mark_dirty(e);
-  for (int m : r.members) mark_dirty(m);
+  auto it = idof.find(key);
+  if (it == idof.end()) return -1;
+  const int c = cs.cluster_of(it->second);
+  return (c >= 0 && cs.members(c)[0] == it->second) ? c : -1;
 }
 
-void HSLocalEngine::mark_dirty(int i)
+// keys -> cluster indices, once each, ascending (keys is emptied)
+std::vector<int> HSLocalEngine::clusters_of(std::vector<tagint> &keys)
 {
-  if (dstamp[i] != depoch) {    // for the drift and the second half
-    dstamp[i] = depoch;
-    dirty.push_back(i);
+  std::vector<int> out;
+  for (tagint key : keys) {
+    const int c = clusters_of_key(key);
+    if (c >= 0) out.push_back(c);
   }
-  if (hstamp[i] != hepoch) {    // for Phi_H2's next check
-    hstamp[i] = hepoch;
-    hdirty.push_back(i);
-  }
+  keys.clear();
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 /* ----------------------------------------------------------------------
-   Phi_H1(h) of one cluster: CVA sub-steps of its members under its terms
-   of V_C; everyone else stays put (members of other clusters are checked
-   afterwards, cross_check()). first_half: from the step's start (x0, v0
-   and the held half kick), else from the state after the first half with
-   the non-members at their end positions. Returns false (hits gets the
-   contact) if a member touches a non-member: C must grow.
+   Phi_H1(h) of one cluster this rank runs: CVA sub-steps of its members
+   under its terms of V_C; everyone else stays put (members of other
+   clusters are checked afterwards, cross_check()). first_half: from the
+   step's start (x0, v0 and the held half kick), else from the state after
+   the first half with the non-members at their end positions. Returns
+   false (hits gets the contact) if a member touches a non-member: C must
+   grow.
 ------------------------------------------------------------------------- */
 
 bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
   double **x = atom->x, **v = atom->v;
+  const tagint *tag = atom->tag;
   const double ftm2v = force->ftm2v;
   const std::vector<int> &M = r.members;
   const int nm = (int) M.size();
-  const int c = cs.cluster_of(M[0]);
+  const int c = cluster_of(M[0]);
 
-  if (first_half)
+  if (first_half) {
+    held_of(r);
     for (int i : M) set_x(i, x0[i]);
-  else
+  } else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
   if (first_half) cross_at_start(r);
   // the constant cross force on the members in this half (fx0 is set by
   // every first half; fx only once cross_at_mid() ran, else F_X(q0) again)
   std::vector<Vec> &fc = scratch_fc;
-  const bool mid = (int) r.fx.size() == nm;
+  const bool mid_known = (int) r.fx.size() == nm;
   fc.resize(nm);
   for (int k = 0; k < nm; k++)
     for (int d = 0; d < 3; d++)
-      fc[k][d] = (first_half || !mid) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
+      fc[k][d] = (first_half || !mid_known) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
   if (first_half) vc(M.data(), nm);
-  else locf->recompute(r.snap);    // the lists of the first half
-  ncompute += 1.0;
+  else {
+    locf->recompute(r.snap);    // the lists of the first half
+    ncompute_here += 1.0;
+  }
   std::vector<Vec> &env_saved = scratch_env;
   env_saved.clear();
   if (first_half) {
@@ -669,17 +946,20 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     // the static atoms of this flow: partners and contact candidates
     r.env.clear();
     for (int t : r.touched)
-      if (!cs.is_member(t)) r.env.push_back(t);
+      if (!is_member(t)) r.env.push_back(t);
     for (int i : M) {
       int nc;
       const int *cr = crow(i, nc);
-      for (int e = 0; e < nc; e++) {
-        const int o = own[cr[e]];
-        if (!cs.is_member(o)) r.env.push_back(o);
-      }
+      for (int e = 0; e < nc; e++)
+        if (!is_member(cr[e])) r.env.push_back(cr[e]);
     }
-    std::sort(r.env.begin(), r.env.end());
-    r.env.erase(std::unique(r.env.begin(), r.env.end()), r.env.end());
+    // one copy per atom (set_x() moves all of an atom's copies together)
+    const tagint *tg = atom->tag;
+    std::sort(r.env.begin(), r.env.end(),
+              [tg](int p, int q) { return tg[p] != tg[q] ? tg[p] < tg[q] : p < q; });
+    r.env.erase(std::unique(r.env.begin(), r.env.end(),
+                            [tg](int p, int q) { return tg[p] == tg[q]; }),
+                r.env.end());
     // after the drift of Phi_H2 (a later growth round) they wait at x0 for
     // this flow, and go back to their end positions after it
     if (drifted) {
@@ -690,7 +970,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         set_x(e, x0[e]);
       }
       locf->recompute();
-      ncompute += 1.0;
+      ncompute_here += 1.0;
     }
   } else if (locf->touched() != r.touched)
     error->one(FLERR, "Fix {} substep local: the terms of a cluster changed within step {}",
@@ -702,12 +982,15 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   fk1.resize(nt);
   double **fl = locf->forces();
   for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
-  // where each member sits in T (both sorted)
+  // where each member sits in T
   std::vector<int> &mi = scratch_mi;
   mi.resize(nm);
-  for (int k = 0, t = 0; k < nm; k++) {
-    while (T[t] != M[k]) t++;
-    mi[k] = t;
+  for (int k = 0; k < nm; k++) {
+    const auto it = std::find(T.begin(), T.end(), M[k]);
+    if (it == T.end())
+      error->one(FLERR, "Fix {} substep local: internal error: member {} not in its own terms",
+                 F.style_name, r.mtags[k]);
+    mi[k] = (int) (it - T.begin());
   }
   if (first_half) {
     r.fk0 = fk;
@@ -732,9 +1015,9 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   std::vector<double> &im = scratch_im;
   im.resize(nm);
   for (int k = 0; k < nm; k++) im[k] = ftm2v / F.mass_of(M[k]);
-  auto member_k = [&](int o) {    // index of owned o in M, -1 if not in this cluster
-    if (cs.cluster_of(o) != c) return -1;
-    return (int) (std::lower_bound(M.begin(), M.end(), o) - M.begin());
+  auto member_k = [&](int o) {    // index of copy o's atom in M, -1 if not in this cluster
+    if (cluster_of(o) != c) return -1;
+    return (int) (std::lower_bound(r.mtags.begin(), r.mtags.end(), tag[o]) - r.mtags.begin());
   };
 
   // this flow's collisions and impulse virial, kept apart from the fix's
@@ -752,14 +1035,13 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     F.ncoll_wall = nwall_saved;
   };
 
-  const std::vector<int> &cand = F.cand;
   double t = 0.0;
   int stuck = 0;
   bigint nsub = 0;
   while (true) {
     const double tau = h - t;
     double tbest = BIG;
-    int bi = -1, bj = -1, bwall = -1, bli = -1, blj = -1;
+    int bi = -1, bwall = -1, bli = -1, blj = -1;
     bool bstatic = false;
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
@@ -778,21 +1060,21 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
           tbest = ct.t;
           bi = i;
-          bj = -1;
           bwall = wl;
           bli = i;
+          blj = -1;
           bstatic = false;
         }
       }
       int ncr;
       const int *cr = crow(i, ncr);
       for (int e = 0; e < ncr; e++) {
-        const int mine = i, theirs = cr[e];
-        const int o = own[theirs];
-        const int ko = member_k(o);
+        const int theirs = cr[e];
+        const int ko = member_k(theirs);
         double vo[3] = {0.0, 0.0, 0.0}, ao[3] = {0.0, 0.0, 0.0}, Do = 0.0;
         if (ko >= 0) {
-          if (o < i) continue;    // the pair is handled from its lower member
+          if (tag[theirs] < tag[i]) continue;    // the pair is handled from its lower member
+          const int o = M[ko];
           const double *b = fk[mi[ko]].data();
           for (int d = 0; d < 3; d++) {
             vo[d] = v[o][d];
@@ -800,23 +1082,22 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
           }
           Do = tau * sqrt(vo[0] * vo[0] + vo[1] * vo[1] + vo[2] * vo[2]) +
               0.5 * tau * tau * sqrt(ao[0] * ao[0] + ao[1] * ao[1] + ao[2] * ao[2]);
-        } else if (cs.is_member(o))
+        } else if (is_member(theirs))
           continue;    // another cluster's member: cross_check()
         const double sigma = ri + F.radius_of(theirs);
-        const double dq[3] = {x[mine][0] - x[theirs][0], x[mine][1] - x[theirs][1],
-                              x[mine][2] - x[theirs][2]};
+        const double dq[3] = {x[i][0] - x[theirs][0], x[i][1] - x[theirs][1],
+                              x[i][2] - x[theirs][2]};
         const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
         const double reach = sigma + Di + Do;
         if (r2 > reach * reach) continue;
         const double dvv[3] = {v[i][0] - vo[0], v[i][1] - vo[1], v[i][2] - vo[2]};
         const double da[3] = {ai[0] - ao[0], ai[1] - ao[1], ai[2] - ao[2]};
-        const Contact ct = pair_contact(mine, theirs, dq, dvv, da, sigma, tau);
+        const Contact ct = pair_contact(i, theirs, dq, dvv, da, sigma, tau);
         if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
           tbest = ct.t;
           bi = i;
-          bj = o;
           bwall = -1;
-          bli = mine;
+          bli = i;
           blj = theirs;
           bstatic = ko < 0;
         }
@@ -824,7 +1105,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     }
     const bool hit = tbest <= tau;
     if (hit && bstatic) {    // a non-member: it joins C, the cluster is redone
-      hits.push_back({bi, bj});
+      hits.push_back({tag[bli], tag[blj]});
       r.a_done = false;
       keep_counts();
       for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
@@ -840,7 +1121,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         s.t0 = t;
         s.t1 = t + d;
         for (int dd = 0; dd < 3; dd++) {
-          s.q[dd] = x[i][dd];
+          s.q[dd] = x[i][dd] - x0[i][dd];
           s.v[dd] = v[i][dd];
           s.a[dd] = (fk[mi[k]][dd] + fc[k][dd]) * im[k];
         }
@@ -854,7 +1135,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         set_x(i, xn);
       }
       locf->recompute();    // the same terms: their restricted lists again
-      ncompute += 1.0;
+      ncompute_here += 1.0;
       fl = locf->forces();
       for (int k = 0; k < nt; k++) fk1[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
       for (int k = 0; k < nm; k++) {
@@ -869,7 +1150,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       const int *mask = atom->mask;
       for (int k = 0; k < nt; k++) {
         const int p = T[k];
-        if (cs.is_member(p) || !(mask[p] & F.groupbit)) continue;
+        if (is_member(p) || !(mask[p] & F.groupbit)) continue;
         const double dtfm = dtfk / F.mass_of(p);
         for (int dd = 0; dd < 3; dd++) dv[k][dd] += dtfm * (fk[k][dd] + fk1[k][dd]);
       }
@@ -882,8 +1163,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     Impulse imp;
     memset(&imp, 0, sizeof(imp));
     imp.type = (bwall >= 0) ? WALL_EVENT : PAIR_EVENT;
-    imp.itag = atom->tag[bi];
-    imp.jtag = (bwall >= 0) ? 0 : atom->tag[bj];
+    imp.itag = tag[bi];
+    imp.jtag = (bwall >= 0) ? 0 : tag[blj];
     imp.wall = bwall;
     if (bwall >= 0) meth.collide_wall(bli, F.walls[bwall], imp);
     else meth.collide_pair(bli, blj, imp);
@@ -902,10 +1183,12 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   keep_counts();
   if (first_half) {
     r.xm.resize(nm);
+    r.dxm.resize(nm);
     r.vm.resize(nm);
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
       r.xm[k] = {x[i][0], x[i][1], x[i][2]};
+      r.dxm[k] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
       r.vm[k] = {v[i][0], v[i][1], v[i][2]};
     }
     r.a_done = true;
@@ -914,11 +1197,11 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     // the end state is kept; the members wait at xm again (where Phi_H2's
     // checks of later growth rounds see them)
     r.fend = fk;
-    r.xe.resize(nm);
+    r.dxe.resize(nm);
     r.ve.resize(nm);
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
-      r.xe[k] = {x[i][0], x[i][1], x[i][2]};
+      r.dxe[k] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
       r.ve[k] = {v[i][0], v[i][1], v[i][2]};
       set_x(i, r.xm[k].data());
       set_v(i, r.vm[k].data());
@@ -930,16 +1213,17 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
 
 /* ----------------------------------------------------------------------
    contacts between members of two clusters, whose flows ran apart: on
-   their piecewise Verlet paths (the segments of the last flow). Only pairs
-   with a cluster in fresh (run in this round): the others were checked
+   their piecewise Verlet paths (the segments of the last flow, from the
+   registry for another rank's cluster). Only pairs with a cluster in fresh
+   (the same on every rank): the others were checked; each pair by the
+   runner of its fresh cluster (of the lower one if both are fresh)
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
                                 std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
-  double **x = atom->x;
-  const std::vector<int> &cand = F.cand;
+  const tagint *tag = atom->tag;
   double cc[5];
   std::vector<char> isfresh(cs.nclusters(), 0);
   for (int c : fresh) isfresh[c] = 1;
@@ -958,34 +1242,35 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
     return p;
   };
   for (int c : fresh) {
-    const std::vector<int> &M = cs.members(c);
-    const Run &r = *runs.at(M[0]);
+    const Run *rp = run_of(key_of(c));
+    if (!rp || !rp->mine) continue;
+    const Run &r = *rp;
+    const std::vector<int> &M = r.members;
     for (int k = 0; k < (int) M.size(); k++) {
       const int i = M[k];
       int ncr;
       const int *cr = crow(i, ncr);
       for (int e = 0; e < ncr; e++) {
-        const int mine = i, theirs = cr[e];
-        const int o = own[theirs];
-        if (!cs.is_member(o)) continue;
-        const int oc = cs.cluster_of(o);
+        const int o = cr[e];
+        if (!is_member(o)) continue;
+        const int oc = cluster_of(o);
         if (oc == c || (isfresh[oc] && oc < c)) continue;    // same, or done from oc
-        const std::vector<int> &Mo = cs.members(oc);
-        auto it = runs.find(Mo[0]);
-        if (it == runs.end()) continue;
-        const Run &ro = *it->second;
-        const int ko = (int) (std::lower_bound(Mo.begin(), Mo.end(), o) - Mo.begin());
+        const Run *rop = run_of(key_of(oc));
+        if (!rop) continue;
+        const Run &ro = *rop;
+        const int ko = (int) (std::lower_bound(ro.mtags.begin(), ro.mtags.end(), tag[o]) -
+                              ro.mtags.begin());
         const std::vector<std::vector<Seg>> &Si = first_half ? r.segsA : r.segsB;
         const std::vector<std::vector<Seg>> &Sj = first_half ? ro.segsA : ro.segsB;
         if (k >= (int) Si.size() || ko >= (int) Sj.size()) continue;
         const std::vector<Seg> &si = Si[k], &sj = Sj[ko];
         if (si.empty() || sj.empty()) continue;
-        // image shifts
-        double sh[3];
-        for (int d = 0; d < 3; d++) sh[d] = (x[mine][d] - x[i][d]) - (x[theirs][d] - x[o][d]);
+        // segments are displacements from each copy's start position
+        double base[3];
+        for (int d = 0; d < 3; d++) base[d] = x0[i][d] - x0[o][d];
         const double sigma = F.radius_of(i) + F.radius_of(o);
         double dq0[3];
-        for (int d = 0; d < 3; d++) dq0[d] = si[0].q[d] - sj[0].q[d] + sh[d];
+        for (int d = 0; d < 3; d++) dq0[d] = base[d] + si[0].q[d] - sj[0].q[d];
         const double r0 = sqrt(dq0[0] * dq0[0] + dq0[1] * dq0[1] + dq0[2] * dq0[2]);
         if (r0 > sigma + path(si) + path(sj)) continue;
         // walk the common breakpoints
@@ -998,7 +1283,7 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
           if (tend > t) {
             double dq[3], dv[3], da[3];
             for (int d = 0; d < 3; d++) {
-              dq[d] = pos(si[a], t, d) - pos(sj[b], t, d) + sh[d];
+              dq[d] = base[d] + (pos(si[a], t, d) - pos(sj[b], t, d));
               dv[d] = vel(si[a], t, d) - vel(sj[b], t, d);
               da[d] = si[a].a[d] - sj[b].a[d];
             }
@@ -1011,72 +1296,138 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
           if (si[a].t1 <= t) a++;
           if (b < sj.size() && sj[b].t1 <= t) b++;
         }
-        if (found) hits.push_back({i, o});
+        if (found) hits.push_back({tag[i], tag[o]});
       }
     }
   }
 }
 
 /* ----------------------------------------------------------------------
-   the velocity of Phi_H2's straight line: v0 + dt/2 (f - F_C(x0)) / m plus
-   the first half's partner kicks; zero for a member; fix nve's kick for an
-   atom in no term of V_C
+   Phi_H2's velocities: the sums over the live clusters' first halves
+   (V_C's start force, partner kicks, count) on every copy they touch are
+   reversed into the owners, which set w = v0 + dt/2 (f - F_C(x0)) / m plus
+   the first half's partner kicks (zero for a member; fix nve's kick for an
+   atom in no term of V_C), the "may touch" flag and the free gap, and
+   forward them to the ghosts
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::wvel(int i, double *wi) const
+void HSLocalEngine::h2_velocities()
 {
-  if (cs.is_member(i)) {
-    wi[0] = wi[1] = wi[2] = 0.0;
-    return;
-  }
+  HSSystem &F = *sys;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int *mask = atom->mask;
   double **f = atom->f;
-  const double dtfm = sys->dtf / sys->mass_of(i);
-  if (cnt[i] > 0)
-    for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * (f[i][d] - fc0[i][d]) + dvt[i][d];
-  else
-    for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * f[i][d];
+  for (int l = 0; l < nall; l++)
+    for (int d = 0; d < 7; d++) sa[l][d] = 0.0;
+  for (tagint key : my_keys()) {
+    const Run &r = *run_of(key);
+    if (!r.a_done) continue;
+    for (size_t k = 0; k < r.touched.size(); k++) {
+      const int p = r.touched[k];
+      for (int d = 0; d < 3; d++) sa[p][d] += r.fk0[k][d];
+      if (mask[p] & F.groupbit)
+        for (int d = 0; d < 3; d++) sa[p][3 + d] += r.dvA[k][d];
+      sa[p][6] += 1.0;
+    }
+  }
+  F.reverse_columns(sa, 7);
+  ncollective += 1.0;
+  for (int i = 0; i < nlocal; i++) {
+    double *wi = wq[i];
+    wi[3] = (astamp0[i] == pepoch0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
+    wi[4] = cols[i][0];
+    if (!(mask[i] & F.groupbit) || is_member(i)) {
+      wi[0] = wi[1] = wi[2] = 0.0;
+      continue;
+    }
+    const double dtfm = F.dtf / F.mass_of(i);
+    if (sa[i][6] > 0.0)
+      for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * (f[i][d] - sa[i][d]) + sa[i][3 + d];
+    else
+      for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * f[i][d];
+  }
+  F.forward_columns(wq, 5);
+  ncollective += 1.0;
+}
+
+// this rank's runs, in key order
+std::vector<tagint> HSLocalEngine::my_keys()
+{
+  std::vector<tagint> k;
+  for (auto &kv : runs)
+    if (kv.second->mine) k.push_back(kv.first);
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+/* ----------------------------------------------------------------------
+   the copies whose Phi_H2 path (start position, w, member) changed since
+   the last check: hdirty (Phi_H2's next check), ddirty (drift and second
+   halves, until consumed). full: record every copy's path, mark none
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::update_paths(bool full)
+{
+  const int nall = atom->nlocal + atom->nghost;
+  const int *mask = atom->mask;
+  hdirty.clear();
+  for (int l = 0; l < nall; l++) {
+    if (!(mask[l] & sys->groupbit)) continue;
+    double q[3];
+    h2_pos(l, q);
+    const char m = is_member(l) ? 1 : 0;
+    double *h = hp[l];
+    if (!full && h[0] == q[0] && h[1] == q[1] && h[2] == q[2] && h[3] == wq[l][0] &&
+        h[4] == wq[l][1] && h[5] == wq[l][2] && hmem[l] == m)
+      continue;
+    h[0] = q[0];
+    h[1] = q[1];
+    h[2] = q[2];
+    h[3] = wq[l][0];
+    h[4] = wq[l][1];
+    h[5] = wq[l][2];
+    hmem[l] = m;
+    if (full) continue;
+    hdirty.push_back(l);
+    if (dstamp[l] != depoch) {
+      dstamp[l] = depoch;
+      ddirty.push_back(l);
+    }
+  }
 }
 
 /* ----------------------------------------------------------------------
    Phi_H2(dt): non-members on straight lines from x0 with velocity w,
-   members waiting at xm. Any contact in it grows C. full: every atom that
-   may touch something (the screen's active ones: an atom in no term of V_C
-   stays within the screen's bound of its Verlet path; and every atom V_C
-   touched); else only the atoms whose path changed since (dirty)
+   members waiting at their mid positions. Any contact in it grows C.
+   full: every copy that may touch something (the screen's active ones: an
+   atom in no term of V_C stays within the screen's bound of its Verlet
+   path; and every atom V_C touched); else only the copies whose path
+   changed since (hdirty). Each pair is checked by the rank that lists it,
+   walls by the owner
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
   const int *mask = atom->mask;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   const double dt = F.dtv, skin = F.skin;
   double **xref = F.xref;
-  const double *gap = F.gap;
-  // the position of local index l at the start of Phi_H2
   bump_epoch(aepoch, astamp);
   std::vector<int> act;
-  // w of every group atom is kept in w[] from the full check on; a later
-  // round updates the dirty atoms' (every atom whose w changed is dirty)
-  const int nlocal = atom->nlocal;
-  if (full) {
-    for (int i = 0; i < nlocal; i++)
-      if (mask[i] & F.groupbit) wvel(i, w[i]);
-  } else
-    for (int i : hdirty)
-      if (mask[i] & F.groupbit) wvel(i, w[i]);
-  // an atom that may touch something in Phi_H2. always: check all its
+  // an copy that may touch something in Phi_H2. always: check all its
   // pairs (its path changed while its partners' did not: only the pairs of
   // an atom outside its gap can touch, and that may be the partner)
   auto consider = [&](int i, bool always) {
     if (astamp[i] == aepoch || !(mask[i] & F.groupbit)) return;
     astamp[i] = aepoch;
     double q[3];
-    const double *wi = w[i];
+    const double *wi = wq[i];
     h2_pos(i, q);
     const double D = dt * sqrt(wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]);
     const double dx = q[0] - xref[i][0], dy = q[1] - xref[i][1], dz = q[2] - xref[i][2];
     const double reach = sqrt(dx * dx + dy * dy + dz * dz) + D;
-    if (!always && reach <= gap[i]) return;
+    if (!always && reach <= wi[4]) return;
     if (reach > skin)
       error->one(FLERR,
                  "Fix {}: atom {} may be {} away from where the neighbor list was built, "
@@ -1086,45 +1437,41 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
     act.push_back(i);
   };
   // full: if every line deviates from fix nve's by less than LINE_MARGIN / 2
-  // of the contact distance, only the pairs predict_all() listed as near
-  // misses and the pairs with a member (waiting at xm) can touch
+  // of the contact distance (on every rank), only the pairs predict_all()
+  // listed as near misses and the pairs with a member can touch
   bool lists = false;
   if (full) {
     double dev = 0.0;
-    for (int p : sums_used) {
-      if (cnt[p] == 0 || cs.is_member(p) || !(mask[p] & F.groupbit)) continue;
+    for (int p = 0; p < nlocal; p++) {
+      if (sa[p][6] == 0.0 || is_member(p) || !(mask[p] & F.groupbit)) continue;
       const double dtfm = F.dtf / F.mass_of(p);
       double d2 = 0.0;
       for (int d = 0; d < 3; d++) {
-        const double e = w[p][d] - (v0[p][d] + dtfm * atom->f[p][d]);
+        const double e = wq[p][d] - (v0[p][d] + dtfm * atom->f[p][d]);
         d2 += e * e;
       }
       dev = std::max(dev, sqrt(d2));
     }
+    dev = max_all(dev);
     lists = dt * dev <= 0.5 * LINE_MARGIN * 2.0 * F.rmax * 0.999;
-    if (!lists) {
-      for (int i : act0) consider(i, false);
-      for (auto &kv : runs)
-        for (int t : kv.second->touched) consider(t, false);
-    }
+    if (!lists)
+      for (int l = 0; l < nall; l++)
+        if (wq[l][3] != 0.0) consider(l, false);
   } else
-    for (int i : hdirty) consider(i, true);
-  bump_epoch(hepoch, hstamp);
-  hdirty.clear();
+    for (int l : hdirty) consider(l, true);
   if (lists) {
     // members: every candidate pair; the listed near misses; walls
-    for (int c = 0; c < cs.nclusters(); c++)
-      for (int m : cs.members(c)) consider(m, true);
+    for (int l : mid_set) consider(l, true);
     bump_epoch(pepoch, pstamp);
     for (int p : near_pairs) pstamp[p] = pepoch;    // checked below, with act's
     for (int p : near_pairs) check_pair(p, hits);
     for (int i : near_walls)
-      if (!cs.is_member(i)) check_walls(i, hits);
+      if (!is_member(i)) check_walls(i, hits);
   } else
     bump_epoch(pepoch, pstamp);
 
   for (int i : act) {
-    if (!cs.is_member(i)) check_walls(i, hits);
+    if (!is_member(i) && i < nlocal) check_walls(i, hits);
     for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
       const int p = adj[e];
       if (pstamp[p] == pepoch) continue;
@@ -1134,15 +1481,14 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
   }
 }
 
-// the position of local index l at the start of Phi_H2 (members wait at xm)
+// the position of copy l at the start of Phi_H2 (members wait at their mid
+// positions)
 void HSLocalEngine::h2_pos(int l, double *q) const
 {
-  double **x = atom->x;
-  const int o = own[l];
-  if (cs.is_member(o))
-    for (int d = 0; d < 3; d++) q[d] = x[l][d];
-  else
-    for (int d = 0; d < 3; d++) q[d] = x0[o][d] + (x[l][d] - x[o][d]);
+  const double *p = is_member(l) ? atom->x[l] : x0[l];
+  q[0] = p[0];
+  q[1] = p[1];
+  q[2] = p[2];
 }
 
 // a contact of candidate pair p on Phi_H2's lines
@@ -1151,11 +1497,10 @@ void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
   HSSystem &F = *sys;
   const std::vector<int> &cand = F.cand;
   const int la = cand[2 * p], lb = cand[2 * p + 1];
-  const int oa = own[la], ob = own[lb];
-  if (cs.is_member(oa) && cs.is_member(ob)) return;    // both wait
+  if (is_member(la) && is_member(lb)) return;    // both wait
   const double dt = F.dtv;
   double qa[3], qb[3];
-  const double *wa = w[oa], *wb = w[ob];
+  const double *wa = wq[la], *wb = wq[lb];
   h2_pos(la, qa);
   h2_pos(lb, qb);
   const double sigma = F.radius_of(la) + F.radius_of(lb);
@@ -1166,18 +1511,18 @@ void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
   if (r2 > reach * reach) return;
   const double da[3] = {0.0, 0.0, 0.0};
   if (pair_contact(la, lb, dq, dv, da, sigma, dt).status != HardSphere::NO_CONTACT)
-    hits.push_back({oa, ob});
+    hits.push_back({atom->tag[la], atom->tag[lb]});
 }
 
-// wall contacts of non-member i on its Phi_H2 line
+// wall contacts of owned non-member i on its Phi_H2 line
 void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
   for (int wl = 0; wl < (int) F.walls.size(); wl++) {
     const Wall &W = F.walls[wl];
     const double g = F.wall_gap(W, x0[i], F.radius_of(i));
-    if (wall_contact(i, wl, g, w[i][W.dim], 0.0, F.dtv).status != HardSphere::NO_CONTACT)
-      hits.push_back({i, -1 - wl});
+    if (wall_contact(i, wl, g, wq[i][W.dim], 0.0, F.dtv).status != HardSphere::NO_CONTACT)
+      hits.push_back({atom->tag[i], -1 - (tagint) wl});
   }
 }
 
@@ -1213,51 +1558,63 @@ Contact HSLocalEngine::pair_contact(int la, int lb, const double *dq, const doub
 }
 
 /* ----------------------------------------------------------------------
-   the clusters of the step from the first guess hits, grown until no flow
-   has a contact with a non-member. After the first round, a round redoes
-   only what a growth changed (its clusters, the paths of their atoms and
-   the clusters around them). False if a member left the reach the cluster
-   rule assumed (then redo with every term joining)
+   the clusters of the step from the first guess hits (every rank's),
+   grown until no flow has a contact with a non-member. After the first
+   round, a round redoes only what a growth changed (its clusters, the
+   paths of their atoms and the clusters around them). Every rank goes
+   through the same rounds and phases: a phase's hits and packets are
+   gathered before anyone decides on them
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::settle(const std::vector<Hit> &hits)
+void HSLocalEngine::settle(std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
   double **x = atom->x;
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
+  const int nall = atom->nlocal + atom->nghost;
   const double dt = F.dtv;
 
-  // per-atom bookkeeping of the previous attempt
-  for (int p : sums_used) {
-    cnt[p] = 0;
-    in_sums[p] = 0;
-  }
-  sums_used.clear();
+  // per-copy bookkeeping of the previous step
   for (int a : runs_used) atom_runs[a].clear();
   runs_used.clear();
+  for (int l : mid_set) mid[l] = -1;
+  mid_set.clear();
+  for (int l : labelled) lab[l] = -1;
+  labelled.clear();
   bump_epoch(depoch, dstamp);
-  dirty.clear();
-  bump_epoch(hepoch, hstamp);
+  ddirty.clear();
   hdirty.clear();
+  if (++heldepoch == 0) {
+    std::fill(hstampv.begin(), hstampv.end(), 0u);
+    heldepoch = 1;
+  }
   drifted = false;
   bool checked = false;    // Phi_H2 checked in full once
   bool b_ran = false;      // a second half ran (its results may need redoing)
 
-  cs.reset(nlocal);
+  idof.clear();
+  idtag.clear();
+  cs.reset(0);
+  cs.set_order(&idtag);
   cs.set_partners_join(false);
-  for (const Hit &h : hits) cs.add_contact(h.i, h.j < 0 ? -1 : h.j);
+  for (const Hit &h : hits) {
+    const int a = id_of(h.i);
+    cs.add_contact(a, h.j < 0 ? -1 : id_of(h.j));
+  }
   const std::vector<int> first = cs.new_members();
-  add_terms(first);
+  add_members(first);
   cs.build();
   runs.clear();
-  label_members();
+  for (int c = 0; c < cs.nclusters(); c++) label_cluster(c);
   locf->set_labels(lab.data());
-  held_at_start(first);
 
-  auto enroll = [&](int a, int key) {
+  auto enroll = [&](int a, tagint key) {
     if (atom_runs[a].empty()) runs_used.push_back(a);
     atom_runs[a].push_back(key);
+  };
+  auto mine = [&](tagint key) {
+    const int l = atom->map(key);
+    return l >= 0 && l < atom->nlocal;
   };
 
   workA.clear();
@@ -1265,102 +1622,122 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
   workX.clear();
   uncheckedA.clear();
   uncheckedB.clear();
-  for (int c = 0; c < cs.nclusters(); c++) workA.push_back(cs.members(c)[0]);
-  // the cluster index of a key, -1 if it is no longer a cluster's key
-  auto cluster_of_key = [&](int key) {
-    const int c = cs.cluster_of(key);
-    return (c >= 0 && cs.members(c)[0] == key) ? c : -1;
-  };
-  // keys -> cluster indices, once each
-  auto clusters_of = [&](std::vector<int> &keys) {
-    std::vector<int> out;
-    for (int key : keys) {
-      const int c = cluster_of_key(key);
-      if (c >= 0) out.push_back(c);
-    }
-    keys.clear();
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-  };
+  for (int c = 0; c < cs.nclusters(); c++) workA.push_back(key_of(c));
 
-  // every round does only what the last growth changed: the clusters it
-  // made or that saw a new member (first half), the atoms whose paths
-  // changed (Phi_H2's check and drift), the kicks of their cross neighbours
-  // and the second halves whose start or surroundings changed
+  std::vector<Hit> ev, gathered;
+  std::vector<tagint> arrived;
   for (int round = 0;; round++) {
     if (round > MAX_ROUNDS)
       error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
                  "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
-    std::vector<Hit> ev;
-    // Phi_H1(dt/2) of the clusters not run yet, their static atoms at x0
+    // Phi_H1(dt/2) of this rank's clusters not run yet, their static atoms at x0
+    ev.clear();
+    std::vector<tagint> ranA;
     for (int c : clusters_of(workA)) {
-      const int key = cs.members(c)[0];
+      const tagint key = key_of(c);
+      if (!mine(key)) continue;
       Run &r = runs[key];
       if (r.a_done) continue;
-      r.members = cs.members(c);
+      r.mine = true;
+      r.mtags.clear();
+      for (int id : cs.members(c)) r.mtags.push_back((tagint) idtag[id]);
+      member_copies(r);
       r.b_done = false;
       if (!flow(r, 0.5 * dt, true, ev)) continue;
-      contribute(r, 1.0);
-      for (int t : r.touched) mark_dirty(t);
       for (int a : r.env) enroll(a, key);
       for (int a : r.members) enroll(a, key);
-      uncheckedA.push_back(key);
       workX.push_back(key);
       workB.push_back(key);
+      ranA.push_back(key);
+    }
+    // their packets and contacts to every rank
+    start_packets(ev);
+    for (tagint key : ranA) {
+      pack_run(*run_of(key), true);
+      sendbuf[npk_pos] += 1.0;
+    }
+    allgather(recvbuf);
+    arrived.clear();
+    unpack_runs(gathered, &arrived);
+    uncheckedA.insert(uncheckedA.end(), arrived.begin(), arrived.end());
+    if (!gathered.empty()) {
+      grow_clusters(gathered);
+      continue;
     }
     // the flows not yet checked against the others (a round that grew
     // before its check leaves some for the next)
-    if (ev.empty()) cross_check(true, clusters_of(uncheckedA), ev);
+    ev.clear();
+    cross_check(true, clusters_of(uncheckedA), ev);
+    gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
       continue;
     }
     // Phi_H2(dt): its contacts; then the non-members' drift
+    h2_velocities();
+    update_paths(!checked);
+    ev.clear();
     h2_check(!checked, ev);
     checked = true;
+    gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
       continue;
     }
     if (!drifted) {
-      for (int i = 0; i < nlocal; i++)
-        if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
-          x[i][0] = x0[i][0] + dt * w[i][0];
-          x[i][1] = x0[i][1] + dt * w[i][1];
-          x[i][2] = x0[i][2] + dt * w[i][2];
+      for (int l = 0; l < nall; l++)
+        if ((mask[l] & F.groupbit) && !is_member(l)) {
+          x[l][0] = x0[l][0] + dt * wq[l][0];
+          x[l][1] = x0[l][1] + dt * wq[l][1];
+          x[l][2] = x0[l][2] + dt * wq[l][2];
         }
-      comm->forward_comm();
       drifted = true;
     } else
-      for (int i : dirty)
-        if ((mask[i] & F.groupbit) && !cs.is_member(i)) {
-          const double xn[3] = {x0[i][0] + dt * w[i][0], x0[i][1] + dt * w[i][1],
-                                x0[i][2] + dt * w[i][2]};
-          set_x(i, xn);
+      for (int l : ddirty)
+        if ((mask[l] & F.groupbit) && !is_member(l)) {
+          x[l][0] = x0[l][0] + dt * wq[l][0];
+          x[l][1] = x0[l][1] + dt * wq[l][1];
+          x[l][2] = x0[l][2] + dt * wq[l][2];
         }
     // the cross terms' forces at the members' mid positions (second halves)
     cross_at_mid();
     // Phi_H1(dt/2) of the clusters whose start or surroundings changed
     if (b_ran)    // (the first time there is nothing to invalidate)
-      for (int a : dirty)
-        for (int key : atom_runs[a]) {
-          auto it = runs.find(key);
-          if (it != runs.end() && it->second->b_done) {
-            it->second->b_done = false;
+      for (int a : ddirty)
+        for (tagint key : atom_runs[a]) {
+          Run *r = run_of(key);
+          if (r && r->mine && r->b_done) {
+            r->b_done = false;
             workB.push_back(key);
           }
         }
     b_ran = true;
     bump_epoch(depoch, dstamp);
-    dirty.clear();
+    ddirty.clear();
+    ev.clear();
+    std::vector<tagint> ranB;
     for (int c : clusters_of(workB)) {
-      const int key = cs.members(c)[0];
-      auto it = runs.find(key);
-      if (it == runs.end() || it->second->b_done || !it->second->a_done) continue;
-      if (flow(*it->second, 0.5 * dt, false, ev)) uncheckedB.push_back(key);
+      const tagint key = key_of(c);
+      Run *r = run_of(key);
+      if (!r || !r->mine || r->b_done || !r->a_done) continue;
+      if (flow(*r, 0.5 * dt, false, ev)) ranB.push_back(key);
     }
-    if (ev.empty()) cross_check(false, clusters_of(uncheckedB), ev);
+    start_packets(ev);
+    for (tagint key : ranB) {
+      pack_run(*run_of(key), false);
+      sendbuf[npk_pos] += 1.0;
+    }
+    allgather(recvbuf);
+    arrived.clear();
+    unpack_runs(gathered, &arrived);
+    uncheckedB.insert(uncheckedB.end(), arrived.begin(), arrived.end());
+    if (!gathered.empty()) {
+      grow_clusters(gathered);
+      continue;
+    }
+    ev.clear();
+    cross_check(false, clusters_of(uncheckedB), ev);
+    gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
       continue;
@@ -1372,8 +1749,8 @@ void HSLocalEngine::settle(const std::vector<Hit> &hits)
 
 /* ----------------------------------------------------------------------
    a step with spheres that may touch (HSStepEngine): by clusters if a
-   contact is predicted, else fix nve's step; the method sees the step
-   through HSStepView
+   contact is predicted on any rank, else fix nve's step; the method sees
+   the step through HSStepView
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::step()
@@ -1403,11 +1780,12 @@ bool HSLocalEngine::finish()
   return true;
 }
 
-// clusters, mean and largest members, growth rounds, fall-backs, restricted evaluations
+// clusters, mean and largest members, growth rounds, fall-backs, restricted
+// evaluations, collectives per step taken by clusters
 double HSLocalEngine::counter(int k)
 {
   if (k == 4) return sys->nfallback;
-  const HardSphere::ClusterCounters &c = counters();
+  const HardSphere::ClusterCounters &c = cs.counters();
   switch (k) {
     case 0:
       return c.clusters;
@@ -1419,8 +1797,15 @@ double HSLocalEngine::counter(int k)
       return nrounds;
     case 5:
       return ncompute;
+    case 6:
+      return ncoll_steps > 0.0 ? ncollective / ncoll_steps : 0.0;
   }
   return 0.0;
+}
+
+const std::vector<int> &HSLocalEngine::members(int c) const
+{
+  return view_members[c];
 }
 
 /* ----------------------------------------------------------------------
@@ -1433,100 +1818,105 @@ bool HSLocalEngine::step_clusters()
   HSSystem &F = *sys;
   grow_arrays();
   build_adjacency();
-  F.comm_vel_acc();    // ghosts' v, a, active: the first guess needs them
+  if ((int) hstampv.size() < nmax) hstampv.resize(nmax, 0u);
+  F.comm_vel_acc();    // ghosts' v, a: the first guess needs them
+  const double ncoll0 = ncollective;
+  ncollective += 1.0;
   std::vector<Hit> hits;
   predict_all(hits);
-  if (hits.empty()) return false;
+  gather_hits(hits);
+  if (hits.empty()) {
+    ncollective = ncoll0;    // (counted for steps taken by clusters only)
+    return false;
+  }
+  ncoll_steps += 1.0;
 
   double **x = atom->x, **v = atom->v;
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++)
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  for (int l = 0; l < nall; l++)
     for (int d = 0; d < 3; d++) {
-      x0[i][d] = x[i][d];
-      v0[i][d] = v[i][d];
+      x0[l][d] = x[l][d];
+      v0[l][d] = v[l][d];
     }
-
-  const int nall = nlocal + atom->nghost;
-  if ((int) lab.size() < nall) lab.resize(nall, -1);
   settle(hits);
 
-  // the final clusters: their end states, collisions, impulse virial, and
-  // on the touched atoms V_C's end forces and the partners' second-half kicks
-  bump_epoch(eepoch, estamp);
+  // the final clusters: members' end states (owned copies), collisions
+  // (every rank counts all), impulse virial (the runner's), and on the
+  // touched copies V_C's end forces and the partners' second-half kicks,
+  // reversed into the owners
+  for (int l = 0; l < nall; l++)
+    for (int d = 0; d < 7; d++) sb[l][d] = 0.0;
+  view_members.assign(cs.nclusters(), {});
   for (int c = 0; c < cs.nclusters(); c++) {
-    const Run &r = *runs.at(cs.members(c)[0]);
-    for (size_t k = 0; k < r.members.size(); k++) {
-      set_x(r.members[k], r.xe[k].data());
-      set_v(r.members[k], r.ve[k].data());
+    const Run &r = *runs.at(key_of(c));
+    for (size_t k = 0; k < r.mtags.size(); k++) {
+      const int l = atom->map(r.mtags[k]);
+      if (l < 0 || l >= nlocal) continue;
+      const double xn[3] = {x0[l][0] + r.dxe[k][0], x0[l][1] + r.dxe[k][1],
+                            x0[l][2] + r.dxe[k][2]};
+      set_x(l, xn);
+      set_v(l, r.ve[k].data());
+      view_members[c].push_back(l);
     }
     for (int h = 0; h < 2; h++) {
       F.ncoll_pair += r.npair[h];
       F.ncoll_wall += r.nwall[h];
-      for (int k = 0; k < 6; k++) F.host->virial[k] += r.vir[h][k];
       if (r.npair[h] + r.nwall[h] > 0.0) F.step_collided = 1;
+      if (r.mine)
+        for (int k = 0; k < 6; k++) F.host->virial[k] += r.vir[h][k];
     }
+    if (!r.mine) continue;
     for (size_t k = 0; k < r.touched.size(); k++) {
       const int p = r.touched[k];
-      if (estamp[p] != eepoch) {
-        estamp[p] = eepoch;
-        for (int d = 0; d < 3; d++) fcend[p][d] = dvb[p][d] = 0.0;
-      }
       for (int d = 0; d < 3; d++) {
-        fcend[p][d] += r.fend[k][d];
-        dvb[p][d] += r.dvB[k][d];
+        sb[p][d] += r.fend[k][d];
+        sb[p][3 + d] += r.dvB[k][d];
       }
+      sb[p][6] += 1.0;
     }
   }
+  F.reverse_columns(sb, 7);
+  ncollective += 1.0;
 
   // the non-members' velocities: w plus the second half's partner kicks
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & F.groupbit) || cs.is_member(i)) continue;
-    if (estamp[i] == eepoch)
-      for (int d = 0; d < 3; d++) v[i][d] = w[i][d] + dvb[i][d];
-    else
-      for (int d = 0; d < 3; d++) v[i][d] = w[i][d];
-  }
-  // what the closing kick needs, by tag (see remap_after_rebuild())
+  bump_epoch(eepoch, estamp);
   const tagint *tag = atom->tag;
-  end_mtags.clear();
   end_ptags.clear();
   end_pfc.clear();
-  for (int c = 0; c < cs.nclusters(); c++)
-    for (int m : cs.members(c)) end_mtags.push_back(tag[m]);
-  for (int i = 0; i < nlocal; i++)
-    if (estamp[i] == eepoch && !cs.is_member(i)) {
+  for (int i = 0; i < nlocal; i++) {
+    if (sb[i][6] > 0.0 && !is_member(i)) {
+      estamp[i] = eepoch;
       end_ptags.push_back(tag[i]);
-      end_pfc.push_back({fcend[i][0], fcend[i][1], fcend[i][2]});
+      end_pfc.push_back({sb[i][0], sb[i][1], sb[i][2]});
     }
+    if (!(mask[i] & F.groupbit) || is_member(i)) continue;
+    if (estamp[i] == eepoch)
+      for (int d = 0; d < 3; d++) v[i][d] = wq[i][d] + sb[i][3 + d];
+    else
+      for (int d = 0; d < 3; d++) v[i][d] = wq[i][d];
+  }
+  // what the closing kick needs, by ID (see final_kick())
+  end_mtags.clear();
+  for (int c = 0; c < cs.nclusters(); c++)
+    for (int id : cs.members(c)) end_mtags.push_back((tagint) idtag[id]);
   end_ncalls = neighbor->ncalls;
   cs.flush_counters();
+  // the restricted evaluations of every rank
+  double nc = ncompute_here;
+  if (nprocs > 1) MPI_Allreduce(&ncompute_here, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
+  ncollective += 1.0;
+  ncompute += nc;
+  ncompute_here = 0.0;
   return true;
 }
 
 /* ----------------------------------------------------------------------
-   a neighbor list rebuild since step() may have sorted the atoms: the
-   members (kstamp) and partners (estamp, fcend) at their new indices
-------------------------------------------------------------------------- */
-
-void HSLocalEngine::remap_after_rebuild()
-{
-  if ((int) kstamp.size() < atom->nmax) kstamp.resize(atom->nmax, 0u);
-  if ((int) estamp.size() < atom->nmax) estamp.resize(atom->nmax, 0u);
-  grow_arrays();
-  bump_epoch(kepoch, kstamp);
-  bump_epoch(eepoch, estamp);
-  for (tagint t : end_mtags) kstamp[owned(t)] = kepoch;
-  for (size_t k = 0; k < end_ptags.size(); k++) {
-    const int i = owned(end_ptags[k]);
-    estamp[i] = eepoch;
-    for (int d = 0; d < 3; d++) fcend[i][d] = end_pfc[k][d];
-  }
-}
-
-/* ----------------------------------------------------------------------
    closing half kick with f - F_C(end): V_R and held forces. Members' V_C
-   kick closed their last sub-step; without held forces they take none
+   kick closed their last sub-step; without held forces they take none.
+   A neighbor list rebuild since step() may have sorted the atoms or moved
+   them to other ranks: then members and partners are found by ID (the
+   partners' end forces gathered from every rank)
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::final_kick()
@@ -1535,16 +1925,37 @@ void HSLocalEngine::final_kick()
   double **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  // indices as step() left them, or as a rebuild since (atom sort) made them
   const bool remapped = neighbor->ncalls != end_ncalls;
-  if (remapped) remap_after_rebuild();
-  auto member = [&](int i) { return remapped ? kstamp[i] == kepoch : cs.is_member(i); };
+  if ((int) estamp.size() < atom->nmax) estamp.resize(atom->nmax, 0u);
+  if ((int) kstamp.size() < atom->nmax) kstamp.resize(atom->nmax, 0u);
+  grow_arrays();
+  if (remapped) {
+    sendbuf.clear();
+    for (size_t k = 0; k < end_ptags.size(); k++) {
+      sendbuf.push_back((double) end_ptags[k]);
+      for (int d = 0; d < 3; d++) sendbuf.push_back(end_pfc[k][d]);
+    }
+    allgather(recvbuf);
+    bump_epoch(eepoch, estamp);
+    for (size_t m = 0; m + 3 < recvbuf.size(); m += 4) {
+      const int i = atom->map((tagint) recvbuf[m]);
+      if (i < 0 || i >= nlocal) continue;
+      estamp[i] = eepoch;
+      for (int d = 0; d < 3; d++) sb[i][d] = recvbuf[m + 1 + d];
+    }
+  }
+  bump_epoch(kepoch, kstamp);
+  std::vector<int> all;
+  for (tagint t : end_mtags) {
+    const int i = atom->map(t);
+    if (i < 0 || i >= nlocal) continue;
+    kstamp[i] = kepoch;
+    all.push_back(i);
+  }
   // members' held forces: f - their conservative force from all their terms
-  if (F.nheld) {
-    std::vector<int> all;
-    for (tagint t : end_mtags) all.push_back(owned(t));
+  if (F.nheld && !all.empty()) {
+    locf->set_labels(nullptr);
     vc(all.data(), (int) all.size());
-    ncompute += 1.0;
     double **fl = locf->forces();
     for (int i : all) {
       const double dtfm = F.dtf / F.mass_of(i);
@@ -1553,12 +1964,18 @@ void HSLocalEngine::final_kick()
   }
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit)) continue;
+    if (kstamp[i] == kepoch) continue;    // above
     const double dtfm = F.dtf / F.mass_of(i);
-    if (member(i)) continue;    // above
     if (estamp[i] == eepoch) {
-      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fcend[i][d]);
+      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - sb[i][d]);
     } else
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
+  }
+  if (nprocs > 1 && F.nheld) {
+    double nc = ncompute_here;
+    MPI_Allreduce(&ncompute_here, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
+    ncompute += nc;
+    ncompute_here = 0.0;
   }
 }
 
@@ -1573,15 +1990,10 @@ int HSLocalEngine::owned(tagint t) const
 
 void HSLocalEngine::partner_kicks(int i, double *first, double *second) const
 {
-  const bool a = i < (int) cnt.size() && cnt[i] > 0 && (atom->mask[i] & sys->groupbit);
-  const bool b = i < (int) estamp.size() && estamp[i] == eepoch;
+  const bool a = sa[i][6] > 0.0 && (atom->mask[i] & sys->groupbit);
+  const bool b = estamp[i] == eepoch;
   for (int d = 0; d < 3; d++) {
-    first[d] = a ? dvt[i][d] : 0.0;
-    second[d] = b ? dvb[i][d] : 0.0;
+    first[d] = a ? sa[i][3 + d] : 0.0;
+    second[d] = b ? sb[i][3 + d] : 0.0;
   }
-}
-
-const HardSphere::ClusterCounters &HSLocalEngine::counters()
-{
-  return cs.counters();
 }

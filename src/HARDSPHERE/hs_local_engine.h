@@ -56,15 +56,33 @@
    Rows: V_C's forces come from rank-local interaction rows of the
    members' copies (HSLocalForces::compute_rows) and their contact
    candidates from rows of the same kind (crow()), both at the list build's
-   positions: the form several ranks need, where a member may be a ghost
-   (issue 20, doc/Developer_hardsphere.rst). The pair list restriction
-   (HSLocalForces::compute) serves newton_pair off and neigh_modify exclude.
+   positions. The pair list restriction (HSLocalForces::compute) serves
+   newton_pair off and neigh_modify exclude, on one rank.
+
+   Any number of MPI ranks, one code (issue 20, doc/Developer_hardsphere.
+   rst): the step's clusters are a ClusterSet over dense ids of the
+   members' atom IDs, ordered by ID, the same on every rank (every hit is
+   gathered before anyone grows). A cluster is run by the owner of its key
+   (lowest member ID) on its copies: an owned member by its owned copy,
+   another by its ghost copy nearest the key (its rows must be complete:
+   member_copies() checks the ghost cutoff, chosen() raises it). Per growth
+   round a constant number of collectives: the first halves' packets
+   (members' mid displacement, velocity, path segments) and the flows'
+   hits in one MPI_Allgatherv; the cross checks' hits; the partners' sums
+   (V_C's start force, first-half kicks) reversed into the owners, which
+   set Phi_H2's velocities w and forward them; Phi_H2's hits (each pair
+   checked by the rank listing it) and the largest line deviation; the
+   cross neighbours; the second halves' packets and hits; their cross
+   checks' hits. Each rank detects the copies whose Phi_H2 path changed
+   itself (no dirty lists are sent). The closing kick finds members and
+   partners' end forces by ID after a list rebuild (sort or migration).
 
    Restrictions (FixHardSphere::choose_engine() falls back to the global
-   engine, or errors when `substep local` was given): one MPI rank; pair,
+   engine, or errors when `substep local` was given): an atom map; pair,
    bond, angle, dihedral and improper styles HSLocalForces can restrict
-   exactly (no kspace, many-body or hybrid pair styles); no fix with
-   conservative forces except enforce2d.
+   exactly (no kspace, many-body or hybrid pair styles), on several ranks
+   through rows (atomic systems, newton_pair on, no neigh_modify exclude);
+   no fix with conservative forces except enforce2d.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LOCAL_ENGINE_H
@@ -100,15 +118,19 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
 
   // HSStepEngine
   std::string limits() override;
+  // the ghost cutoff the engine needs (a cluster's member may be a ghost
+  // copy whose interaction rows must be complete): raised by the engine if
+  // the input's is smaller, with a line in the log
+  void chosen() override;
   void step() override;
   bool finish() override;
   double counter(int k) override;
 
   // HSStepView: the step's clusters and state, for a method's own
-  // bookkeeping (hs_local_modified.h); valid from step() to the end of
-  // finish()
+  // bookkeeping (hs_local_modified.h; one rank); valid from step() to the
+  // end of finish()
   int nclusters() const override { return cs.nclusters(); }
-  const std::vector<int> &members(int c) const override { return cs.members(c); }
+  const std::vector<int> &members(int c) const override;
   const double *start_x(int i) const override { return x0[i]; }
   const double *start_v(int i) const override { return v0[i]; }
   void partner_kicks(int i, double *first, double *second) const override;
@@ -122,47 +144,68 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   HSMethod &meth;
   HSLocalForces *locf;
   int local_step = 0;    // the current step ran by clusters
+  int nprocs = 1, me = 0;
   // a step in which screening found spheres that may touch. Returns false
-  // if no contact is predicted in the step at all (the caller takes fix
-  // nve's step); else the step is done up to the closing kick
+  // if no contact is predicted in the step at all, on any rank (the caller
+  // takes fix nve's step); else the step is done up to the closing kick
   bool step_clusters();
   // the closing half kick (final_integrate) of a step step_clusters() took
   void final_kick();
-  const HardSphere::ClusterCounters &counters();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
-  double ncompute = 0.0;    // restricted force evaluations
+  double ncompute = 0.0;    // restricted force evaluations (all ranks)
+  double ncompute_here = 0.0;    // this rank's, since the last sum
+  double ncollective = 0.0;      // collective communications in collisional steps
+  double ncoll_steps = 0.0;      // collisional steps taken by clusters
+
+  // ---- the step's clusters, the same on every rank: a ClusterSet over
+  // dense ids of the members' atom IDs, ordered by ID (keys: lowest ID)
   HardSphere::ClusterSet cs;
+  std::unordered_map<tagint, int> idof;    // member ID -> dense id
+  std::vector<int64_t> idtag;              // dense id -> ID
+  int id_of(tagint t);                     // adds t if new
+  std::vector<int> mid;                    // per local copy: its dense id, -1 if not a member
+  std::vector<int> mid_set;                // copies with mid set
+  bool is_member(int l) const { return mid[l] >= 0; }
+  int cluster_of(int l) const { return mid[l] >= 0 ? cs.cluster_of(mid[l]) : -1; }
+  tagint key_of(int c) const { return idtag[cs.members(c)[0]]; }
+  std::vector<std::vector<int>> view_members;    // members(c) as owned indices (one rank)
 
   using Vec = std::array<double, 3>;
   struct Seg {
     double t0, t1;
-    Vec q, v, a;
+    Vec q, v, a;    // q: displacement from the copy's start position
   };
-  // one cluster's flows; key: its smallest member
+  // one cluster's flows, by key (its lowest member ID). The runner (the
+  // key's owner) keeps everything; other ranks keep what the packets of
+  // each half carry (the replicated registry): members' IDs, mid and end
+  // displacements and velocities, and each half's path segments
   struct Run {
-    std::vector<int> members;    // owned indices, sorted
-    std::vector<int> touched;    // members and partners (owned)
-    HSLocalForces::Snapshot snap;    // its restricted lists
-    std::vector<Vec> fk0;        // V_C's force of this cluster at the step's start, on touched
-    bool a_done = false, b_done = false, contributed = false;
-    std::vector<int> env;                    // static atoms of its flows (partners, contact candidates)
-    std::vector<Vec> xm, vm;                 // members after Phi_H1(dt/2)
-    std::vector<Vec> xe, ve;                 // members at the step's end
-    std::vector<Vec> fx0, fx;                // members' cross-term forces F_X(q0), F_X(q_mid)
-    std::vector<int> xnbrs;                  // clusters (keys) it has cross terms with
-    std::vector<Vec> dvA, dvB, fend;         // on touched: partner velocity changes, end forces
+    bool mine = false;
+    std::vector<tagint> mtags;      // member IDs, ascending
+    std::vector<int> members;       // runner: the members' copies (nearest the key's)
+    std::vector<int> touched;       // runner: members and partners (copies)
+    HSLocalForces::Snapshot snap;   // runner: its restricted lists
+    std::vector<Vec> fk0;           // runner: V_C's force at the step's start, on touched
+    bool a_done = false, b_done = false;
+    std::vector<int> env;           // runner: static copies of its flows
+    std::vector<Vec> dxm, vm;       // members after Phi_H1(dt/2): displacement from x0, v
+    std::vector<Vec> dxe, ve;       // members at the step's end
+    std::vector<Vec> xm;            // runner: members' positions after the first half
+    std::vector<Vec> fx0, fx;       // runner: members' cross-term forces F_X(q0), F_X(q_mid)
+    std::vector<tagint> xnbrs;      // runner: clusters (keys) it has cross terms with
+    std::vector<Vec> dvA, dvB, fend;    // runner, on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
-    // what each half's flow adds to the fix's counters and virial (only the
-    // flows of the final clusters count: redone ones are dropped)
     double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
-    // back to a new run, keeping the vectors' storage
     void reset()
     {
-      for (auto *v : {&members, &touched, &env, &xnbrs}) v->clear();
-      for (auto *v : {&fk0, &xm, &vm, &xe, &ve, &fx0, &fx, &dvA, &dvB, &fend}) v->clear();
+      mine = false;
+      for (auto *v : {&members, &touched, &env}) v->clear();
+      mtags.clear();
+      xnbrs.clear();
+      for (auto *v : {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &dvA, &dvB, &fend}) v->clear();
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
-      a_done = b_done = contributed = false;
+      a_done = b_done = false;
       for (int h = 0; h < 2; h++) {
         npair[h] = nwall[h] = 0.0;
         for (int k = 0; k < 6; k++) vir[h][k] = 0.0;
@@ -173,12 +216,12 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // and drops thousands of them in a large system)
   class RunTable {
    public:
-    using Map = std::unordered_map<int, Run *>;
-    Map::iterator find(int k) { return map_.find(k); }
+    using Map = std::unordered_map<tagint, Run *>;
+    Map::iterator find(tagint k) { return map_.find(k); }
     Map::iterator begin() { return map_.begin(); }
     Map::iterator end() { return map_.end(); }
-    Run *at(int k) { return map_.at(k); }
-    Run &operator[](int k)
+    Run *at(tagint k) { return map_.at(k); }
+    Run &operator[](tagint k)
     {
       auto it = map_.find(k);
       if (it != map_.end()) return *it->second;
@@ -211,65 +254,81 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Run *> spare_;
   };
   RunTable runs;
+  Run *run_of(tagint key)
+  {
+    auto it = runs.find(key);
+    return it == runs.end() ? nullptr : it->second;
+  }
+  // runs of this rank in key order (the order of every sum it makes)
+  std::vector<tagint> my_keys();
 
-  // per owned atom, sized atom->nmax
+  // ---- per local copy (owned and ghost), sized atom->nmax
   int nmax = 0;
-  double **x0 = nullptr, **v0 = nullptr, **w = nullptr, **fcend = nullptr;
-  double **fc0 = nullptr, **dvt = nullptr, **dvb = nullptr;
-  // sums over the clusters run so far (fc0: V_C's start force, dvt: first-half
-  // partner kicks) and how many clusters touch each atom
-  std::vector<int> cnt, sums_used;
-  std::vector<char> in_sums;
-  std::vector<uint32_t> estamp;    // in V_C at the step's end (fcend, dvb)
-  uint32_t eepoch = 0;
-  // atoms whose path changed since the last Phi_H2 check, and the clusters
-  // whose flows see each atom (for redoing only what a growth changed)
+  double **x0 = nullptr, **v0 = nullptr;    // the step's start
+  double **held0 = nullptr;                 // members' held force at the step's start
+  // Phi_H2's velocity w (0-2), "may touch in Phi_H2" (3) and the free gap
+  // (4): the owner's, forwarded to the ghosts
+  double **wq = nullptr;
+  // sums over the live clusters' first halves on their copies, then
+  // reversed into the owners: V_C's start force (0-2), partner kicks (3-5),
+  // clusters touching (6)
+  double **sa = nullptr;
+  // the same over the final clusters' second halves: V_C's end force,
+  // partner kicks, touched
+  double **sb = nullptr;
+  // Phi_H2's path of each copy as last checked: start position, w, member
+  double **hp = nullptr;
+  std::vector<char> hmem;
+  // copies whose Phi_H2 path changed: since the last check (hdirty), since
+  // the last drift (ddirty, dstamp)
+  std::vector<int> hdirty, ddirty;
   std::vector<uint32_t> dstamp;
   uint32_t depoch = 0;
-  std::vector<int> dirty;
-  std::vector<uint32_t> hstamp;    // the same, since the last Phi_H2 check
-  uint32_t hepoch = 0;
-  std::vector<int> hdirty;
-  std::vector<std::vector<int>> atom_runs;
+  std::vector<uint32_t> hstampv;    // copies with held0 this step
+  uint32_t heldepoch = 0;
+  std::vector<uint32_t> kstamp;     // owned members at the closing kick
+  uint32_t kepoch = 0;
+  std::vector<std::vector<tagint>> atom_runs;    // runner: keys of the runs whose flows saw a copy
   std::vector<int> runs_used;
   bool drifted = false;
+  std::vector<uint32_t> estamp;    // owned atoms with a row in sb at the step's end
+  uint32_t eepoch = 0;
 
-  // contact candidates by owned atom (pair indices into fix->cand / 2)
+  // contact candidates by local copy (pair indices into fix->cand / 2)
   bigint cand_version = -1;
-  std::vector<int> own;                     // owner of each local index (owned, ghosts)
-  std::vector<int> adj_off, adj;            // owned atom -> candidate pairs
+  std::vector<int> adj_off, adj;            // local copy -> candidate pairs
   std::vector<uint32_t> pstamp;             // candidate pair seen
   std::vector<int> act0;                    // owned atoms the screen marked active
-  std::vector<uint32_t> astamp0;            // in act0 (pathv set)
+  std::vector<uint32_t> astamp0;            // in act0
   uint32_t pepoch0 = 0;
-  std::vector<double> pathv;                // their Verlet path bound over the step
   std::vector<uint32_t> astamp;             // considered by h2_check
   uint32_t aepoch = 0;
   uint32_t pepoch = 0;
   void build_adjacency();
 
   struct Hit {
-    int i, j;    // owned indices; j < 0: wall -1 - j
+    tagint i, j;    // atom IDs; j < 0: wall -1 - j
+    bool operator<(const Hit &o) const { return i != o.i ? i < o.i : j < o.j; }
+    bool operator==(const Hit &o) const { return i == o.i && j == o.j; }
   };
   void grow_arrays();
-  // the per-atom [nmax][3] arrays, allocated together
-  std::array<double ***, 8> peratom()
+  // the per-atom arrays, allocated together (columns)
+  std::array<std::pair<double ***, int>, 8> peratom()
   {
-    return {&x0, &v0, &w, &fcend, &fc0, &dvt, &dvb, &held0};
+    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 5}, {&sa, 7}, {&sb, 7}, {&hp, 6}, {&cols, 2}}};
   }
-  int owner(int k) const { return own[k]; }
+  double **cols = nullptr;    // scratch columns (the screen's flags)
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);
-  void add_terms(const std::vector<int> &newm);
-  void grow_clusters(const std::vector<Hit> &hits);
+  void grow_clusters(std::vector<Hit> &hits);
+  void add_members(const std::vector<int> &newids);
   bool flow(Run &r, double h, bool first_half, std::vector<Hit> &hits);
   void cross_check(bool first_half, const std::vector<int> &fresh, std::vector<Hit> &hits);
   void h2_check(bool full, std::vector<Hit> &hits);
-  void contribute(Run &r, double sign);
-  void retire(Run &r);
-  void mark_dirty(int i);
-  void wvel(int i, double *wi) const;
+  void retire(tagint key);
+  void h2_velocities();
+  void update_paths(bool full);
   void h2_pos(int l, double *q) const;
   void check_pair(int p, std::vector<Hit> &hits);
   void check_walls(int i, std::vector<Hit> &hits);
@@ -281,40 +340,51 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_env_x0;
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
-  void settle(const std::vector<Hit> &hits);
-  // cluster labels on the local copies of members (HSLocalForces' cross terms)
+  void settle(std::vector<Hit> &hits);
+  // cluster labels (the key's dense id) on every local copy of the members
+  // (HSLocalForces' cross terms)
   std::vector<int> lab, labelled;
-  void label_members();
   void label_cluster(int c);
   void cross_at_mid();
   void cross_of(Run &r);
   void cross_at_start(Run &r);
-  // work lists of cluster keys: first halves to run, second halves to run,
-  // cross forces to recompute; flows not cross-checked yet
-  std::vector<int> workA, workB, workX, wave2, uncheckedA, uncheckedB;
+  void held_of(Run &r);
+  // the member copies of a cluster this rank runs: the key's owned copy and
+  // for every other member its copy nearest it; checked against the ghost
+  // cutoff
+  void member_copies(Run &r);
+  // work lists of cluster keys; runs not cross-checked yet
+  std::vector<tagint> workA, workB, workX, uncheckedA, uncheckedB;
+  std::vector<int> clusters_of(std::vector<tagint> &keys);
+  int clusters_of_key(tagint key) const;
 
-  std::vector<uint32_t> xstamp;
-  uint32_t xepoch = 0;
-  void held_at_start(const std::vector<int> &newm);
-  double **held0 = nullptr;    // members' held force at the step's start
-  // the step's members and partners (with V_C's end force) by tag, for the
-  // closing kick: a neighbor list rebuild between step() and final_kick()
-  // may sort the atoms (atom_modify sort), which changes local indices
+  // ---- the replicated registry: packets of each half, shared by one
+  // collective per phase
+  std::vector<double> sendbuf, recvbuf;
+  std::vector<int> rcounts, rdispl;
+  void allgather(std::vector<double> &out);    // sendbuf of every rank, in rank order
+  void gather_hits(std::vector<Hit> &hits);
+  size_t npk_pos = 0;    // where sendbuf counts its packets
+  void start_packets(const std::vector<Hit> &hits);
+  void pack_run(const Run &r, bool first_half);
+  void unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arrived);
+  void place_members(const Run &r);
+  double max_all(double v);
+
+  // the step's members (IDs) and partners' end forces by ID, for the
+  // closing kick after a neighbor list rebuild (sorting or migration)
   std::vector<tagint> end_mtags, end_ptags;
   std::vector<Vec> end_pfc;
   bigint end_ncalls = -1;
-  std::vector<uint32_t> kstamp;    // members after a remap
-  uint32_t kepoch = 0;
-  void remap_after_rebuild();
   int bonded = 0;              // bonded styles present: their terms join clusters
   bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
+  double ghost_needed = 0.0;   // the ghost cutoff the local engine asked for
   void vc(const int *c, int n);
-  // contact candidates of any local copy (a cluster's members may be
-  // ghosts on several ranks, which the fix's half contact list has no rows
-  // for): every group atom within the contact list's cutoff at the list
-  // build (HSSystem::xref), bonded partners included (as the fix's list,
-  // HSSystem::reset_reference), not its images, in tag order; kept per build.
-  // The pointer is valid until the next crow() of an atom without a row.
+  // contact candidates of any local copy: every group atom within the
+  // contact list's cutoff at the list build (HSSystem::xref), bonded
+  // partners included (as the fix's list, HSSystem::reset_reference), not
+  // its images, in ID order; kept per build. The pointer is valid until
+  // the next crow() of an atom without a row.
   const int *crow(int a, int &n);
   HardSphere::CellRows<int> crows;
   bigint crows_version = -1;

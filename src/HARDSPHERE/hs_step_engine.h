@@ -30,6 +30,9 @@ class HSStepEngine : protected Pointers {
   // from the fix's init(): "" if the engine can run this set-up, else why
   // not (the styles or fixes named)
   virtual std::string limits() { return ""; }
+  // from the fix's init(), once this engine is chosen: what it needs of the
+  // set-up before the run's set-up (the local engine: its ghost cutoff)
+  virtual void chosen() {}
   // initial_integrate of a step in which screening found spheres that may
   // touch: the step up to its closing half kick (collective)
   virtual void step() = 0;
@@ -38,8 +41,9 @@ class HSStepEngine : protected Pointers {
   virtual bool finish() = 0;
   // the engine's output entries (fix output vector, after the method's):
   // clusters, mean and largest members per cluster, growth rounds, steps
-  // that fell back to the global engine, restricted force evaluations
-  static constexpr int NCOUNTERS = 6;
+  // that fell back to the global engine, restricted force evaluations,
+  // collective communications per step taken by clusters
+  static constexpr int NCOUNTERS = 7;
   virtual double counter(int k) = 0;
 };
 

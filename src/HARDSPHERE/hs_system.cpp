@@ -271,13 +271,45 @@ void HSSystem::reset_reference(int at_setup)
 
 int HSSystem::pack_reverse_comm(int n, int first, double *buf)
 {
+  if (cols_) {
+    int m = 0;
+    for (int k = 0; k < n; k++)
+      for (int c = 0; c < ncols_; c++) buf[m++] = cols_[first + k][c];
+    return m;
+  }
   for (int k = 0; k < n; k++) buf[k] = gap[first + k];
   return n;
 }
 
 void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
 {
+  if (cols_) {
+    int m = 0;
+    for (int k = 0; k < n; k++)
+      for (int c = 0; c < ncols_; c++) cols_[list_[k]][c] += buf[m++];
+    return;
+  }
   for (int k = 0; k < n; k++) gap[list_[k]] = MIN(gap[list_[k]], buf[k]);
+}
+
+void HSSystem::forward_columns(double **a, int ncol)
+{
+  if (ncol < 1 || ncol > COMM_COLUMNS)
+    error->one(FLERR, "Fix {}: internal error: {} columns to forward", style_name, ncol);
+  cols_ = a;
+  ncols_ = ncol;
+  HSCompat::forward_comm_fix(comm, host);
+  cols_ = nullptr;
+}
+
+void HSSystem::reverse_columns(double **a, int ncol)
+{
+  if (ncol < 1 || ncol > COMM_COLUMNS)
+    error->one(FLERR, "Fix {}: internal error: {} columns to reverse", style_name, ncol);
+  cols_ = a;
+  ncols_ = ncol;
+  HSCompat::reverse_comm_fix(comm, host);
+  cols_ = nullptr;
 }
 
 inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
@@ -342,6 +374,11 @@ int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
 {
   double **v = atom->v;
   int m = 0;
+  if (cols_) {
+    for (int k = 0; k < n; k++)
+      for (int c = 0; c < ncols_; c++) buf[m++] = cols_[list_[k]][c];
+    return m;
+  }
   for (int k = 0; k < n; k++) {
     const int j = list_[k];
     buf[m++] = v[j][0];
@@ -360,6 +397,11 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
   double **v = atom->v;
   int m = 0;
   const int last = first + n;
+  if (cols_) {
+    for (int i = first; i < last; i++)
+      for (int c = 0; c < ncols_; c++) cols_[i][c] = buf[m++];
+    return;
+  }
   for (int i = first; i < last; i++) {
     v[i][0] = buf[m++];
     v[i][1] = buf[m++];

@@ -28,6 +28,9 @@ class Fix;
 class HSPotential;
 
 class HSSystem : protected Pointers, public HSTypes {
+  double **cols_ = nullptr;    // forward_columns()/reverse_columns() in progress
+  int ncols_ = 0;
+
  public:
   HSSystem(class LAMMPS *, Fix *host, const std::string &style_name);
   ~HSSystem() override;
@@ -103,6 +106,13 @@ class HSSystem : protected Pointers, public HSTypes {
   void unpack_forward_comm(int n, int first, double *buf);
   int pack_reverse_comm(int n, int first, double *buf);
   void unpack_reverse_comm(int n, int *list, double *buf);
+  // an engine's own per-atom columns a[i][0..ncol) (ncol <= COMM_COLUMNS),
+  // through the host's buffers: forward copies the owners' rows to their
+  // ghosts, reverse adds the ghosts' rows to their owners' (and leaves the
+  // ghosts' as they were)
+  static constexpr int COMM_COLUMNS = 7;
+  void forward_columns(double **a, int ncol);
+  void reverse_columns(double **a, int ncol);
 
   // earliest approaching contact within tleft of this rank's candidates
   double predict(double tleft, Event &);

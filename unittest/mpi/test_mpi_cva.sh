@@ -8,8 +8,7 @@
 # Velocities use "loop geom" so the initial state does not depend on the rank
 # count (with the default "loop all" the 1- and 2-rank runs of fix nve already
 # differ by 1e-7 after one step). These compare the global engine (substep
-# global); the local engine runs on one rank: on 2 ranks the default falls
-# back to global with a warning and an explicit substep local is an error.
+# global); test_mpi_local.sh compares the local engine (the default).
 
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_cva "$@"
@@ -25,20 +24,28 @@ check_system chain in.cva_chain "2 4" -var method "cva substep global" -var dt 0
 echo "periodic hard-sphere + LJ fluid (500 atoms, 200 steps) on 1, 2, 4 ranks:"
 check_system fluid in.cva_fluid "2 4" -var nsteps 200
 
-echo "substep local on 2 ranks:"
-lj_fluid_input cva | sed 's/ substep global//' > in.cva_default
+echo "the default engine on 2 ranks is the local one (test_mpi_local.sh compares it):"
+lj_fluid_input cva | sed 's/ substep global//; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/' > in.cva_default
 mpirun -np 2 --oversubscribe "$LMP" -in in.cva_default -var nsteps 20 -log none -echo none > out.cva_default 2>&1
-if [ $? -eq 0 ] && grep -q "falls back to substep global" out.cva_default && grep -q "2 MPI ranks" out.cva_default; then
-  echo "  default: falls back to global with a warning: ok"
+if [ $? -eq 0 ] && grep -q "substep local (collisions sub-stepped per cluster)" out.cva_default && ! grep -q "falls back" out.cva_default; then
+  echo "  default: local, no fall-back: ok"
 else
-  echo "  FAIL: default cva on 2 ranks did not fall back with a warning"; tail -5 out.cva_default; fail=1
+  echo "  FAIL: default cva on 2 ranks did not take the local engine"; tail -5 out.cva_default; fail=1
 fi
-lj_fluid_input cva | sed 's/ substep global/ substep local/' > in.cva_local
-mpirun -np 2 --oversubscribe "$LMP" -in in.cva_local -var nsteps 20 -log none -echo none > out.cva_local 2>&1
-if [ $? -ne 0 ] && grep -q "substep local cannot run with 2 MPI ranks" out.cva_local; then
-  echo "  explicit substep local: error naming the rank count: ok"
+echo "pcva's local projection runs on one rank: on 2 ranks the default falls back, an explicit substep local is an error:"
+sed 's/hardsphere\/cva/hardsphere\/pcva/' in.cva_default > in.pcva_default
+mpirun -np 2 --oversubscribe "$LMP" -in in.pcva_default -var nsteps 20 -log none -echo none > out.pcva_default 2>&1
+if [ $? -eq 0 ] && grep -q "falls back to substep global" out.pcva_default && grep -q "2 MPI ranks (pcva" out.pcva_default; then
+  echo "  pcva default: falls back to global with a warning naming the ranks: ok"
 else
-  echo "  FAIL: explicit substep local on 2 ranks gave no error naming the ranks"; tail -5 out.cva_local; fail=1
+  echo "  FAIL: default pcva on 2 ranks did not fall back with a warning"; tail -5 out.pcva_default; fail=1
+fi
+sed 's/diameter 1.0/diameter 1.0 substep local/' in.pcva_default > in.pcva_local
+mpirun -np 2 --oversubscribe "$LMP" -in in.pcva_local -var nsteps 20 -log none -echo none > out.pcva_local 2>&1
+if [ $? -ne 0 ] && grep -q "substep local cannot run with 2 MPI ranks (pcva" out.pcva_local; then
+  echo "  pcva explicit substep local: error naming the rank count: ok"
+else
+  echo "  FAIL: explicit pcva substep local on 2 ranks gave no error naming the ranks"; tail -5 out.pcva_local; fail=1
 fi
 
 mpi_finish

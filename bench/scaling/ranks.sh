@@ -1,0 +1,52 @@
+#!/bin/bash
+# bench/scaling/ranks.sh: the local engine on 1 and 2 MPI ranks (issue 20).
+# On the hard-core LJ fluid at SIZES atoms: fix nve and hardsphere/cva (its
+# default, the local engine) on 1 and 2 ranks, repeats alternating the four
+# runs; then 4 ranks (oversubscribed on a 2-core machine: correctness only,
+# its collisions must equal 1 rank's). ranks_parse.py writes the table
+# (ranks.md): per repeat the ratios cva(1)/cva(2) (speed-up), cva/nve on 1
+# and on 2 ranks, medians and spreads, collisions per step on 1, 2, 4 ranks
+# and the engine's collectives per collisional step (f_hs[12]).
+#   bash bench/scaling/ranks.sh                       # SIZES="32000 256000" REPEATS=3
+#   SIZES=32000 REPEATS=5 bash bench/scaling/ranks.sh
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/../.." && pwd)
+LMP=${LMP:-$ROOT/build/lmp}
+SIZES=${SIZES:-"32000 256000"}
+REPEATS=${REPEATS:-3}
+SCR=$HERE/scratch
+LOGS=$SCR/ranks-logs
+mkdir -p "$SCR" "$LOGS"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+[ -x "$LMP" ] || (cd "$ROOT" && cmake -S . -B build >/dev/null && cmake --build build -j2)
+rm -f "$LOGS"/log.*
+cd "$SCR"
+run() {    # run <np> <log> <N> <steps> <fix command>
+  local np=$1 log=$2 N=$3 n=$4 fixcmd=$5 counts=no
+  [[ "$fixcmd" == *hardsphere* ]] && counts=yes
+  mpirun -np "$np" --oversubscribe "$LMP" -screen none -in "$HERE/in.run" -var system fluid \
+    -var data "$SCR/fluid.$N.data" -var steps "$n" -var counts $counts -var fixcmd "$fixcmd" -log "$log"
+  grep -E "^Loop time|^BENCH" "$log" | tr '\n' ' '; echo
+}
+for N in $SIZES; do
+  cells=$(/usr/bin/python3 -c "n=round(($N/4)**(1/3)); assert 4*n**3==$N, 'N must be 4 cells^3'; print(n)")
+  if [ ! -f "$SCR/fluid.$N.data" ]; then
+    echo "[$(date +%T)] equilibrating fluid N=$N (300 psa steps)"
+    "$LMP" -screen none -in "$HERE/in.make-fluid" -var cells "$cells" -var out "$SCR/fluid.$N.data" \
+      -log "$SCR/log.make-fluid.$N"
+  fi
+  steps=${STEPS:-$(/usr/bin/python3 -c "print(max(20, round(4e6/$N)))")}
+  for k in $(seq 1 "$REPEATS"); do
+    for np in 1 2; do
+      for c in nve cva; do
+        if [ $c = nve ]; then f="fix hs all nve"; else f="fix hs all hardsphere/cva diameter 1.0"; fi
+        echo "[$(date +%T)] N=$N repeat $k: $c on $np ranks ($steps steps)"
+        run $np "$LOGS/log.$N.$k.$c.$np" "$N" "$steps" "$f"
+      done
+    done
+  done
+  echo "[$(date +%T)] N=$N: cva on 4 ranks (oversubscribed: collisions only)"
+  run 4 "$LOGS/log.$N.1.cva.4" "$N" "$steps" "fix hs all hardsphere/cva diameter 1.0"
+done
+/usr/bin/python3 "$HERE/ranks_parse.py" "$HERE/ranks.md" "$LOGS"

@@ -1,0 +1,174 @@
+#!/bin/bash
+# The local engine (the default of hardsphere/cva) on 1, 2 and 4 MPI ranks
+# (issue 20): the same collision counts (pair, wall, steps with a
+# collision, clusters, growth rounds) exactly, and energies equal to RTOL.
+#   bash test_mpi_local.sh <lmp> <source dir>
+# Systems: the hard-core LJ fluid (density 0.6) at 500 atoms over 200 steps
+# and at 4000 atoms over 300 steps; the same 500 hot (T 3) with a small skin,
+# so that atoms change rank between the two halves of a step; and exact
+# boundary cases in a force-free box split into slabs (processors N 1 1):
+# a head-on pair across a sub-domain face and across the periodic face
+# (velocities exchanged exactly), a Newton's cradle of four spheres that
+# spans two or three ranks and grows across them within a step (the last
+# sphere leaves with the striker's velocity), and a pair plus two wall
+# contacts at a rank face. Then the error of a cluster that outgrows the
+# ghost region.
+
+source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
+mpi_init test_mpi_local "$@"
+
+# fluid: lj_fluid_input without its " substep global"; clusters (f_hs[6])
+# and growth rounds (f_hs[9]) added to the RESULT line
+fluid() {
+  lj_fluid_input cva 6 9 | sed "s/ substep global//; s/region      box block 0 5 0 5 0 5/region      box block 0 $1 0 $1 0 $1/; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/"
+}
+fluid 5 > in.local_fluid500
+fluid 10 > in.local_fluid4000
+fluid 5 | sed 's/create 1.5/create 3.0/; s/neighbor    0.3 bin/neighbor    0.2 bin/' > in.local_hot
+
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+echo "hard-core LJ fluid, 500 atoms, 200 steps, default engine, 1, 2, 4 ranks:"
+check_system fluid500 in.local_fluid500 "2 4" -var nsteps 200
+echo "the same at 4000 atoms, 300 steps:"
+check_system fluid4000 in.local_fluid4000 "2 4" -var nsteps 300
+echo "500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 200 steps:"
+check_system hot in.local_hot "2 4" -var nsteps 200
+
+# a force-free periodic box 10^3 (y walls where asked), atoms given as
+# "x y z vx vy vz" lines in ATOMS (IDs in order), slabs in x
+box_input() {
+  cat <<EOF2
+units       lj
+atom_style  atomic
+atom_modify map array
+boundary    p \${yb} p
+processors  \${np} 1 1
+region      box block 0 10 0 10 0 10
+create_box  1 box
+mass        1 1.0
+pair_style  lj/cut 2.5
+pair_coeff  1 1 0.0 1.0 2.5
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+EOF2
+  local n=0
+  while read -r x y z vx vy vz; do
+    [ -z "$x" ] && continue
+    n=$((n + 1))
+    echo "create_atoms 1 single $x $y $z units box"
+    echo "set atom $n vx $vx vy $vy vz $vz"
+  done <<< "$ATOMS"
+  cat <<EOF2
+fix         hs all hardsphere/cva diameter 1.0 \${walls}
+timestep    0.005
+run         \${nsteps}
+EOF2
+  local s='print "RESULT $(etotal:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[2]) $(f_hs[3]) $(f_hs[4]) $(f_hs[6]) $(f_hs[9])'
+  for k in $(seq 1 "$n"); do s+=" \$(vx[$k]:%.17g) \$(vy[$k]:%.17g)"; done
+  echo "$s\""
+}
+
+# boxcase <name> <rank counts> <expected "index=value" ...>: every rank
+# count against 1 rank, and the 1-rank result against the analytic values
+boxcase() {
+  local name=$1 nps=$2 input=in.local_$1
+  shift 2
+  local ref np got
+  ref=$(run "$name" 1 "$input" -var np 1 -var nsteps 200 -var yb "$YB" -var walls "$WALLS") || { fail=1; return; }
+  python3 - "$name" "$ref" "$@" <<'PY' || fail=1
+import sys
+name, ref = sys.argv[1], [float(v) for v in sys.argv[2].split()]
+ok = True
+for spec in sys.argv[3:]:
+    k, want = spec.split("=")
+    got = ref[int(k)]
+    good = abs(got - float(want)) <= 1e-12 * max(1.0, abs(float(want)))
+    ok = ok and good
+    print(f"  {name:8s} 1 rank field {k} = {got!r} (analytic {want}) {'ok' if good else 'FAIL'}")
+sys.exit(0 if ok else 1)
+PY
+  for np in $nps; do
+    got=$(run "$name" "$np" "$input" -var np "$np" -var nsteps 200 -var yb "$YB" -var walls "$WALLS") || { fail=1; continue; }
+    compare "$name" "$ref" "$got" "$np" || fail=1
+  done
+}
+
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+YB=p
+WALLS=""
+# head-on pair across the face x = 5 of 2 ranks: velocities exchanged
+ATOMS="4.2 5 5 1 0 0
+5.8 5 5 -1 0 0"
+box_input > in.local_face
+LABELS+=("vx1" "vy1" "vx2" "vy2")
+echo "head-on pair across a sub-domain face (2 ranks) and the ranks' faces (4):"
+boxcase face "2 4" 2=1 8=-1 10=1
+# the same across the periodic face x = 0
+ATOMS="0.8 5 5 -1 0 0
+9.2 5 5 1 0 0"
+box_input > in.local_periodic
+echo "head-on pair across the periodic face:"
+boxcase periodic "2 4" 2=1 8=1 10=-1
+# Newton's cradle: a striker and three spheres in a row (gaps 1e-4) across
+# x = 5 (2 ranks) and x = 2.5, 5 (4 ranks); the cluster grows along the row
+# within one step, each contact passes the whole velocity on
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+ATOMS="1.9 5 5 2 0 0
+3.4 5 5 0 0 0
+4.4001 5 5 0 0 0
+5.4002 5 5 0 0 0"
+box_input > in.local_cradle
+for k in 1 2 3 4; do LABELS+=("vx$k" "vy$k"); done
+echo "Newton's cradle across 2 and 3 ranks:"
+boxcase cradle "2 4" 2=3 8=0 10=0 12=0 14=2
+# a pair across x = 5 that collides and then hits the wall ylo with both
+# spheres: contacts of one cluster on two ranks, at a wall
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+YB=f
+WALLS="wall ylo 0.0"
+ATOMS="4.45 0.8 5 1 -2 0
+5.55 0.8 5 -1 -2 0"
+box_input > in.local_wall
+LABELS+=("vx1" "vy1" "vx2" "vy2")
+echo "a pair and two wall contacts at a rank face:"
+boxcase wall "2 4" 2=3 3=1 4=2 8=-1 9=2 10=1 11=2
+
+# a cluster that outgrows the ghost region: a cradle of nine spheres whose
+# lowest ID is at the far end from the striker, on 2 ranks: its runner has
+# no interaction rows for the striker's end. An error naming comm_modify
+# cutoff; on 1 rank the same run is fine
+YB=p
+WALLS=""
+ATOMS="8.5008 5 5 0 0 0
+7.5007 5 5 0 0 0
+6.5006 5 5 0 0 0
+5.5005 5 5 0 0 0
+4.5004 5 5 0 0 0
+3.5003 5 5 0 0 0
+2.5002 5 5 0 0 0
+1.5001 5 5 0 0 0
+0.4 5 5 2 0 0"
+box_input > in.local_long
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+for k in $(seq 1 9); do LABELS+=("vx$k" "vy$k"); done
+echo "a cluster beyond the ghost region:"
+if run long1 1 in.local_long -var np 1 -var nsteps 100 -var yb p -var walls "" > /dev/null; then
+  echo "  1 rank: runs: ok"
+else
+  echo "  FAIL: the long cradle fails on 1 rank"; fail=1
+fi
+mpirun -np 2 --oversubscribe "$LMP" -in in.local_long -var np 2 -var nsteps 100 -var yb p -var walls "" \
+  -log none -echo none > out.long.2 2>&1
+if [ $? -ne 0 ] && grep -q "reaches beyond what the ghost cutoff" out.long.2 && grep -q "comm_modify" out.long.2; then
+  echo "  2 ranks: error naming comm_modify cutoff: ok"
+else
+  echo "  FAIL: 2 ranks gave no error naming the ghost cutoff"; tail -5 out.long.2; fail=1
+fi
+# the engine raised the ghost cutoff itself, and said so
+if grep -q "substep local sets comm_modify cutoff" out.long.2; then
+  echo "  2 ranks: the engine's ghost cutoff is in the log: ok"
+else
+  echo "  FAIL: no log line about the ghost cutoff"; fail=1
+fi
+
+mpi_finish
