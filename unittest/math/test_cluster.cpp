@@ -401,3 +401,55 @@ TEST(Clusters, FrozenPartnersRandomAgainstBFS)
   EXPECT_EQ(cs.atoms(2), (std::vector<int>{4, 5}));
   cs.set_partners_join(true);
 }
+
+// the local engine's form (issue 20): a set over dense ids given in any
+// order (as contacts name atoms), grown within the step, numbered and
+// sorted by the atoms' IDs (set_order) so that every MPI rank agrees: the
+// same clusters as the brute force on the IDs, numbered by smallest ID,
+// members ascending in ID
+TEST(Clusters, DenseIdsOrderedByAtomIDs)
+{
+  std::mt19937 rng(2026);
+  ClusterSet cs;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Case k = random_case(rng);
+    // IDs are the case's indices; ids are handed out in order of first use
+    std::vector<int> idof(k.n, -1);
+    std::vector<int64_t> order;
+    cs.set_partners_join(false);
+    cs.reset(0);
+    cs.set_order(&order);
+    auto id = [&](int t) {
+      if (t < 0) return -1;
+      if (idof[t] < 0) {
+        idof[t] = (int) order.size();
+        order.push_back(1000 + 7 * (int64_t) t);    // any increasing map of the IDs
+        cs.grow((int) order.size());
+      }
+      return idof[t];
+    };
+    for (auto &c : k.contacts) {
+      const int a = id(c.first);
+      cs.add_contact(a, id(c.second));
+    }
+    for (auto &t : k.terms) {
+      std::vector<int> ids;
+      for (int a : t)
+        if (idof[a] >= 0 && cs.is_member(idof[a])) ids.push_back(idof[a]);
+      if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
+    }
+    cs.build();
+    Groups got;
+    int64_t last_key = -1;
+    for (int c = 0; c < cs.nclusters(); ++c) {
+      std::vector<int> m;
+      for (int i : cs.members(c)) m.push_back((int) ((order[i] - 1000) / 7));
+      ASSERT_TRUE(std::is_sorted(m.begin(), m.end())) << "trial " << trial;
+      ASSERT_GT(order[cs.members(c)[0]], last_key) << "trial " << trial;
+      last_key = order[cs.members(c)[0]];
+      got.insert({m, m});
+    }
+    ASSERT_EQ(got, brute(k.n, k.contacts, k.terms, false)) << "trial " << trial;
+    cs.set_order(nullptr);
+  }
+}
