@@ -5,7 +5,8 @@
 #   bash test_mpi_local.sh <lmp> <source dir>
 # Systems: the hard-core LJ fluid (density 0.6) at 500 atoms over 200 steps
 # and at 4000 atoms over 300 steps; the same 500 hot (T 3) with a small skin,
-# so that atoms change rank between the two halves of a step; and exact
+# so that atoms change rank between the two halves of a step; the 500 with
+# fix viscous (held forces, deterministic); and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
@@ -33,6 +34,11 @@ echo "the same at 4000 atoms, 300 steps:"
 check_system fluid4000 in.local_fluid4000 "2 4" -var nsteps 300
 echo "500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 200 steps:"
 check_system hot in.local_hot "2 4" -var nsteps 200
+# held forces: fix viscous (deterministic, unlike langevin) taken as half
+# kicks around the members' flows and in Phi_H2's kicks
+sed 's/^fix         hs all hardsphere/fix         vi all viscous 0.2\nfix         hs all hardsphere/' in.local_fluid500 > in.local_held
+echo "500 atoms with fix viscous 0.2 (held forces), 200 steps:"
+check_system held in.local_held "2 4" -var nsteps 200
 
 # a force-free periodic box 10^3 (y walls where asked), atoms given as
 # "x y z vx vy vz" lines in ATOMS (IDs in order), slabs in x
