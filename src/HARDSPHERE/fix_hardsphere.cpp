@@ -95,6 +95,15 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR, "Fix {} substep must be local or global, got {}", style_name,
                    arg[iarg + 1]);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "overflow") == 0) {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "Illegal fix {} command: overflow needs error or global", style_name);
+      if (strcmp(arg[iarg + 1], "error") == 0) S.overflow_global = 0;
+      else if (strcmp(arg[iarg + 1], "global") == 0) S.overflow_global = 1;
+      else
+        error->all(FLERR, "Fix {} overflow must be error or global, got {}", style_name,
+                   arg[iarg + 1]);
+      iarg += 2;
     } else
       error->all(FLERR, "Unknown fix {} keyword: {}", style_name, arg[iarg]);
   }
@@ -419,12 +428,20 @@ void FixHardSphere::initial_integrate(int)
     if (allflags & FAR) S.request_rebuild();
     return;
   }
-  engine->step();
+  stepped = engine;
+  if (!engine->step()) {
+    // the local engine declined (overflow global): this step is global's
+    stepped = global_engine;
+    S.nfallback += 1.0;
+    global_engine->step();
+  }
 }
 
 void FixHardSphere::final_integrate()
 {
-  if (engine && engine->finish()) return;
+  HSStepEngine *e = stepped ? stepped : engine;
+  stepped = nullptr;
+  if (e && e->finish()) return;
   sys->closing_kick();
 }
 

@@ -73,6 +73,7 @@ class FixHardSphere : public Fix, public HSTypes {
   // run to run); init() chooses the one of this run
   enum { SUBSTEP_DEFAULT = 0, SUBSTEP_LOCAL = 1, SUBSTEP_GLOBAL = 2 };
   int substep_mode = SUBSTEP_DEFAULT;    // the keyword
+  HSStepEngine *stepped = nullptr;       // the engine that took the current step
   HSStepEngine *engine = nullptr;        // this run's, or none (psa)
   HSStepEngine *global_engine = nullptr, *local_engine = nullptr;
   int local_vec_offset = 5;              // first output entry of the engine's counters

@@ -330,6 +330,8 @@ class ClusterSet {
     }
   }
   void reset_counters() { count_ = ClusterCounters(); }
+  // the current step's clusters are not counted (the step was given up)
+  void abandon() { built_ = false; }
 
  private:
   void note(int i)

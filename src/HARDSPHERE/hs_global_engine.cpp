@@ -28,7 +28,7 @@ HSGlobalEngine::HSGlobalEngine(LAMMPS *lmp, HSSystem &sys, HSMethod &method) :
    are called on every rank together, with the contact's tags known.
 ------------------------------------------------------------------------- */
 
-void HSGlobalEngine::step()
+bool HSGlobalEngine::step()
 {
   double tleft = S.dtv;
   // the sub-steps evaluate forces of all atoms: keep those of atoms that
@@ -106,6 +106,7 @@ void HSGlobalEngine::step()
   S.step_substeps = contact_seen;
   restore_other_forces();
   S.request_rebuild();
+  return true;
 }
 
 

@@ -27,7 +27,7 @@ class HSSystem;
 class HSGlobalEngine : public HSStepEngine, public HSTypes {
  public:
   HSGlobalEngine(class LAMMPS *, HSSystem &, HSMethod &);
-  void step() override;
+  bool step() override;
   bool finish() override;
   double counter(int k) override;
 

@@ -621,7 +621,7 @@ void HSLocalEngine::label_cluster(int c)
    images into the members' copies, contacts are taken copy to copy.)
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::member_copies(Run &r)
+bool HSLocalEngine::member_copies(Run &r)
 {
   const int nm = (int) r.mtags.size();
   r.members.resize(nm);
@@ -654,6 +654,7 @@ void HSLocalEngine::member_copies(Run &r)
             p[d] + cut[d] <= hi[d] + comm->cutghost[d];
       }
     }
+    if (!inside && sys->overflow_global) return false;
     if (!inside) {
       std::string ids;
       for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
@@ -661,12 +662,14 @@ void HSLocalEngine::member_copies(Run &r)
                  "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches "
                  "beyond what the ghost cutoff {} covers (atom {} needs every atom within the "
                  "neighbor cutoff {} of it on the rank of atom {}): use a larger comm_modify "
-                 "cutoff (the engine set {}), a smaller timestep, or substep global",
+                 "cutoff (the engine set {}), a smaller timestep, substep global, or overflow "
+                 "global (such steps taken globally)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
                  comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_needed);
     }
     r.members[k] = l;
   }
+  return true;
 }
 
 /* ----------------------------------------------------------------------
@@ -1566,7 +1569,7 @@ Contact HSLocalEngine::pair_contact(int la, int lb, const double *dq, const doub
    gathered before anyone decides on them
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::settle(std::vector<Hit> &hits)
+bool HSLocalEngine::settle(std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
   double **x = atom->x;
@@ -1633,6 +1636,7 @@ void HSLocalEngine::settle(std::vector<Hit> &hits)
     // Phi_H1(dt/2) of this rank's clusters not run yet, their static atoms at x0
     ev.clear();
     std::vector<tagint> ranA;
+    bool outgrown = false;
     for (int c : clusters_of(workA)) {
       const tagint key = key_of(c);
       if (!mine(key)) continue;
@@ -1641,7 +1645,10 @@ void HSLocalEngine::settle(std::vector<Hit> &hits)
       r.mine = true;
       r.mtags.clear();
       for (int id : cs.members(c)) r.mtags.push_back((tagint) idtag[id]);
-      member_copies(r);
+      if (!member_copies(r)) {
+        outgrown = true;
+        break;
+      }
       r.b_done = false;
       if (!flow(r, 0.5 * dt, true, ev)) continue;
       for (int a : r.env) enroll(a, key);
@@ -1650,7 +1657,9 @@ void HSLocalEngine::settle(std::vector<Hit> &hits)
       workB.push_back(key);
       ranA.push_back(key);
     }
-    // their packets and contacts to every rank
+    // their packets and contacts to every rank (a cluster beyond the ghost
+    // atoms as the impossible hit of atom 0: every rank gives up the step)
+    if (outgrown) ev.push_back({0, 0});
     start_packets(ev);
     for (tagint key : ranA) {
       pack_run(*run_of(key), true);
@@ -1659,6 +1668,10 @@ void HSLocalEngine::settle(std::vector<Hit> &hits)
     allgather(recvbuf);
     arrived.clear();
     unpack_runs(gathered, &arrived);
+    if (!gathered.empty() && gathered[0].i == 0) {
+      locf->set_labels(nullptr);
+      return false;
+    }
     uncheckedA.insert(uncheckedA.end(), arrived.begin(), arrived.end());
     if (!gathered.empty()) {
       grow_clusters(gathered);
@@ -1745,6 +1758,7 @@ void HSLocalEngine::settle(std::vector<Hit> &hits)
     break;
   }
   locf->set_labels(nullptr);
+  return true;
 }
 
 /* ----------------------------------------------------------------------
@@ -1753,10 +1767,12 @@ void HSLocalEngine::settle(std::vector<Hit> &hits)
    the step through HSStepView
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::step()
+bool HSLocalEngine::step()
 {
   HSSystem &F = *sys;
-  if (step_clusters()) {
+  const int status = step_clusters();
+  if (status < 0) return false;    // overflow global: the global engine's step
+  if (status > 0) {
     local_step = 1;
     if (F.step_collided) F.ncoll_steps += 1.0;
     meth.cluster_step_begun(*this);
@@ -1765,6 +1781,7 @@ void HSLocalEngine::step()
     F.dtf_last = F.dtf;
   }
   F.request_rebuild();
+  return true;
 }
 
 // the closing kick of a step taken by clusters
@@ -1813,7 +1830,7 @@ const std::vector<int> &HSLocalEngine::members(int c) const
    flow has a contact with a non-member
 ------------------------------------------------------------------------- */
 
-bool HSLocalEngine::step_clusters()
+int HSLocalEngine::step_clusters()
 {
   HSSystem &F = *sys;
   grow_arrays();
@@ -1827,7 +1844,7 @@ bool HSLocalEngine::step_clusters()
   gather_hits(hits);
   if (hits.empty()) {
     ncollective = ncoll0;    // (counted for steps taken by clusters only)
-    return false;
+    return 0;
   }
   ncoll_steps += 1.0;
 
@@ -1839,7 +1856,21 @@ bool HSLocalEngine::step_clusters()
       x0[l][d] = x[l][d];
       v0[l][d] = v[l][d];
     }
-  settle(hits);
+  if (!settle(hits)) {
+    // a cluster beyond the ghost atoms, overflow global: back to the start
+    // (velocities and positions of every copy; impulses and flows touched
+    // only those) for the global engine
+    for (int l = 0; l < nall; l++)
+      for (int d = 0; d < 3; d++) {
+        x[l][d] = x0[l][d];
+        v[l][d] = v0[l][d];
+      }
+    F.step_collided = 0;
+    ncoll_steps -= 1.0;
+    runs.clear();
+    cs.abandon();
+    return -1;
+  }
 
   // the final clusters: members' end states (owned copies), collisions
   // (every rank counts all), impulse virial (the runner's), and on the
@@ -1908,7 +1939,7 @@ bool HSLocalEngine::step_clusters()
   ncollective += 1.0;
   ncompute += nc;
   ncompute_here = 0.0;
-  return true;
+  return 1;
 }
 
 /* ----------------------------------------------------------------------

@@ -122,7 +122,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // copy whose interaction rows must be complete): raised by the engine if
   // the input's is smaller, with a line in the log
   void chosen() override;
-  void step() override;
+  bool step() override;
   bool finish() override;
   double counter(int k) override;
 
@@ -148,7 +148,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // a step in which screening found spheres that may touch. Returns false
   // if no contact is predicted in the step at all, on any rank (the caller
   // takes fix nve's step); else the step is done up to the closing kick
-  bool step_clusters();
+  // -1: a cluster outgrew the ghost atoms (overflow global): the state is
+  // as at the step's start, the step is the global engine's
+  int step_clusters();
   // the closing half kick (final_integrate) of a step step_clusters() took
   void final_kick();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
@@ -340,7 +342,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_env_x0;
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
-  void settle(std::vector<Hit> &hits);
+  bool settle(std::vector<Hit> &hits);
   // cluster labels (the key's dense id) on every local copy of the members
   // (HSLocalForces' cross terms)
   std::vector<int> lab, labelled;
@@ -352,7 +354,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // the member copies of a cluster this rank runs: the key's owned copy and
   // for every other member its copy nearest it; checked against the ghost
   // cutoff
-  void member_copies(Run &r);
+  // false if one is beyond the ghost atoms and the user asked for overflow global
+  bool member_copies(Run &r);
   // work lists of cluster keys; runs not cross-checked yet
   std::vector<tagint> workA, workB, workX, uncheckedA, uncheckedB;
   std::vector<int> clusters_of(std::vector<tagint> &keys);

@@ -34,8 +34,11 @@ class HSStepEngine : protected Pointers {
   // set-up before the run's set-up (the local engine: its ghost cutoff)
   virtual void chosen() {}
   // initial_integrate of a step in which screening found spheres that may
-  // touch: the step up to its closing half kick (collective)
-  virtual void step() = 0;
+  // touch: the step up to its closing half kick (collective). Returns false
+  // if the engine declined the step, with the state left as before (the
+  // local engine: a collision cluster outgrew the ghost atoms and the user
+  // asked for `overflow global`): the caller takes it with another engine
+  virtual bool step() = 0;
   // final_integrate: the closing of a step this engine took, if it needs
   // more than the plain closing kick; returns false if it does not
   virtual bool finish() = 0;

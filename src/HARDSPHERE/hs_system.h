@@ -77,6 +77,8 @@ class HSSystem : protected Pointers, public HSTypes {
   // global counters, identical on every rank
   double ncoll_pair = 0.0, ncoll_wall = 0.0, ncoll_steps = 0.0, nforce_evals = 0.0;
   double nfallback = 0.0;       // collisional steps run globally instead of locally
+  int overflow_global = 0;      // keyword overflow global: a cluster beyond the ghost
+                                // atoms makes the step global (else an error)
   int fallback_counting = 0;    // 1: local was the default but is unavailable
   // flags of the current step: an impulse was applied / the loop sub-stepped
   int step_collided = 0, step_substeps = 0;

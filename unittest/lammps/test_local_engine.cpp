@@ -227,6 +227,10 @@ TEST(LocalEngine, OutputVector)
   EXPECT_GT(rounds, 0.0);      // the growth path ran
   EXPECT_EQ(fallback, 0.0);
   EXPECT_GT(evals, clusters);
+  // collectives per step taken by clusters: a handful per growth round
+  const double coll = L.fix_vector("hs", 11);
+  EXPECT_GE(coll, 10.0);
+  EXPECT_LE(coll, 10.0 * (1.0 + rounds) + 4.0);
   EXPECT_EQ(L.fix_vector("hs", 4), 0.0);    // no full force evaluation
 }
 
@@ -235,6 +239,8 @@ TEST(LocalEngine, Errors)
   const std::string base = fluid("", 0.005, 1, 3);
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep sideways\nrun 1\n",
                {"substep must be local or global", "sideways"});
+  expect_error(base + "fix x all hardsphere/cva diameter 1.0 overflow maybe\nrun 1\n",
+               {"overflow must be error or global", "maybe"});
   expect_error(base + "fix x all hardsphere/vci diameter 1.0 substep local\nrun 1\n",
                {"substep local is not available yet", "substep global"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"

@@ -13,7 +13,8 @@
 # spans two or three ranks and grows across them within a step (the last
 # sphere leaves with the striker's velocity), and a pair plus two wall
 # contacts at a rank face. Then the error of a cluster that outgrows the
-# ghost region.
+# ghost region, and the counted fall-back to the global engine
+# (overflow global).
 
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_local "$@"
@@ -169,6 +170,21 @@ if [ $? -ne 0 ] && grep -q "reaches beyond what the ghost cutoff" out.long.2 && 
   echo "  2 ranks: error naming comm_modify cutoff: ok"
 else
   echo "  FAIL: 2 ranks gave no error naming the ghost cutoff"; tail -5 out.long.2; fail=1
+fi
+# asked for: such a step is taken by the global engine and counted; the
+# cradle's analytic end (the far sphere, ID 1, leaves with the striker's
+# velocity 2) on 2 ranks
+sed 's/diameter 1.0 ${walls}/diameter 1.0 ${walls} overflow global/; s/^print "RESULT/print "FALLBACK $(f_hs[10])"\nprint "RESULT/' in.local_long > in.local_long_fb
+if got=$(run long_fb 2 in.local_long_fb -var np 2 -var nsteps 100 -var yb p -var walls ""); then
+  fb=$(grep '^FALLBACK ' out.long_fb.2 | awk '{print $2}')
+  read -r -a f <<< "$got"
+  if [ "${fb:-0}" != 0 ] && [ "${f[2]}" = 8 ] && [ "${f[8]}" = 2 ] && [ "${f[24]}" = 0 ]; then
+    echo "  2 ranks, overflow global: $fb step(s) taken globally, 8 collisions, ID 1 leaves at 2, the striker stops: ok"
+  else
+    echo "  FAIL: overflow global on 2 ranks: fallback '${fb}', result $got"; fail=1
+  fi
+else
+  fail=1
 fi
 # the engine raised the ghost cutoff itself, and said so
 if grep -q "substep local sets comm_modify cutoff" out.long.2; then
