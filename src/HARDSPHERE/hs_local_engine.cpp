@@ -189,15 +189,18 @@ void HSLocalEngine::grow_arrays()
       memory->destroy(*a.first);
       memory->create(*a.first, nmax, a.second, "hardsphere/local:peratom");
     }
+    // the sums are kept zero outside the rows listed in sa_rows / sb_rows
+    for (int l = 0; l < nmax; l++)
+      for (int d = 0; d < 7; d++) sa[l][d] = sb[l][d] = 0.0;
+    sa_rows.clear();
+    sb_rows.clear();
   }
   if ((int) mid.size() < nmax) {
     mid.resize(nmax, -1);
     lab.resize(nmax, -1);
-    hmem.resize(nmax, 0);
     atom_runs.resize(nmax);
     estamp.resize(nmax, 0);
     astamp.resize(nmax, 0);
-    astamp0.resize(nmax, 0);
     dstamp.resize(nmax, 0);
   }
 }
@@ -430,6 +433,7 @@ void HSLocalEngine::place_members(const Run &r)
   double **x = atom->x, **v = atom->v;
   for (size_t k = 0; k < r.mtags.size(); k++)
     for (int l = atom->map(r.mtags[k]); l >= 0; l = atom->sametag[l]) {
+      moved.push_back(l);
       for (int d = 0; d < 3; d++) {
         x[l][d] = x0[l][d] + r.dxm[k][d];
         v[l][d] = r.vm[k][d];
@@ -475,7 +479,6 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // the screen's active spheres, and those within LINE_MARGIN / 2 of being
   // active (Phi_H2's lines may deviate that much from fix nve's, below);
   // flags and free gaps go to the ghosts (cols: gap, flag)
-  bump_epoch(pepoch0, astamp0);
   act0.clear();
   near_pairs.clear();
   near_walls.clear();
@@ -502,8 +505,6 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   }
   sys->forward_columns(cols, 2);
   ncollective += 1.0;
-  for (int l = 0; l < nall; l++)
-    if (cols[l][1] != 0.0) astamp0[l] = pepoch0;
   for (int i : act0) {
     const double Di = path(i), r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
@@ -535,7 +536,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const int np = (int) cand.size() / 2;
   for (int p = 0; p < np; p++) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
-    if (astamp0[i] != pepoch0 && astamp0[j] != pepoch0) continue;
+    if (cols[i][1] == 0.0 && cols[j][1] == 0.0) continue;
     if (tag[i] == tag[j]) continue;
     const double sigma = F.radius_of(i) + F.radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
@@ -582,6 +583,7 @@ void HSLocalEngine::add_members(const std::vector<int> &newids)
     for (int l = atom->map((tagint) idtag[id]); l >= 0; l = atom->sametag[l]) {
       if (mid[l] < 0) mid_set.push_back(l);
       mid[l] = id;
+      moved.push_back(l);
       if (l < atom->nlocal) copies.push_back(l);
     }
   if (newids.empty() || !bonded) return;
@@ -1320,36 +1322,45 @@ void HSLocalEngine::h2_velocities()
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   const int *mask = atom->mask;
   double **f = atom->f;
-  for (int l = 0; l < nall; l++)
+  for (int l : sa_rows)
     for (int d = 0; d < 7; d++) sa[l][d] = 0.0;
+  sa_rows.clear();
   for (tagint key : my_keys()) {
     const Run &r = *run_of(key);
     if (!r.a_done) continue;
     for (size_t k = 0; k < r.touched.size(); k++) {
       const int p = r.touched[k];
+      sa_rows.push_back(p);
       for (int d = 0; d < 3; d++) sa[p][d] += r.fk0[k][d];
       if (mask[p] & F.groupbit)
         for (int d = 0; d < 3; d++) sa[p][3 + d] += r.dvA[k][d];
       sa[p][6] += 1.0;
     }
   }
-  F.reverse_columns(sa, 7);
+  F.reverse_columns(sa, 7, &sa_rows);
   ncollective += 1.0;
+  wchanged.clear();
   for (int i = 0; i < nlocal; i++) {
     double *wi = wq[i];
-    wi[3] = (astamp0[i] == pepoch0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
+    wi[3] = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
     wi[4] = cols[i][0];
-    if (!(mask[i] & F.groupbit) || is_member(i)) {
-      wi[0] = wi[1] = wi[2] = 0.0;
-      continue;
+    double wn[3];
+    if (!(mask[i] & F.groupbit) || is_member(i))
+      wn[0] = wn[1] = wn[2] = 0.0;
+    else {
+      const double dtfm = F.dtf / F.mass_of(i);
+      if (sa[i][6] > 0.0)
+        for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * (f[i][d] - sa[i][d]) + sa[i][3 + d];
+      else
+        for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * f[i][d];
     }
-    const double dtfm = F.dtf / F.mass_of(i);
-    if (sa[i][6] > 0.0)
-      for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * (f[i][d] - sa[i][d]) + sa[i][3 + d];
-    else
-      for (int d = 0; d < 3; d++) wi[d] = v0[i][d] + dtfm * f[i][d];
+    if (wn[0] != wi[0] || wn[1] != wi[1] || wn[2] != wi[2]) wchanged.push_back(i);
+    wi[0] = wn[0];
+    wi[1] = wn[1];
+    wi[2] = wn[2];
   }
-  F.forward_columns(wq, 5);
+  // (the ghosts whose w changed join wchanged)
+  F.forward_columns(wq, 5, &wchanged, 3);
   ncollective += 1.0;
 }
 
@@ -1366,37 +1377,33 @@ std::vector<tagint> HSLocalEngine::my_keys()
 /* ----------------------------------------------------------------------
    the copies whose Phi_H2 path (start position, w, member) changed since
    the last check: hdirty (Phi_H2's next check), ddirty (drift and second
-   halves, until consumed). full: record every copy's path, mark none
+   halves, until consumed). A path changes only where w changed (wchanged:
+   owners compare, the forward lists the ghosts) or a member copy was
+   placed anew (moved): no pass over all copies. full: the first check of
+   the step, which looks at everything
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::update_paths(bool full)
 {
-  const int nall = atom->nlocal + atom->nghost;
   const int *mask = atom->mask;
   hdirty.clear();
-  for (int l = 0; l < nall; l++) {
-    if (!(mask[l] & sys->groupbit)) continue;
-    double q[3];
-    h2_pos(l, q);
-    const char m = is_member(l) ? 1 : 0;
-    double *h = hp[l];
-    if (!full && h[0] == q[0] && h[1] == q[1] && h[2] == q[2] && h[3] == wq[l][0] &&
-        h[4] == wq[l][1] && h[5] == wq[l][2] && hmem[l] == m)
-      continue;
-    h[0] = q[0];
-    h[1] = q[1];
-    h[2] = q[2];
-    h[3] = wq[l][0];
-    h[4] = wq[l][1];
-    h[5] = wq[l][2];
-    hmem[l] = m;
-    if (full) continue;
-    hdirty.push_back(l);
-    if (dstamp[l] != depoch) {
-      dstamp[l] = depoch;
-      ddirty.push_back(l);
-    }
-  }
+  if (!full)
+    for (const std::vector<int> *L : {&wchanged, &moved})
+      for (int l : *L) {
+        if (!(mask[l] & sys->groupbit)) continue;
+        hdirty.push_back(l);
+        if (dstamp[l] != depoch) {
+          dstamp[l] = depoch;
+          ddirty.push_back(l);
+        }
+      }
+  moved.clear();
+}
+
+// every local copy of atom t moved (a member placed anew)
+void HSLocalEngine::note_moved(tagint t)
+{
+  for (int l = atom->map(t); l >= 0; l = atom->sametag[l]) moved.push_back(l);
 }
 
 /* ----------------------------------------------------------------------
@@ -1587,6 +1594,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   bump_epoch(depoch, dstamp);
   ddirty.clear();
   hdirty.clear();
+  moved.clear();
   if (++heldepoch == 0) {
     std::fill(hstampv.begin(), hstampv.end(), 0u);
     heldepoch = 1;
@@ -1651,6 +1659,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       }
       r.b_done = false;
       if (!flow(r, 0.5 * dt, true, ev)) continue;
+      for (tagint t : r.mtags) note_moved(t);
       for (int a : r.env) enroll(a, key);
       for (int a : r.members) enroll(a, key);
       workX.push_back(key);
@@ -1876,8 +1885,9 @@ int HSLocalEngine::step_clusters()
   // (every rank counts all), impulse virial (the runner's), and on the
   // touched copies V_C's end forces and the partners' second-half kicks,
   // reversed into the owners
-  for (int l = 0; l < nall; l++)
+  for (int l : sb_rows)
     for (int d = 0; d < 7; d++) sb[l][d] = 0.0;
+  sb_rows.clear();
   view_members.assign(cs.nclusters(), {});
   for (int c = 0; c < cs.nclusters(); c++) {
     const Run &r = *runs.at(key_of(c));
@@ -1900,6 +1910,7 @@ int HSLocalEngine::step_clusters()
     if (!r.mine) continue;
     for (size_t k = 0; k < r.touched.size(); k++) {
       const int p = r.touched[k];
+      sb_rows.push_back(p);
       for (int d = 0; d < 3; d++) {
         sb[p][d] += r.fend[k][d];
         sb[p][3 + d] += r.dvB[k][d];
@@ -1907,7 +1918,7 @@ int HSLocalEngine::step_clusters()
       sb[p][6] += 1.0;
     }
   }
-  F.reverse_columns(sb, 7);
+  F.reverse_columns(sb, 7, &sb_rows);
   ncollective += 1.0;
 
   // the non-members' velocities: w plus the second half's partner kicks
@@ -1972,6 +1983,7 @@ void HSLocalEngine::final_kick()
       const int i = atom->map((tagint) recvbuf[m]);
       if (i < 0 || i >= nlocal) continue;
       estamp[i] = eepoch;
+      sb_rows.push_back(i);
       for (int d = 0; d < 3; d++) sb[i][d] = recvbuf[m + 1 + d];
     }
   }

@@ -278,9 +278,14 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // the same over the final clusters' second halves: V_C's end force,
   // partner kicks, touched
   double **sb = nullptr;
-  // Phi_H2's path of each copy as last checked: start position, w, member
-  double **hp = nullptr;
-  std::vector<char> hmem;
+  // rows of sa / sb that may be nonzero (zeroed before the next sums: no
+  // pass over all copies per round); copies whose w changed in this round
+  std::vector<int> sa_rows, sb_rows, wchanged;
+  std::vector<int> scratch_paths;
+  // member copies placed anew since the last check (new members, new mid
+  // positions): with wchanged, the copies whose Phi_H2 path changed
+  std::vector<int> moved;
+  void note_moved(tagint t);
   // copies whose Phi_H2 path changed: since the last check (hdirty), since
   // the last drift (ddirty, dstamp)
   std::vector<int> hdirty, ddirty;
@@ -301,8 +306,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> adj_off, adj;            // local copy -> candidate pairs
   std::vector<uint32_t> pstamp;             // candidate pair seen
   std::vector<int> act0;                    // owned atoms the screen marked active
-  std::vector<uint32_t> astamp0;            // in act0
-  uint32_t pepoch0 = 0;
   std::vector<uint32_t> astamp;             // considered by h2_check
   uint32_t aepoch = 0;
   uint32_t pepoch = 0;
@@ -315,9 +318,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   };
   void grow_arrays();
   // the per-atom arrays, allocated together (columns)
-  std::array<std::pair<double ***, int>, 8> peratom()
+  std::array<std::pair<double ***, int>, 7> peratom()
   {
-    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 5}, {&sa, 7}, {&sb, 7}, {&hp, 6}, {&cols, 2}}};
+    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 5}, {&sa, 7}, {&sb, 7}, {&cols, 2}}};
   }
   double **cols = nullptr;    // scratch columns (the screen's flags)
   void set_x(int i, const double *xn);

@@ -555,8 +555,11 @@ void HSLocalForces::save(Snapshot &sn) const
   for (size_t k = 0; k < ilist_.size(); k++) {
     const int i = ilist_[k];
     sn.counts[k] = numneigh_[i];
-    sn.offs[k] = (L && firstneigh_[i] == L->firstneigh[i]) ? -1
-                                                            : (int) (firstneigh_[i] - neigh_.data());
+    // rows mode: every row is in neigh_ (and i may be a ghost, which the
+    // pair style's list has no entry for)
+    sn.offs[k] = (!rows_ && L && firstneigh_[i] == L->firstneigh[i])
+        ? -1
+        : (int) (firstneigh_[i] - neigh_.data());
   }
   sn.neigh = neigh_;
   for (int b = 0; b < 4; b++) sn.sub[b] = bonded_[b].sub;

@@ -285,31 +285,43 @@ void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
 {
   if (cols_) {
     int m = 0;
-    for (int k = 0; k < n; k++)
-      for (int c = 0; c < ncols_; c++) cols_[list_[k]][c] += buf[m++];
+    for (int k = 0; k < n; k++) {
+      double *row = cols_[list_[k]];
+      bool nz = false;
+      for (int c = 0; c < ncols_; c++) {
+        nz = nz || buf[m] != 0.0;
+        row[c] += buf[m++];
+      }
+      if (nz && changed_) changed_->push_back(list_[k]);
+    }
     return;
   }
   for (int k = 0; k < n; k++) gap[list_[k]] = MIN(gap[list_[k]], buf[k]);
 }
 
-void HSSystem::forward_columns(double **a, int ncol)
+void HSSystem::forward_columns(double **a, int ncol, std::vector<int> *changed, int ncmp)
 {
-  if (ncol < 1 || ncol > COMM_COLUMNS)
+  if (ncol < 1 || ncol > COMM_COLUMNS || ncmp > ncol)
     error->one(FLERR, "Fix {}: internal error: {} columns to forward", style_name, ncol);
   cols_ = a;
   ncols_ = ncol;
+  changed_ = changed;
+  ncmp_ = changed ? ncmp : 0;
   HSCompat::forward_comm_fix(comm, host);
   cols_ = nullptr;
+  changed_ = nullptr;
 }
 
-void HSSystem::reverse_columns(double **a, int ncol)
+void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed)
 {
   if (ncol < 1 || ncol > COMM_COLUMNS)
     error->one(FLERR, "Fix {}: internal error: {} columns to reverse", style_name, ncol);
   cols_ = a;
   ncols_ = ncol;
+  changed_ = changed;
   HSCompat::reverse_comm_fix(comm, host);
   cols_ = nullptr;
+  changed_ = nullptr;
 }
 
 inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
@@ -398,8 +410,13 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
   int m = 0;
   const int last = first + n;
   if (cols_) {
-    for (int i = first; i < last; i++)
-      for (int c = 0; c < ncols_; c++) cols_[i][c] = buf[m++];
+    for (int i = first; i < last; i++) {
+      double *row = cols_[i];
+      bool ch = false;
+      for (int c = 0; c < ncmp_; c++) ch = ch || row[c] != buf[m + c];
+      if (ch) changed_->push_back(i);
+      for (int c = 0; c < ncols_; c++) row[c] = buf[m++];
+    }
     return;
   }
   for (int i = first; i < last; i++) {

@@ -29,7 +29,8 @@ class HSPotential;
 
 class HSSystem : protected Pointers, public HSTypes {
   double **cols_ = nullptr;    // forward_columns()/reverse_columns() in progress
-  int ncols_ = 0;
+  int ncols_ = 0, ncmp_ = 0;
+  std::vector<int> *changed_ = nullptr;
 
  public:
   HSSystem(class LAMMPS *, Fix *host, const std::string &style_name);
@@ -112,9 +113,11 @@ class HSSystem : protected Pointers, public HSTypes {
   // through the host's buffers: forward copies the owners' rows to their
   // ghosts, reverse adds the ghosts' rows to their owners' (and leaves the
   // ghosts' as they were)
+  // changed (optional): forward lists the ghosts whose first ncmp columns
+  // changed, reverse the owners that received a nonzero row
   static constexpr int COMM_COLUMNS = 7;
-  void forward_columns(double **a, int ncol);
-  void reverse_columns(double **a, int ncol);
+  void forward_columns(double **a, int ncol, std::vector<int> *changed = nullptr, int ncmp = 0);
+  void reverse_columns(double **a, int ncol, std::vector<int> *changed = nullptr);
 
   // earliest approaching contact within tleft of this rank's candidates
   double predict(double tleft, Event &);
