@@ -120,15 +120,7 @@ class ClusterSet {
   {
     flush_counters();
     uf_.reset(n);
-    if ((int) mstamp_.size() < n) {
-      mstamp_.resize(n, 0);
-      rstamp_.resize(n, 0);
-      root_id_.resize(n, -1);
-      clstamp_.resize(n, 0);
-      cl_.resize(n, -1);
-      oldstamp_.resize(n, 0);
-      old_.resize(n, -1);
-    }
+    size_to(n);
     if (++epoch_ == 0) {
       std::fill(mstamp_.begin(), mstamp_.end(), 0u);
       epoch_ = 1;
@@ -146,15 +138,7 @@ class ClusterSet {
   void grow(int n)
   {
     uf_.grow(n);
-    if ((int) mstamp_.size() < n) {
-      mstamp_.resize(n, 0);
-      rstamp_.resize(n, 0);
-      root_id_.resize(n, -1);
-      clstamp_.resize(n, 0);
-      cl_.resize(n, -1);
-      oldstamp_.resize(n, 0);
-      old_.resize(n, -1);
-    }
+    size_to(n);
   }
   // number clusters and sort members by order[i] instead of i (a set over
   // dense ids of atom IDs, replicated on every MPI rank, orders by ID so
@@ -334,6 +318,18 @@ class ClusterSet {
   void abandon() { built_ = false; }
 
  private:
+  void size_to(int n)
+  {
+    if ((int) mstamp_.size() < n) {
+      mstamp_.resize(n, 0);
+      rstamp_.resize(n, 0);
+      root_id_.resize(n, -1);
+      clstamp_.resize(n, 0);
+      cl_.resize(n, -1);
+      oldstamp_.resize(n, 0);
+      old_.resize(n, -1);
+    }
+  }
   void note(int i)
   {
     if (!uf_.touched(i)) {

@@ -441,6 +441,22 @@ void HSLocalEngine::place_members(const Run &r)
     }
 }
 
+// one half's hits and the packets of the runs this rank ran in it, to and
+// from every rank: gathered, every rank's hits; arrived, every packet's key
+void HSLocalEngine::share_half(const std::vector<Hit> &hits, const std::vector<tagint> &ran,
+                               bool first_half, std::vector<Hit> &gathered,
+                               std::vector<tagint> &arrived)
+{
+  start_packets(hits);
+  for (tagint key : ran) {
+    pack_run(*run_of(key), first_half);
+    sendbuf[npk_pos] += 1.0;
+  }
+  allgather(recvbuf);
+  arrived.clear();
+  unpack_runs(gathered, &arrived);
+}
+
 void HSLocalEngine::start_packets(const std::vector<Hit> &hits)
 {
   sendbuf.clear();
@@ -1669,14 +1685,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     // their packets and contacts to every rank (a cluster beyond the ghost
     // atoms as the impossible hit of atom 0: every rank gives up the step)
     if (outgrown) ev.push_back({0, 0});
-    start_packets(ev);
-    for (tagint key : ranA) {
-      pack_run(*run_of(key), true);
-      sendbuf[npk_pos] += 1.0;
-    }
-    allgather(recvbuf);
-    arrived.clear();
-    unpack_runs(gathered, &arrived);
+    share_half(ev, ranA, true, gathered, arrived);
     if (!gathered.empty() && gathered[0].i == 0) {
       locf->set_labels(nullptr);
       return false;
@@ -1744,14 +1753,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       if (!r || !r->mine || r->b_done || !r->a_done) continue;
       if (flow(*r, 0.5 * dt, false, ev)) ranB.push_back(key);
     }
-    start_packets(ev);
-    for (tagint key : ranB) {
-      pack_run(*run_of(key), false);
-      sendbuf[npk_pos] += 1.0;
-    }
-    allgather(recvbuf);
-    arrived.clear();
-    unpack_runs(gathered, &arrived);
+    share_half(ev, ranB, false, gathered, arrived);
     uncheckedB.insert(uncheckedB.end(), arrived.begin(), arrived.end());
     if (!gathered.empty()) {
       grow_clusters(gathered);

@@ -372,6 +372,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void gather_hits(std::vector<Hit> &hits);
   size_t npk_pos = 0;    // where sendbuf counts its packets
   void start_packets(const std::vector<Hit> &hits);
+  void share_half(const std::vector<Hit> &hits, const std::vector<tagint> &ran, bool first_half,
+                  std::vector<Hit> &gathered, std::vector<tagint> &arrived);
   void pack_run(const Run &r, bool first_half);
   void unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arrived);
   void place_members(const Run &r);
