@@ -6,7 +6,8 @@
 # Systems: the hard-core LJ fluid (density 0.6) at 500 atoms over 200 steps
 # and at 4000 atoms over 300 steps; the same 500 hot (T 3) with a small skin,
 # so that atoms change rank between the two halves of a step; the 500 with
-# fix viscous (held forces, deterministic); and exact
+# fix viscous (held forces, deterministic); fix langevin on 2 ranks (mean
+# temperature within its error bar); and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
@@ -40,6 +41,30 @@ check_system hot in.local_hot "2 4" -var nsteps 200
 sed 's/^fix         hs all hardsphere/fix         vi all viscous 0.2\nfix         hs all hardsphere/' in.local_fluid500 > in.local_held
 echo "500 atoms with fix viscous 0.2 (held forces), 200 steps:"
 check_system held in.local_held "2 4" -var nsteps 200
+
+# a thermostat on 2 ranks: fix langevin's random forces differ with the
+# rank count, so the check is statistical: the mean temperature of the
+# 500 atoms over 30 time units (after 5 of equilibration) in 20 blocks,
+# within 3 standard errors (and 2 %) of the target 1.5
+sed 's/^fix         hs all hardsphere/fix         lg all langevin 1.5 1.5 0.5 4242\nfix         hs all hardsphere/; s/^thermo      50/thermo      50\nvariable tt equal temp\nfix tav all ave\/time 10 1 10 v_tt file T.lang.dat/' in.local_fluid500 > in.local_lang
+echo "fix langevin 1.5 on 2 ranks, 7000 steps:"
+if run lang 2 in.local_lang -var nsteps 7000 > /dev/null; then
+  python3 - <<'PY' || fail=1
+import sys
+T = [float(l.split()[1]) for l in open("T.lang.dat") if l.strip() and not l.startswith("#")]
+T = T[100:]                       # 5 time units (1000 steps, a sample every 10)
+nb = 20
+m = len(T) // nb
+blocks = [sum(T[k * m:(k + 1) * m]) / m for k in range(nb)]
+mean = sum(blocks) / nb
+se = (sum((b - mean) ** 2 for b in blocks) / (nb - 1) / nb) ** 0.5
+ok = abs(mean - 1.5) <= max(3 * se, 0.02 * 1.5)
+print(f"  lang   mean T {mean:.4f} +- {se:.4f} (target 1.5) {'ok' if ok else 'FAIL'}")
+sys.exit(0 if ok else 1)
+PY
+else
+  fail=1
+fi
 
 # a force-free periodic box 10^3 (y walls where asked), atoms given as
 # "x y z vx vy vz" lines in ATOMS (IDs in order), slabs in x
