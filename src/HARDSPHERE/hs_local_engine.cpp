@@ -1359,7 +1359,6 @@ void HSLocalEngine::h2_velocities()
   for (int i = 0; i < nlocal; i++) {
     double *wi = wq[i];
     wi[3] = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
-    wi[4] = cols[i][0];
     double wn[3];
     if (!(mask[i] & F.groupbit) || is_member(i))
       wn[0] = wn[1] = wn[2] = 0.0;
@@ -1376,7 +1375,7 @@ void HSLocalEngine::h2_velocities()
     wi[2] = wn[2];
   }
   // (the ghosts whose w changed join wchanged)
-  F.forward_columns(wq, 5, &wchanged, 3);
+  F.forward_columns(wq, 4, &wchanged, 3);
   ncollective += 1.0;
 }
 
@@ -1453,7 +1452,7 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
     const double D = dt * sqrt(wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]);
     const double dx = q[0] - xref[i][0], dy = q[1] - xref[i][1], dz = q[2] - xref[i][2];
     const double reach = sqrt(dx * dx + dy * dy + dz * dz) + D;
-    if (!always && reach <= wi[4]) return;
+    if (!always && reach <= cols[i][0]) return;    // the free gap (forwarded by predict_all)
     if (reach > skin)
       error->one(FLERR,
                  "Fix {}: atom {} may be {} away from where the neighbor list was built, "

@@ -268,8 +268,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   int nmax = 0;
   double **x0 = nullptr, **v0 = nullptr;    // the step's start
   double **held0 = nullptr;                 // members' held force at the step's start
-  // Phi_H2's velocity w (0-2), "may touch in Phi_H2" (3) and the free gap
-  // (4): the owner's, forwarded to the ghosts
+  // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
+  // forwarded to the ghosts
   double **wq = nullptr;
   // sums over the live clusters' first halves on their copies, then
   // reversed into the owners: V_C's start force (0-2), partner kicks (3-5),
@@ -320,9 +320,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // the per-atom arrays, allocated together (columns)
   std::array<std::pair<double ***, int>, 7> peratom()
   {
-    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 5}, {&sa, 7}, {&sb, 7}, {&cols, 2}}};
+    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}}};
   }
-  double **cols = nullptr;    // scratch columns (the screen's flags)
+  double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);
