@@ -1332,12 +1332,16 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
    forward them to the ghosts
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::h2_velocities()
+void HSLocalEngine::h2_velocities(bool full)
 {
   HSSystem &F = *sys;
-  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   double **f = atom->f;
+  // the rows whose sums may change: those zeroed now and those written
+  // below (w elsewhere is as in the last round: v0 and f are the step's)
+  std::vector<int> &rows = scratch_wrows;
+  rows = sa_rows;
   for (int l : sa_rows)
     for (int d = 0; d < 7; d++) sa[l][d] = 0.0;
   sa_rows.clear();
@@ -1356,7 +1360,15 @@ void HSLocalEngine::h2_velocities()
   F.reverse_columns(sa, 7, &sa_rows);
   ncollective += 1.0;
   wchanged.clear();
-  for (int i = 0; i < nlocal; i++) {
+  if (full) {
+    rows.resize(nlocal);
+    for (int i = 0; i < nlocal; i++) rows[i] = i;
+  } else {
+    rows.insert(rows.end(), sa_rows.begin(), sa_rows.end());
+    rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
+  }
+  for (int i : rows) {
+    if (i >= nlocal) continue;
     double *wi = wq[i];
     wi[3] = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
     double wn[3];
@@ -1704,7 +1716,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       continue;
     }
     // Phi_H2(dt): its contacts; then the non-members' drift
-    h2_velocities();
+    h2_velocities(!checked);
     update_paths(!checked);
     ev.clear();
     h2_check(!checked, ev);

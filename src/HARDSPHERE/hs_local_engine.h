@@ -332,7 +332,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void cross_check(bool first_half, const std::vector<int> &fresh, std::vector<Hit> &hits);
   void h2_check(bool full, std::vector<Hit> &hits);
   void retire(tagint key);
-  void h2_velocities();
+  // full: every owned atom's w; else only where the sums or membership changed
+  void h2_velocities(bool full);
+  std::vector<int> scratch_wrows;
   void update_paths(bool full);
   void h2_pos(int l, double *q) const;
   void check_pair(int p, std::vector<Hit> &hits);
