@@ -10,18 +10,10 @@ from this run's volume fluctuations (<dV^2> = kT V kappa_T). dev =
 """
 import math, os, re, sys
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from blocking import blocking_se    # ../common/blocking.py
 
 scr, out, states = sys.argv[1], sys.argv[2], sys.argv[3].split()
-
-
-def blocking_se(x, minb=16):
-    x = np.asarray(x, float)
-    best = x.std(ddof=1) / math.sqrt(len(x))
-    while len(x) >= minb:
-        best = max(best, x.std(ddof=1) / math.sqrt(len(x)))
-        m = len(x) // 2
-        x = 0.5 * (x[0:2 * m:2] + x[1:2 * m:2])
-    return best
 
 
 def tau_int(x):

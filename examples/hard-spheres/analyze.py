@@ -12,6 +12,8 @@ standard error over the levels is quoted (Flyvbjerg-Petersen blocking).
 import glob, math, os, re, statistics, sys
 import numpy as np
 from scipy.integrate import quad
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from blocking import blocking_se    # ../common/blocking.py
 
 scr, out = sys.argv[1], sys.argv[2]
 PI = math.pi
@@ -29,16 +31,6 @@ def g_cs(eta):
 # against the exact 18.365, 28.224 (CS: 18, 28); g(sigma) = (Z - 1) / (4 eta)
 def z_csk(eta):
     return (1 + eta + eta**2 - 2 / 3 * (eta**3 + eta**4)) / (1 - eta)**3
-
-
-def blocking_se(x, minb=16):
-    x = np.asarray(x, float)
-    best = x.std(ddof=1) / math.sqrt(len(x))
-    while len(x) >= minb:
-        best = max(best, x.std(ddof=1) / math.sqrt(len(x)))
-        m = len(x) // 2
-        x = 0.5 * (x[0:2 * m:2] + x[1:2 * m:2])
-    return best
 
 
 def parse(path):
