@@ -121,11 +121,11 @@ std::string HSLocalEngine::limits()
 
 void HSLocalEngine::chosen()
 {
-  // one rank: every member is owned, its rows complete
-  if (comm->nprocs == 1) return;
-  double cutneigh = sys->list_cutoff;
+  cutneigh = sys->list_cutoff;
   if (force->pair && force->pair->cutforce > 0.0)
     cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
+  // one rank: every member is owned, its rows complete
+  if (comm->nprocs == 1) return;
   ghost_needed = cutneigh + 2.0 * sys->list_cutoff;
   if (comm->cutghostuser < ghost_needed) {
     if (me == 0)
@@ -644,9 +644,6 @@ bool HSLocalEngine::member_copies(Run &r)
   const int nm = (int) r.mtags.size();
   r.members.resize(nm);
   const int key = atom->map(r.mtags[0]);
-  double cutneigh = sys->list_cutoff;
-  if (force->pair && force->pair->cutforce > 0.0)
-    cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
   for (int k = 0; k < nm; k++) {
     // an owned copy has its rows; of a ghost, the copy nearest the key
     int l = atom->map(r.mtags[k]);

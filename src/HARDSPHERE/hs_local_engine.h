@@ -389,6 +389,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   int bonded = 0;              // bonded styles present: their terms join clusters
   bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
   double ghost_needed = 0.0;   // the ghost cutoff the local engine asked for
+  double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())
   void vc(const int *c, int n);
   // contact candidates of any local copy: every group atom within the
   // contact list's cutoff at the list build (HSSystem::xref), bonded
