@@ -98,6 +98,9 @@ std::string HSLocalEngine::limits()
   // V_C's forces from rank-local rows (what several ranks need), else from
   // the pair list restriction (newton_pair off, neigh_modify exclude: one
   // rank only, its evaluation is collective)
+  // molecular: the members' topology comes by ID (gather_topology())
+  molecular = atom->molecular != Atom::ATOMIC;
+  locf->set_topology(molecular ? &topo : nullptr);
   rows = locf->exact() && locf->rows_unsupported().empty();
   if (locf->exact() && !rows && nprocs > 1)
     add(fmt::format("{} MPI ranks and {} (the local engine's interaction rows, which several "
@@ -602,20 +605,89 @@ void HSLocalEngine::add_members(const std::vector<int> &newids)
       moved.push_back(l);
       if (l < atom->nlocal) copies.push_back(l);
     }
-  if (newids.empty() || !bonded) return;
-  // (one rank: limits() refuses molecular systems on several)
-  locf->terms(copies.data(), (int) copies.size());
-  const std::vector<int> &ta = locf->term_atoms();
-  const std::vector<int> &off = locf->term_offsets();
-  const int npair = locf->npair_last();
-  std::vector<int> ids;
-  for (size_t t = npair; t + 1 < off.size(); t++) {
-    ids.clear();
-    for (int k = off[t]; k < off[t + 1]; k++) {
-      const int a = ta[k];
-      if (a >= 0 && mid[a] >= 0) ids.push_back(mid[a]);
+  if (newids.empty() || !molecular) return;
+  gather_topology(newids);
+}
+
+/* ----------------------------------------------------------------------
+   the new members' special lists and bonded terms, by ID from every rank
+   (one collective; the same records on every rank): their rows need them
+   on whichever copy runs them, and a bonded term joins the members in it
+   into one cluster
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::gather_topology(const std::vector<int> &newids)
+{
+  std::vector<tagint> ids;
+  for (int id : newids) ids.push_back((tagint) idtag[id]);
+  std::sort(ids.begin(), ids.end());
+  sendbuf.clear();
+  locf->collect_topology(ids, sendbuf);
+  std::vector<double> all;
+  allgather(all);
+  auto is_new = [&ids](tagint t) { return std::binary_search(ids.begin(), ids.end(), t); };
+  std::vector<int> fresh;    // the terms of this gather, once each
+  std::vector<char> seen;
+  for (size_t p = 0; p < all.size();) {
+    const int code = (int) all[p];
+    if (code == 4) {
+      const tagint t = (tagint) all[p + 1];
+      const int n = (int) all[p + 4];
+      topo.special[t].assign(n + 3, 0);
+      for (int k = 0; k < n + 3; k++) topo.special[t][k] = (tagint) all[p + 2 + k];
+      p += 5 + n;
+      continue;
     }
-    if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
+    std::array<int64_t, 6> key;
+    for (int k = 0; k < 6; k++) key[k] = (int64_t) all[p + k];
+    p += 6;
+    auto ins = term_index.emplace(key, (int) topo.terms.size());
+    const int ti = ins.first->second;
+    if (ins.second) {
+      HSLocalForces::Topology::Term T;
+      T.kind = (int) key[0];
+      T.type = (int) key[1];
+      for (int k = 0; k < 4; k++) T.id[k] = (tagint) key[2 + k];
+      topo.terms.push_back(T);
+    }
+    if ((int) seen.size() <= ti) seen.resize(ti + 1, 0);
+    if (seen[ti]) continue;    // (newton_bond off: listed on several ranks)
+    seen[ti] = 1;
+    fresh.push_back(ti);
+  }
+  // each new member's terms in the order of their content (the same for
+  // any number of ranks: the order V_C's bonded forces are summed in)
+  for (int ti : fresh) {
+    const auto &T = topo.terms[ti];
+    const int w = T.kind == 0 ? 2 : T.kind == 1 ? 3 : 4;
+    for (int k = 0; k < w; k++)
+      if (is_new(T.id[k])) {
+        auto &v = topo.of[T.id[k]];
+        if (v.empty() || v.back() != ti) v.push_back(ti);
+      }
+  }
+  auto content = [this](int a, int b) {
+    const auto &A = topo.terms[a], &B = topo.terms[b];
+    if (A.kind != B.kind) return A.kind < B.kind;
+    for (int k = 0; k < 4; k++)
+      if (A.id[k] != B.id[k]) return A.id[k] < B.id[k];
+    return A.type < B.type;
+  };
+  for (tagint t : ids) {
+    auto it = topo.of.find(t);
+    if (it != topo.of.end()) std::sort(it->second.begin(), it->second.end(), content);
+  }
+  // the bonded joins
+  std::vector<int> members;
+  for (int ti : fresh) {
+    const auto &T = topo.terms[ti];
+    const int w = T.kind == 0 ? 2 : T.kind == 1 ? 3 : 4;
+    members.clear();
+    for (int k = 0; k < w; k++) {
+      auto it = idof.find(T.id[k]);
+      if (it != idof.end()) members.push_back(it->second);
+    }
+    if (members.size() > 1) cs.add_term(members.data(), (int) members.size());
   }
 }
 
@@ -683,6 +755,44 @@ bool HSLocalEngine::member_copies(Run &r)
                  comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_needed);
     }
     r.members[k] = l;
+  }
+  // a member's bonded partners: their images nearest its copy (rows take
+  // them so), which must be here and nearer than half the periodic box
+  // (else closest_image() can name a far copy)
+  if (!molecular || nprocs == 1) return true;
+  double half = BIG;
+  for (int d = 0; d < domain->dimension; d++)
+    if (domain->periodicity[d]) half = std::min(half, 0.5 * domain->prd[d]);
+  double **x = atom->x;
+  for (int k = 0; k < nm; k++) {
+    auto it = topo.of.find(r.mtags[k]);
+    if (it == topo.of.end()) continue;
+    for (int ti : it->second) {
+      const auto &T = topo.terms[ti];
+      const int w = T.kind == 0 ? 2 : T.kind == 1 ? 3 : 4;
+      for (int q = 0; q < w; q++) {
+        const tagint t = T.id[q];
+        if (t == r.mtags[k]) continue;
+        const int m = atom->map(t);
+        bool here = m >= 0;
+        if (here) {
+          const int c = domain->closest_image(r.members[k], m);
+          const double *a = x[r.members[k]], *b = x[c];
+          const double d2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+              (a[2] - b[2]) * (a[2] - b[2]);
+          here = d2 < half * half;
+        }
+        if (here) continue;
+        if (sys->overflow_global) return false;
+        error->one(FLERR,
+                   "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster "
+                   "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
+                   "use a larger comm_modify cutoff, substep global, or overflow global "
+                   "(such steps taken globally)",
+                   sys->style_name, t, r.mtags[k], update->ntimestep, r.mtags[0],
+                   comm->cutghostuser);
+      }
+    }
   }
   return true;
 }
@@ -1629,6 +1739,8 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
 
   idof.clear();
   idtag.clear();
+  topo.clear();
+  term_index.clear();
   cs.reset(0);
   cs.set_order(&idtag);
   cs.set_partners_join(false);

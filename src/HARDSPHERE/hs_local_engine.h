@@ -81,7 +81,8 @@
    engine, or errors when `substep local` was given): an atom map; pair,
    bond, angle, dihedral and improper styles HSLocalForces can restrict
    exactly (no kspace, many-body or hybrid pair styles), on several ranks
-   through rows (atomic systems, newton_pair on, no neigh_modify exclude);
+   through rows (newton_pair on, no neigh_modify exclude; molecular
+   systems with the members' topology gathered by ID, gather_topology());
    no fix with conservative forces except enforce2d.
 ------------------------------------------------------------------------- */
 
@@ -101,6 +102,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -387,6 +389,13 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<Vec> end_pfc;
   bigint end_ncalls = -1;
   int bonded = 0;              // bonded styles present: their terms join clusters
+  // molecular: the members' special lists and bonded terms by ID, gathered
+  // when they join (add_members(); ghosts carry neither), for their rows
+  // and for the clusters' bonded joins
+  bool molecular = false;
+  HSLocalForces::Topology topo;
+  std::map<std::array<int64_t, 6>, int> term_index;    // a term's (kind, type, IDs) -> topo.terms
+  void gather_topology(const std::vector<int> &newids);
   bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
   double ghost_needed = 0.0;   // the ghost cutoff the local engine asked for
   double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())

@@ -10,6 +10,7 @@
 #include "bond.h"
 #include "comm.h"
 #include "dihedral.h"
+#include "domain.h"
 #include "error.h"
 #include "force.h"
 #include "improper.h"
@@ -220,13 +221,30 @@ void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out) c
 int HSLocalForces::special_code(int a, tagint tj) const
 {
   if (atom->molecular == Atom::ATOMIC || !atom->nspecial) return 0;
-  // the owned copy's list (ghosts carry none: one rank, where every atom
-  // is owned here; rows_unsupported() refuses molecular systems on more)
-  const int o = atom->map(atom->tag[a]);
-  const int *ns = atom->nspecial[o];
-  const tagint *sp = atom->special[o];
+  // the caller's topology (by ID), else the owned copy's list (ghosts
+  // carry none)
+  const tagint ta = atom->tag[a];
+  tagint ns[3];
+  const tagint *sp = nullptr;
+  const std::vector<tagint> *rec = nullptr;
+  if (topo_) {
+    auto it = topo_->special.find(ta);
+    if (it != topo_->special.end()) rec = &it->second;
+  }
+  if (rec) {
+    for (int k = 0; k < 3; k++) ns[k] = (*rec)[k];
+    sp = rec->data() + 3;
+  } else {
+    const int o = atom->map(ta);
+    if (o < 0 || o >= atom->nlocal)
+      error->one(FLERR, "{}: the special neighbours of atom {} are not known on rank {} (a "
+                 "ghost copy here; the local engine gathers those of its clusters' members)",
+                 owner_, ta, comm->me);
+    for (int k = 0; k < 3; k++) ns[k] = atom->nspecial[o][k];
+    sp = atom->special[o];
+  }
   int which = 0;
-  for (int k = 0; k < ns[2]; k++)
+  for (tagint k = 0; k < ns[2]; k++)
     if (sp[k] == tj) {
       which = (k < ns[0]) ? 1 : (k < ns[1]) ? 2 : 3;
       break;
@@ -258,9 +276,9 @@ std::string HSLocalForces::rows_unsupported() const
   if (force->pair && force->pair->compute_flag && !force->newton_pair)
     add("newton_pair off (the pair style then does not write the forces of ghost atoms)");
   if (neighbor->exclude) add("neigh_modify exclude (the rows do not apply exclusions)");
-  if (comm->nprocs > 1 && atom->molecular != Atom::ATOMIC)
-    add("a molecular system on several ranks (ghost atoms carry no special neighbours or "
-        "bonded terms yet)");
+  if (comm->nprocs > 1 && atom->molecular != Atom::ATOMIC && !topo_)
+    add("a molecular system on several ranks without the members' topology (ghost atoms carry "
+        "no special neighbours or bonded terms)");
   return why;
 }
 
@@ -469,7 +487,50 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   presence(present);
   const int npair_t = nterm;
   npair_last_ = nterm;
+  if (rows_ && topo_ && !only_cross) {
+    // the caller's terms of C, each once: C's atoms in ID order, each
+    // atom of a term as its copy in C or the image nearest the member's
+    // (hs_local_forces.h)
+    if (tstamp_.size() < topo_->terms.size()) tstamp_.resize(topo_->terms.size(), 0u);
+    for (auto &R : topo_rows_) R.clear();
+    for (const auto &ta : ctag) {
+      auto it = topo_->of.find(ta.first);
+      if (it == topo_->of.end()) continue;
+      for (int ti : it->second) {
+        if (tstamp_[ti] == epoch_) continue;
+        tstamp_[ti] = epoch_;
+        const Topology::Term &T = topo_->terms[ti];
+        if (!present[T.kind]) continue;
+        const int w = width[T.kind];
+        for (int k = 0; k < w; k++) {
+          // (another member's copy in C may be a far image: the fold
+          // brings the near one's force to it)
+          int l = T.id[k] == ta.first ? ta.second : -1;
+          if (l < 0) {
+            const int m = atom->map(T.id[k]);
+            if (m < 0)
+              error->one(FLERR, "{}: atom {} of a bonded term of atom {} is not on rank {}: "
+                         "the ghost cutoff is too small (comm_modify cutoff)", owner_, T.id[k],
+                         ta.first, comm->me);
+            l = domain->closest_image(ta.second, m);
+          }
+          topo_rows_[T.kind].push_back(l);
+        }
+        topo_rows_[T.kind].push_back(T.type);
+      }
+    }
+    for (int b = 0; b < 4; b++) {
+      Bonded &B = bonded_[b];
+      B.sub.clear();
+      std::vector<int> &R = topo_rows_[b];
+      for (size_t r = 0; r < R.size(); r += width[b] + 1) {
+        B.sub.push_back(R.data() + r);
+        add_term(R.data() + r, width[b], R[r + width[b]]);
+      }
+    }
+  }
   for (int b = 0; b < 4; b++) {
+    if (rows_ && topo_ && !only_cross) break;
     Bonded &B = bonded_[b];
     B.sub.clear();
     if (!present[b] || only_cross) continue;
@@ -514,6 +575,57 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   last_ncalls_ = neighbor->ncalls;
   last_nc_ = nc;
   ncalls += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   this rank's topology records for the atoms ids (hs_local_forces.h)
+------------------------------------------------------------------------- */
+
+void HSLocalForces::collect_topology(const std::vector<tagint> &ids, std::vector<double> &out)
+{
+  if (atom->molecular == Atom::ATOMIC) return;
+  if (neighbor->ncalls != built_ncalls_ || atom->nlocal + atom->nghost != built_nall_)
+    build_index();
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  bool present[4];
+  presence(present);
+  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
+                    neighbor->improperlist};
+  const int width[4] = {2, 3, 4, 4};
+  if (++epoch_ == 0) {
+    std::fill(in_c_.begin(), in_c_.end(), 0u);
+    std::fill(zeroed_.begin(), zeroed_.end(), 0u);
+    for (auto &B : bonded_) std::fill(B.stamp.begin(), B.stamp.end(), 0u);
+    epoch_ = 1;
+  }
+  for (tagint t : ids) {
+    const int o = atom->map(t);
+    if (o >= 0 && o < nlocal && atom->nspecial) {
+      const int *ns = atom->nspecial[o];
+      out.push_back(4.0);
+      out.push_back((double) t);
+      for (int k = 0; k < 3; k++) out.push_back((double) ns[k]);
+      for (int k = 0; k < ns[2]; k++) out.push_back((double) atom->special[o][k]);
+    }
+    for (int l = o; l >= 0; l = atom->sametag[l])
+      for (int b = 0; b < 4; b++) {
+        if (!present[b]) continue;
+        Bonded &B = bonded_[b];
+        for (int p = B.off[l]; p < B.off[l + 1]; p++) {
+          const int r = B.rows[p];
+          if (B.stamp[r] == epoch_) continue;
+          B.stamp[r] = epoch_;
+          const int *row = lists[b][r];
+          tagint id[4] = {0, 0, 0, 0};
+          for (int k = 0; k < width[b]; k++) id[k] = tag[row[k]];
+          if (b == 0 && id[1] < id[0]) std::swap(id[0], id[1]);
+          out.push_back((double) b);
+          out.push_back((double) row[width[b]]);
+          for (int k = 0; k < 4; k++) out.push_back((double) id[k]);
+        }
+      }
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -562,7 +674,15 @@ void HSLocalForces::save(Snapshot &sn) const
         : (int) (firstneigh_[i] - neigh_.data());
   }
   sn.neigh = neigh_;
-  for (int b = 0; b < 4; b++) sn.sub[b] = bonded_[b].sub;
+  for (int b = 0; b < 4; b++) {
+    sn.own[b].clear();
+    sn.sub[b] = bonded_[b].sub;
+    // rows from a topology live in topo_rows_, which the next call reuses
+    if (rows_ && topo_ && !bonded_[b].sub.empty()) {
+      sn.own[b] = topo_rows_[b];
+      sn.sub[b].clear();
+    }
+  }
   sn.zero_list = zero_list_;
   sn.touched = touched_owned_;
   sn.ncalls = last_ncalls_;
@@ -584,7 +704,12 @@ void HSLocalForces::recompute(const Snapshot &sn)
     numneigh_[i] = sn.counts[k];
     firstneigh_[i] = (sn.offs[k] < 0) ? L->firstneigh[i] : neigh_.data() + sn.offs[k];
   }
-  for (int b = 0; b < 4; b++) bonded_[b].sub = sn.sub[b];
+  const int width[4] = {2, 3, 4, 4};
+  for (int b = 0; b < 4; b++) {
+    bonded_[b].sub = sn.sub[b];
+    for (size_t r = 0; r < sn.own[b].size(); r += width[b] + 1)
+      bonded_[b].sub.push_back(const_cast<int *>(sn.own[b].data()) + r);
+  }
   zero_list_ = sn.zero_list;
   touched_owned_ = sn.touched;
   last_ncalls_ = sn.ncalls;
@@ -653,6 +778,9 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
                    &neighbor->nimproperlist};
   int ***plist[4] = {&neighbor->bondlist, &neighbor->anglelist, &neighbor->dihedrallist,
                      &neighbor->improperlist};
+  // a topology's terms are listed once: every copy takes its force
+  const int newton_bond = force->newton_bond;
+  if (rows_ && topo_) force->newton_bond = 1;
   for (int b = 0; b < 4; b++) {
     if (!present[b]) continue;
     const int n0 = *nlist[b];
@@ -666,6 +794,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     *nlist[b] = n0;
     *plist[b] = l0;
   }
+  force->newton_bond = newton_bond;
   if (swap_f)
     atom->f = f_saved;
   else if (nall) {

@@ -52,8 +52,10 @@
 #include "hs_cells.h"
 #include "pointers.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -105,6 +107,7 @@ class HSLocalForces : protected Pointers {
     std::vector<int> ilist, counts, offs, neigh, zero_list, touched, fold;
     bool rows = false;
     std::vector<int *> sub[4];
+    std::vector<int> own[4];    // rows mode with a topology: the rows themselves
     int64_t ncalls = -1;
   };
   void save(Snapshot &) const;
@@ -127,8 +130,9 @@ class HSLocalForces : protected Pointers {
   // folds into its copy in C, every other atom's images into atom->map()'s
   // copy (one rank: the owned copy); touched() then holds those copies,
   // forces() their forces. Terms of an atom with its own image are left
-  // out: their forces on the atom cancel. Bonded terms as compute() (one
-  // rank). recompute() and save()/recompute(snapshot) work as for compute().
+  // out: their forces on the atom cancel. Bonded terms as compute(), or
+  // from a topology (set_topology(), below). recompute() and
+  // save()/recompute(snapshot) work as for compute().
   // "" if compute_rows() can be used with the styles defined, else why not
   std::string rows_unsupported() const;
   // the positions of all local atoms (owned and ghost) at the current
@@ -138,6 +142,40 @@ class HSLocalForces : protected Pointers {
   // compute_rows(); the array must stay unchanged until the next build.
   void set_reference(double **xb);
   void compute_rows(const int *c, int nc);
+
+  // ---- molecular systems in rows mode (issue 20): a ghost carries no
+  // special neighbours, and a rank's bonded lists hold only the terms it
+  // computes (a member run on a ghost copy has terms on other ranks). The
+  // caller gathers, by atom ID, the special lists and bonded terms of the
+  // atoms it will put in C (collect_topology() on every rank, then
+  // everyone's records merged) and sets them here; compute_rows() then
+  // takes C's bonded terms from it (each once, in C's ID order, each atom
+  // as its copy in C or the image nearest the member's copy) and special
+  // bits from it. The terms are evaluated with newton_bond on (every copy
+  // gets its force; the fold sums images), so each must be listed once.
+  struct Topology {
+    struct Term {
+      int kind = 0, type = 0;    // kind: 0 bond, 1 angle, 2 dihedral, 3 improper
+      tagint id[4] = {0, 0, 0, 0};
+    };
+    std::vector<Term> terms;
+    std::unordered_map<tagint, std::vector<int>> of;    // atom ID -> its terms
+    // atom ID -> {n12, n13, n14 (cumulative, as atom->nspecial), IDs...}
+    std::unordered_map<tagint, std::vector<tagint>> special;
+    void clear()
+    {
+      terms.clear();
+      of.clear();
+      special.clear();
+    }
+  };
+  void set_topology(const Topology *t) { topo_ = t; }
+  // this rank's records for the atoms ids: every bonded term of its lists
+  // with one of them (a bond's IDs ascending: newton_bond off lists it on
+  // both atoms' ranks in either order), and the special lists of those it
+  // owns. Appended to out as doubles: {kind 0-3, type, 4 IDs} per term,
+  // {4, ID, n12, n13, n14, IDs...} per special list
+  void collect_topology(const std::vector<tagint> &ids, std::vector<double> &out);
 
   // the terms of V_C of the last compute(), each as its atoms (local
   // indices, ghosts mapped to their owned copy on a single rank; -1 for a
@@ -199,6 +237,9 @@ class HSLocalForces : protected Pointers {
   // 1-3 a special pair with its bits, -1 a special pair left out
   // (special_flag 0)
   int special_code(int a, tagint tj) const;
+  const Topology *topo_ = nullptr;
+  std::vector<int> topo_rows_[4];     // rows mode with topo_: C's bonded rows
+  std::vector<uint32_t> tstamp_;      // per topology term: taken in this call
   std::vector<int> fold_;    // pairs j, k
   std::vector<std::pair<tagint, int>> ctag_;
   std::vector<char> fold_src_;    // all 0 between calls

@@ -6,7 +6,9 @@
 # Systems: the hard-core LJ fluid (density 0.6) at 500 atoms over 200 steps
 # and at 4000 atoms over 300 steps; the same 500 hot (T 3) with a small skin,
 # so that atoms change rank between the two halves of a step; the 500 with
-# fix viscous (held forces, deterministic); fix langevin on 2 ranks (mean
+# fix viscous (held forces, deterministic); a bead-spring melt with bonds,
+# angles, dihedrals and special weights (newton_bond on and off); fix
+# langevin on 2 ranks (mean
 # temperature within its error bar); and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
@@ -41,6 +43,74 @@ check_system hot in.local_hot "2 4" -var nsteps 200
 sed 's/^fix         hs all hardsphere/fix         vi all viscous 0.2\nfix         hs all hardsphere/' in.local_fluid500 > in.local_held
 echo "500 atoms with fix viscous 0.2 (held forces), 200 steps:"
 check_system held in.local_held "2 4" -var nsteps 200
+
+# bead-spring melt (molecular: the members' special lists and bonded terms
+# come by atom ID, gathered when they join): 100 chains of 10 beads along
+# x, 0.97 apart (FENE's minimum) on a 1.2-spaced square lattice in y, z
+# (density 0.72), with a small helical offset (no straight angles or
+# dihedrals); FENE bonds, angle cosine, dihedral harmonic, lj/cut 2.5 with
+# special weights 0 (1-2), 0.5 (1-3, coded in the rows' special bits), 1
+# (1-4); hard cores of 0.9 (bonded neighbours collide too). With
+# newton_bond on and off (the engine's terms are listed once and evaluated
+# with every copy taking its force).
+/usr/bin/python3 - <<'PY'
+import math
+n, nb, b, c = 10, 10, 0.97, 1.2
+atoms, bonds, angles, dihedrals = [], [], [], []
+tag = 0
+for k in range(n):
+    for j in range(n):
+        for i in range(nb):
+            tag += 1
+            y = (j + 0.5) * c + 0.1 * math.cos(0.5 * math.pi * i)
+            z = (k + 0.5) * c + 0.1 * math.sin(0.5 * math.pi * i)
+            atoms.append(f"{tag} {(tag - 1) // nb + 1} 1 {(i + 0.5) * b:.10f} {y:.10f} {z:.10f}")
+            if i >= 1: bonds.append((tag - 1, tag))
+            if i >= 2: angles.append((tag - 2, tag - 1, tag))
+            if i >= 3: dihedrals.append((tag - 3, tag - 2, tag - 1, tag))
+lx, ly = nb * b, n * c
+with open("local_melt.data", "w") as f:
+    f.write(f"helical bead-spring chains\n\n{len(atoms)} atoms\n{len(bonds)} bonds\n"
+            f"{len(angles)} angles\n{len(dihedrals)} dihedrals\n1 atom types\n1 bond types\n"
+            f"1 angle types\n1 dihedral types\n\n")
+    f.write(f"0 {lx:.10f} xlo xhi\n0 {ly:.10f} ylo yhi\n0 {ly:.10f} zlo zhi\n")
+    f.write("\nMasses\n\n1 1.0\n\nAtoms # molecular\n\n" + "\n".join(atoms) + "\n")
+    for name, terms in (("Bonds", bonds), ("Angles", angles), ("Dihedrals", dihedrals)):
+        f.write(f"\n{name}\n\n")
+        for m, t in enumerate(terms):
+            f.write(f"{m + 1} 1 " + " ".join(map(str, t)) + "\n")
+PY
+melt_input() {
+  cat <<EOF2
+units       lj
+atom_style  molecular
+atom_modify map array
+newton      on \${nb}
+read_data   local_melt.data
+velocity    all create 2.0 4928459 mom yes rot no dist gaussian loop geom
+pair_style  lj/cut 2.5
+pair_coeff  1 1 1.0 1.0 2.5
+bond_style  fene
+bond_coeff  1 30.0 1.5 1.0 1.0
+angle_style cosine
+angle_coeff 1 1.5
+dihedral_style harmonic
+dihedral_coeff 1 0.5 1 2
+special_bonds lj 0.0 0.5 1.0
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         hs all hardsphere/cva diameter 0.9
+timestep    0.005
+thermo      50
+run         \${nsteps}
+EOF2
+  result_line 6 9
+}
+melt_input > in.local_melt
+echo "bead-spring melt (bonds, angles, dihedrals), 1000 beads at T 2, 200 steps, newton_bond on:"
+check_system melt in.local_melt "2 4" -var nsteps 200 -var nb on
+echo "the same with newton_bond off:"
+check_system melt_nboff in.local_melt "2 4" -var nsteps 200 -var nb off
 
 # a thermostat on 2 ranks: fix langevin's random forces differ with the
 # rank count, so the check is statistical: the mean temperature of the
