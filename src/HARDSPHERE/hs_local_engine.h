@@ -129,7 +129,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   double counter(int k) override;
 
   // HSStepView: the step's clusters and state, for a method's own
-  // bookkeeping (hs_local_modified.h; one rank); valid from step() to the
+  // bookkeeping (hs_local_modified.h); valid from step() to the
   // end of finish()
   int nclusters() const override { return cs.nclusters(); }
   const std::vector<int> &members(int c) const override;
@@ -172,7 +172,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bool is_member(int l) const { return mid[l] >= 0; }
   int cluster_of(int l) const { return mid[l] >= 0 ? cs.cluster_of(mid[l]) : -1; }
   tagint key_of(int c) const { return idtag[cs.members(c)[0]]; }
-  std::vector<std::vector<int>> view_members;    // members(c) as owned indices (one rank)
+  std::vector<std::vector<int>> view_members;    // members(c): the members owned here
 
   using Vec = std::array<double, 3>;
   struct Seg {

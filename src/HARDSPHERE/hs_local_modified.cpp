@@ -11,6 +11,8 @@
 #include "hs_system.h"
 
 #include "atom.h"
+#include "comm.h"
+#include "memory.h"
 #include "error.h"
 #include "force.h"
 #include "neighbor.h"
@@ -18,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mpi.h>
 
 using namespace LAMMPS_NS;
 
@@ -26,36 +29,86 @@ HSLocalModified::HSLocalModified(LAMMPS *lmp, HSSystem *s, HSPotential *p) :
 {
 }
 
+HSLocalModified::~HSLocalModified()
+{
+  memory->destroy(red);
+  memory->destroy(fwd);
+}
+
+// the per-copy columns (kept zero outside the rows in use: a reverse
+// communication sums every ghost row)
+void HSLocalModified::grow()
+{
+  if (atom->nmax <= nmax) return;
+  memory->destroy(red);
+  memory->destroy(fwd);
+  nmax = atom->nmax;
+  memory->create(red, nmax, 7, "hs_local_modified:red");
+  memory->create(fwd, nmax, 7, "hs_local_modified:fwd");
+  for (int i = 0; i < nmax; i++)
+    for (int d = 0; d < 7; d++) red[i][d] = fwd[i][d] = 0.0;
+  red_rows.clear();
+  if ((int) ostamp.size() < nmax) ostamp.resize(nmax, 0u);
+  if ((int) cstamp.size() < nmax) {
+    cstamp.resize(nmax, 0u);
+    fcons_.resize(nmax);
+    vcons_.resize(nmax);
+  }
+}
+
+void HSLocalModified::zero_red()
+{
+  for (int l : red_rows)
+    for (int d = 0; d < 7; d++) red[l][d] = 0.0;
+  red_rows.clear();
+}
+
+// every rank's doubles, in rank order
+static void allgather(MPI_Comm world, int nprocs, const std::vector<double> &mine,
+                      std::vector<double> &all)
+{
+  if (nprocs == 1) {
+    all = mine;
+    return;
+  }
+  int n = (int) mine.size();
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  all.resize(displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, world);
+}
+
 /* ----------------------------------------------------------------------
-   V_CX, v^T V_CX'' v, F of V_CX and V_CX'' v on the owners, over the terms
-   of begin() (pair and bond terms: the single path), at the positions
-   xpos(owner) + (x[k] - x[owner]) of each local copy k (the image offset)
+   V_CX, v^T V_CX'' v over this rank's share of the terms of find_terms()
+   (pair and bond terms: the single path), each at its copies' positions
+   xpos(copy) with the velocities and projection directions forwarded to
+   the copies (fwd); F of V_CX and V_CX'' v summed on the copies and
+   reversed into the owners (red)
 ------------------------------------------------------------------------- */
 
-template <class X, class V, class B>
-void HSLocalModified::terms_eval(X xpos, V vel, B bvel, double &E, double &Q, double &Qbb)
+template <class X>
+void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
 {
-  double **x = atom->x;
-  const int *type = atom->type;
+  const int *type = atom->type, *mask = atom->mask;
+  const int gb = sys->groupbit;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair, newton_bond = force->newton_bond;
   double **cutsq = force->pair ? force->pair->cutsq : nullptr;
+  static const double zero[3] = {0.0, 0.0, 0.0};
   E = Q = Qbb = 0.0;
-  for (auto &a : fc) a = {0.0, 0.0, 0.0};
-  for (auto &a : kv) a = {0.0, 0.0, 0.0};
+  zero_red();
   const int nterm = (int) toff.size() - 1;
   for (int t = 0; t < nterm; t++) {
     if (toff[t + 1] - toff[t] != 2)
       error->one(FLERR, "Fix {} substep local: a term of {} atoms (only pair and bond terms "
                  "are supported by the local projection)", sys->style_name, toff[t + 1] - toff[t]);
     const int i = tloc[toff[t]], j = tloc[toff[t] + 1];
-    const int oi = tatoms[toff[t]], oj = tatoms[toff[t] + 1];
     const bool pair = t < npair;
     if (!pair && textra[t] <= 0) continue;    // a broken bond
-    const double *xi = xpos(oi), *xj = xpos(oj);
-    double del[3];
-    for (int d = 0; d < 3; d++)
-      del[d] = (xi[d] + (x[i][d] - x[oi][d])) - (xj[d] + (x[j][d] - x[oj][d]));
+    const double *xi = xpos(i), *xj = xpos(j);
+    const double del[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
     const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
     double phi[3], w;
     if (pair) {
@@ -68,7 +121,7 @@ void HSLocalModified::terms_eval(X xpos, V vel, B bvel, double &E, double &Q, do
     }
     const double r = sqrt(rsq);
     const double e[3] = {del[0] / r, del[1] / r, del[2] / r};
-    const double *vi = vel(oi), *vj = vel(oj);
+    const double *vi = (mask[i] & gb) ? fwd[i] : zero, *vj = (mask[j] & gb) ? fwd[j] : zero;
     const double vij[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
     const double ev = e[0] * vij[0] + e[1] * vij[1] + e[2] * vij[2];
     const double vv = vij[0] * vij[0] + vij[1] * vij[1] + vij[2] * vij[2];
@@ -78,24 +131,29 @@ void HSLocalModified::terms_eval(X xpos, V vel, B bvel, double &E, double &Q, do
     for (int d = 0; d < 3; d++) kvij[d] = phi[2] * e[d] * ev + pr * (vij[d] - e[d] * ev);
     E += w * phi[0];
     Q += w * (phi[2] * ev * ev + pr * (vv - ev * ev));
-    const double *bi = bvel(oi), *bj = bvel(oj);
+    const double *bi = (mask[i] & gb) ? fwd[i] + 3 : zero, *bj = (mask[j] & gb) ? fwd[j] + 3 : zero;
     const double bij[3] = {bi[0] - bj[0], bi[1] - bj[1], bi[2] - bj[2]};
     const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
     const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
     Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
-    const int si = slot[oi], sj = slot[oj];
     for (int d = 0; d < 3; d++) {
-      fc[si][d] -= w * phi[1] * e[d];
-      fc[sj][d] += w * phi[1] * e[d];
-      kv[si][d] += w * kvij[d];
-      kv[sj][d] -= w * kvij[d];
+      red[i][d] -= w * phi[1] * e[d];
+      red[j][d] += w * phi[1] * e[d];
+      red[i][3 + d] += w * kvij[d];
+      red[j][3 + d] -= w * kvij[d];
     }
+    red[i][6] = red[j][6] = 1.0;
   }
+  for (int l : tcopies) red_rows.push_back(l);
+  std::vector<int> got;
+  sys->reverse_columns(red, 7, &got);
+  red_rows.insert(red_rows.end(), got.begin(), got.end());
 }
 
 /* ----------------------------------------------------------------------
-   L = T_C + V_CX + dt^2/24 (2 Q - G) with the conservative forces cons()
-   and fc, T the members' kinetic energy
+   this rank's part of L = T_C + V_CX + dt^2/24 (2 Q - G) with the
+   conservative forces cons() and F of V_CX (red, owners), T the members'
+   kinetic energy
 ------------------------------------------------------------------------- */
 
 double HSLocalModified::local_L(double E, double Q, double T)
@@ -111,7 +169,7 @@ double HSLocalModified::local_L(double E, double Q, double T)
     if (is_mem[s])
       g = F[0] * F[0] + F[1] * F[1] + F[2] * F[2];
     else {
-      const Vec &c = fc[s];
+      const double *c = red[i];
       g = 0.0;
       for (int d = 0; d < 3; d++) g += 2.0 * c[d] * (F[d] - c[d]) + c[d] * c[d];
     }
@@ -122,47 +180,73 @@ double HSLocalModified::local_L(double E, double Q, double T)
 }
 
 /* ----------------------------------------------------------------------
-   the terms of the members (local indices mem) in the current lists, and
-   their owners: members first, then the partners
+   the terms of the members (owned local indices mem, collective): this
+   rank's share of them (each term is listed on one rank, or with newton
+   off on two with half weights), and the owned atoms in a term on any
+   rank (a flag reversed into the owners): members first, then partners
 ------------------------------------------------------------------------- */
 
 void HSLocalModified::find_terms(HSStepView &eng)
 {
+  grow();
   HSLocalForces &lf = eng.local_forces();
   lf.set_labels(nullptr);
   lf.terms(mem.data(), (int) mem.size());
   tloc = lf.term_local();
   toff = lf.term_offsets();
   textra = lf.term_extra();
-  tatoms = lf.term_atoms();
   npair = lf.npair_last();
   terms_ncalls = neighbor->ncalls;
 
-  if ((int) sstamp.size() < atom->nmax) {
-    sstamp.assign(atom->nmax, 0u);
-    slot.assign(atom->nmax, -1);
-    sepoch = 0;
+  tcopies = tloc;
+  std::sort(tcopies.begin(), tcopies.end());
+  tcopies.erase(std::unique(tcopies.begin(), tcopies.end()), tcopies.end());
+  zero_red();
+  for (int l : tcopies) {
+    red[l][6] = 1.0;
+    red_rows.push_back(l);
   }
-  if (++sepoch == 0) {
-    std::fill(sstamp.begin(), sstamp.end(), 0u);
-    sepoch = 1;
+  std::vector<int> got;
+  sys->reverse_columns(red, 7, &got);
+  red_rows.insert(red_rows.end(), got.begin(), got.end());
+
+  const int nlocal = atom->nlocal;
+  if (++oepoch == 0) {
+    std::fill(ostamp.begin(), ostamp.end(), 0u);
+    oepoch = 1;
   }
   owners.clear();
   is_mem.clear();
   auto add = [&](int i, bool member) {
-    if (i < 0)
-      error->one(FLERR, "Fix {} substep local: an atom of a collision cluster's terms is owned "
-                 "by another rank", sys->style_name);
-    if (sstamp[i] == sepoch) return;
-    sstamp[i] = sepoch;
-    slot[i] = (int) owners.size();
+    if (ostamp[i] == oepoch) return;
+    ostamp[i] = oepoch;
     owners.push_back(i);
     is_mem.push_back(member ? 1 : 0);
   };
   for (int m : mem) add(m, true);
-  for (int o : tatoms) add(o, false);
-  fc.assign(owners.size(), {0.0, 0.0, 0.0});
-  kv.assign(owners.size(), {0.0, 0.0, 0.0});
+  std::vector<int> part;
+  for (int l : red_rows)
+    if (l < nlocal && red[l][6] > 0.0) part.push_back(l);
+  std::sort(part.begin(), part.end());
+  for (int p : part) add(p, false);
+  zero_red();
+}
+
+/* ----------------------------------------------------------------------
+   the owners' velocities (conservative map) and projection directions to
+   their ghost copies
+------------------------------------------------------------------------- */
+
+void HSLocalModified::forward_state(bool with_rel)
+{
+  for (size_t s = 0; s < owners.size(); s++) {
+    const int i = owners[s];
+    for (int d = 0; d < 3; d++) {
+      fwd[i][d] = vcons(i)[d];
+      fwd[i][3 + d] = (with_rel && is_mem[s]) ? rel[s][d] : 0.0;
+    }
+  }
+  sys->forward_columns(fwd, 6);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -181,18 +265,17 @@ void HSLocalModified::begin(HSStepView &eng)
       cid.push_back(c);
       mtag.push_back(tag[m]);
     }
+  ncl = eng.nclusters();
   find_terms(eng);
 
   // the step's start: x0 and the conservative map's start velocities
   // (held forces: after their first half kick) and forces. The lists hold
   // every pair within cutoff + skin: every atom that can share a term with
-  // a member during the step is an owner here
+  // a member during the step has a copy here
   conservative_state(eng, true);
-  static const double zero[3] = {0.0, 0.0, 0.0};
+  forward_state(false);
   double E, Q, Qbb;
-  terms_eval([&](int o) { return eng.start_x(o); },
-             [&](int o) { return (mask[o] & gb) ? vcons(o) : zero; },
-             [&](int) { return zero; }, E, Q, Qbb);
+  terms_eval([&](int l) { return eng.start_x(l); }, E, Q, Qbb);
   double T = 0.0;
   for (int m : mem)
     if (mask[m] & gb) {
@@ -211,22 +294,23 @@ void HSLocalModified::begin(HSStepView &eng)
     const double *v0 = vcons(p), *F = cons(p);
     for (int d = 0; d < 3; d++) {
       st.v0[d] = v0[d];
-      st.fr0[d] = F[d] - fc[s][d];
+      st.fr0[d] = F[d] - red[p][d];
     }
     ptag.push_back(tag[p]);
     pstart.push_back(st);
   }
+  zero_red();
 }
 
 /* ----------------------------------------------------------------------
-   the conservative forces and velocities of the members and partners
-   (and, at the end, of the start's partners) at the step's start (x0, v0,
-   atom->f of the start) or end (x, v, f now). Without held forces: f and v
-   themselves. With held (thermostat) forces, the conservative map is
-   between the held half kicks: velocities v0 + dt/2 h / m at the start
-   and v - dt/2 h / m at the end, h = f - F_cons; F_cons of the members and
-   partners from all their terms (restricted evaluations, at x0 for the
-   start)
+   the conservative forces and velocities of the owners (and, at the end,
+   of the start's partners) at the step's start (x0, v0, atom->f of the
+   start) or end (x, v, f now). Without held forces: f and v themselves.
+   With held (thermostat) forces, the conservative map is between the held
+   half kicks: velocities v0 + dt/2 h / m at the start and v - dt/2 h / m
+   at the end, h = f - F_cons; F_cons from a restricted evaluation of all
+   their terms (collective; at the start with every copy in those terms at
+   x0)
 ------------------------------------------------------------------------- */
 
 void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
@@ -234,12 +318,7 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   double **x = atom->x, **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
-  if ((int) cstamp.size() < atom->nmax) {
-    cstamp.assign(atom->nmax, 0u);
-    fcons_.resize(atom->nmax);
-    vcons_.resize(atom->nmax);
-    cepoch = 0;
-  }
+  grow();
   if (++cepoch == 0) {
     std::fill(cstamp.begin(), cstamp.end(), 0u);
     cepoch = 1;
@@ -260,26 +339,27 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
     }
   if (!sys->nheld) return;
 
-  // F_cons of the group's members and partners: a restricted evaluation of
-  // all their terms (at the start with every atom of those terms at x0)
+  // F_cons of the group's owners: a restricted evaluation of all their
+  // terms (collective: every rank calls it, with its own part)
   std::vector<int> set;
   for (int i : atoms)
     if (mask[i] & gb) set.push_back(i);
-  if (set.empty()) return;
   HSLocalForces &lf = eng.local_forces();
   lf.set_labels(nullptr);
   std::vector<int> moved;
   std::vector<Vec> saved;
   if (at_start) {
     lf.terms(set.data(), (int) set.size());
-    std::vector<int> own = lf.term_atoms();
-    std::sort(own.begin(), own.end());
-    own.erase(std::unique(own.begin(), own.end()), own.end());
-    for (int o : own) {
-      if (o < 0) continue;
-      moved.push_back(o);
-      saved.push_back({x[o][0], x[o][1], x[o][2]});
-      eng.put_x(o, eng.start_x(o));
+    std::vector<int> cp = lf.term_local();
+    std::sort(cp.begin(), cp.end());
+    cp.erase(std::unique(cp.begin(), cp.end()), cp.end());
+    for (int l : cp) {
+      moved.push_back(l);
+      saved.push_back({x[l][0], x[l][1], x[l][2]});
+    }
+    for (int l : cp) {
+      double **xx = atom->x;
+      for (int d = 0; d < 3; d++) xx[l][d] = eng.start_x(l)[d];
     }
   }
   lf.compute(set.data(), (int) set.size(), false);
@@ -292,7 +372,75 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
       vcons_[i][d] += s * (f[i][d] - fl[i][d]);
     }
   }
-  for (size_t k = 0; k < moved.size(); k++) eng.put_x(moved[k], saved[k].data());
+  for (size_t k = 0; k < moved.size(); k++)
+    for (int d = 0; d < 3; d++) x[moved[k]][d] = saved[k][d];
+}
+
+/* ----------------------------------------------------------------------
+   after a list rebuild between begin() and end() (atoms sorted, or moved
+   to other ranks): the members (ID, cluster) and the start's partners (ID,
+   start data) this rank owns now, by ID from every rank
+------------------------------------------------------------------------- */
+
+void HSLocalModified::remap()
+{
+  const int nlocal = atom->nlocal;
+  std::vector<double> mine, all;
+  for (size_t k = 0; k < mtag.size(); k++) {
+    mine.push_back(0.0);
+    mine.push_back((double) mtag[k]);
+    mine.push_back((double) cid[k]);
+  }
+  for (size_t k = 0; k < ptag.size(); k++) {
+    mine.push_back(1.0);
+    mine.push_back((double) ptag[k]);
+    const Start &st = pstart[k];
+    for (const Vec *a : {&st.v0, &st.d1, &st.d2, &st.fr0})
+      for (int d = 0; d < 3; d++) mine.push_back((*a)[d]);
+  }
+  allgather(world, comm->nprocs, mine, all);
+  mtag.clear();
+  cid.clear();
+  ptag.clear();
+  pstart.clear();
+  std::vector<std::pair<tagint, int>> ms;
+  std::vector<std::pair<tagint, Start>> ps;
+  for (size_t p = 0; p < all.size();) {
+    const bool partner = all[p] > 0.5;
+    const tagint t = (tagint) all[p + 1];
+    const int i = atom->map(t);
+    const bool here = i >= 0 && i < nlocal;
+    if (!partner) {
+      if (here) ms.emplace_back(t, (int) all[p + 2]);
+      p += 3;
+      continue;
+    }
+    if (here) {
+      Start st;
+      int q = (int) p + 2;
+      for (Vec *a : {&st.v0, &st.d1, &st.d2, &st.fr0})
+        for (int d = 0; d < 3; d++) (*a)[d] = all[q++];
+      ps.emplace_back(t, st);
+    }
+    p += 14;
+  }
+  // (members in cluster order as begin() had them; partners by ID)
+  std::stable_sort(ms.begin(), ms.end(), [](const std::pair<tagint, int> &a,
+                                            const std::pair<tagint, int> &b) {
+    return a.second < b.second;
+  });
+  for (auto &m : ms) {
+    mtag.push_back(m.first);
+    cid.push_back(m.second);
+  }
+  std::sort(ps.begin(), ps.end(), [](const std::pair<tagint, Start> &a,
+                                     const std::pair<tagint, Start> &b) {
+    return a.first < b.first;
+  });
+  for (auto &p : ps) {
+    ptag.push_back(p.first);
+    pstart.push_back(p.second);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -302,29 +450,24 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
   double **x = atom->x;
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
-  for (size_t k = 0; k < mtag.size(); k++) mem[k] = eng.owned(mtag[k]);
   // the start's terms and owners still hold unless the lists were rebuilt
-  // (then atoms may also have been sorted)
-  if (neighbor->ncalls != terms_ncalls)
+  // (then atoms may also have been sorted, or moved to other ranks)
+  if (neighbor->ncalls != terms_ncalls) {
+    if (comm->nprocs > 1) remap();
+    mem.resize(mtag.size());
+    for (size_t k = 0; k < mtag.size(); k++) mem[k] = eng.owned(mtag[k]);
     find_terms(eng);
-  else {
-    fc.assign(owners.size(), {0.0, 0.0, 0.0});
-    kv.assign(owners.size(), {0.0, 0.0, 0.0});
-  }
+  } else
+    for (size_t k = 0; k < mtag.size(); k++) mem[k] = eng.owned(mtag[k]);
   pidx.resize(ptag.size());
   for (size_t k = 0; k < ptag.size(); k++) pidx[k] = eng.owned(ptag[k]);
   conservative_state(eng, false);
 
-  // b of the projection on the members (slot order: members first)
-  relative(eng);
-  static const double zero[3] = {0.0, 0.0, 0.0};
+  // b of the projection on the members (owners' order: members first)
+  relative();
+  forward_state(true);
   double E, Q, Qbb;
-  terms_eval([&](int o) { return x[o]; }, [&](int o) { return (mask[o] & gb) ? vcons(o) : zero; },
-             [&](int o) {
-               const int sl = slot[o];
-               return is_mem[sl] ? rel[sl].data() : zero;
-             },
-             E, Q, Qbb);
+  terms_eval([&](int l) { return x[l]; }, E, Q, Qbb);
   const double mvv2e = force->mvv2e, dt = sys->dtv;
   double T = 0.0;
   for (int m : mem)
@@ -341,58 +484,73 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
   for (size_t k = 0; k < ptag.size(); k++) {
     const int p = pidx[k];
     const Start &st = pstart[k];
-    const int sl = slot_of(p);
     const double *vp = vcons(p), *F = cons(p);
     double kin = 0.0;
     for (int d = 0; d < 3; d++) {
       const double a = st.v0[d] + st.d1[d], b = vp[d] - st.d2[d];
       kin += a * a - st.v0[d] * st.v0[d] + vp[d] * vp[d] - b * b;
-      const double fr1 = F[d] - (sl >= 0 ? fc[sl][d] : 0.0);
+      const double fr1 = F[d] - red[p][d];    // (red: zero if p is in no term now)
       gk += -(fr1 - st.fr0[d]) / dt * (st.d1[d] + st.d2[d]);
     }
     dTP += 0.5 * mvv2e * sys->mass_of(p) * kin;
   }
-  C0 = L1 - L0 + dTP + dt * dt / 6.0 * gk;
+  double sums[3];
+  sums[0] = L1 - L0 + dTP + dt * dt / 6.0 * gk;
 
   // the projection's coefficients
   double mb2 = 0.0, bkv = 0.0;
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
-    const Vec &kvm = kv[slot[m]];
+    const double *kvm = red[m] + 3;
     for (int d = 0; d < 3; d++) {
       mb2 += sys->mass_of(m) * rel[k][d] * rel[k][d];
       bkv += rel[k][d] * kvm[d];
     }
   }
-  A = 0.5 * mvv2e * mb2 + dt * dt / 12.0 * Qbb;
-  B = mvv2e * mb2 + dt * dt / 6.0 * bkv;
+  sums[1] = 0.5 * mvv2e * mb2 + dt * dt / 12.0 * Qbb;
+  sums[2] = mvv2e * mb2 + dt * dt / 6.0 * bkv;
+  zero_red();
+  // every rank's part (one reduction: the same coefficients everywhere)
+  double tot[3] = {sums[0], sums[1], sums[2]};
+  if (comm->nprocs > 1) MPI_Allreduce(sums, tot, 3, MPI_DOUBLE, MPI_SUM, world);
+  C0 = tot[0];
+  A = tot[1];
+  B = tot[2];
 }
 
 // b = v - the cluster's centre-of-mass velocity for the members (v itself
-// for a one-sphere cluster: a wall contact); zero outside the group
-void HSLocalModified::relative(HSStepView &eng)
+// for a one-sphere cluster: a wall contact); zero outside the group. The
+// clusters' sums over every rank's members (one reduction)
+void HSLocalModified::relative()
 {
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
-  const int ncl = eng.nclusters();
-  std::vector<Vec> pc(ncl, {0.0, 0.0, 0.0});
-  std::vector<double> mc(ncl, 0.0);
-  std::vector<int> nc(ncl, 0);
+  std::vector<double> s(4 * ncl, 0.0), tot(4 * ncl, 0.0);
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
     const double ms = sys->mass_of(m);
-    for (int d = 0; d < 3; d++) pc[cid[k]][d] += ms * vcons(m)[d];
-    mc[cid[k]] += ms;
-    nc[cid[k]]++;
+    double *c = &s[4 * cid[k]];
+    for (int d = 0; d < 3; d++) c[d] += ms * vcons(m)[d];
+    c[3] += ms;
+  }
+  std::vector<int> n(ncl, 0), ntot(ncl, 0);
+  for (size_t k = 0; k < mem.size(); k++)
+    if (mask[mem[k]] & gb) n[cid[k]]++;
+  if (comm->nprocs > 1 && ncl > 0) {
+    MPI_Allreduce(s.data(), tot.data(), 4 * ncl, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(n.data(), ntot.data(), ncl, MPI_INT, MPI_SUM, world);
+  } else {
+    tot = s;
+    ntot = n;
   }
   rel.assign(mem.size(), {0.0, 0.0, 0.0});
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
-    const int c = cid[k];
-    for (int d = 0; d < 3; d++) rel[k][d] = vcons(m)[d] - (nc[c] > 1 ? pc[c][d] / mc[c] : 0.0);
+    const double *c = &tot[4 * cid[k]];
+    for (int d = 0; d < 3; d++) rel[k][d] = vcons(m)[d] - (ntot[cid[k]] > 1 ? c[d] / c[3] : 0.0);
   }
 }
 

@@ -36,7 +36,12 @@
    forces the ledger is that of the conservative map between the held half
    kicks: velocities after the first and before the last, conservative
    forces of members and partners from restricted evaluations of all their
-   terms. One rank, as the engine.
+   terms. Any number of MPI ranks: each rank evaluates its share of the
+   terms (those its lists hold) on its copies, the per-atom sums go to the
+   owners by reverse communication and the owners' velocities to the
+   ghosts by forward communication, the clusters' centres of mass and
+   A, B, C0 are summed over the ranks (MPI_Allreduce); after a list rebuild
+   with migration, members and partners are found again by ID (remap()).
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LOCAL_MODIFIED_H
@@ -58,6 +63,7 @@ class HSPotential;
 class HSLocalModified : protected Pointers {
  public:
   HSLocalModified(class LAMMPS *, HSSystem *, HSPotential *);
+  ~HSLocalModified() override;
 
   // after the engine's step (HSMethod::cluster_step_begun) (atom->f: the step's start forces): the
   // members, their terms and L at the step's start
@@ -77,37 +83,45 @@ class HSLocalModified : protected Pointers {
   HSPotential *pot;
   using Vec = std::array<double, 3>;
 
-  // a neighbor list rebuild between begin() and end() may sort the atoms:
-  // what end() needs of the start is kept by tag
-  std::vector<tagint> mtag;           // members
-  std::vector<int> mem, cid;          // members' local indices, cluster index
+  // a neighbor list rebuild between begin() and end() may sort the atoms
+  // or move them to other ranks: what end() needs of the start is kept by
+  // ID (remap())
+  std::vector<tagint> mtag;           // members owned here
+  std::vector<int> mem, cid;          // their local indices, cluster index
+  int ncl = 0;                        // the step's clusters (the same on every rank)
   struct Start {
     Vec v0, d1, d2, fr0;    // velocity, the two Phi_H1 kicks, F^R at the start
   };
-  std::vector<tagint> ptag;           // the start's partners (and their data)
+  std::vector<tagint> ptag;           // the start's partners owned here (and their data)
   std::vector<Start> pstart;
   std::vector<int> pidx;              // end(): their local indices now
-  double L0 = 0.0;
+  double L0 = 0.0;                    // this rank's part of L at the start
 
-  // the terms of the members at the current lists, their distinct owners
-  std::vector<int> tloc, toff, textra, tatoms;
+  // this rank's share of the members' terms (local copies), and the owned
+  // atoms in a term on any rank: members first, then partners
+  std::vector<int> tloc, toff, textra, tcopies;
   int npair = 0;
   bigint terms_ncalls = -1;           // neighbor->ncalls when they were found
-  std::vector<int> owners;            // members first, then partners
-  std::vector<int> slot;              // owner -> index in owners (stamp-checked)
-  std::vector<uint32_t> sstamp;
-  uint32_t sepoch = 0;
-  std::vector<char> is_mem;           // per slot
-  std::vector<Vec> fc, kv;            // per slot: F of V_CX, V_CX'' v
+  std::vector<int> owners;
+  std::vector<char> is_mem;           // per owner
+  std::vector<uint32_t> ostamp;
+  uint32_t oepoch = 0;
   std::vector<Vec> rel;               // per member: b of the projection
+  // per local copy: red = F of V_CX, V_CX'' v, a flag (summed into the
+  // owners by reverse communication; zero outside red_rows), fwd = the
+  // owners' velocities and b, forwarded to the ghosts
+  int nmax = 0;
+  double **red = nullptr, **fwd = nullptr;
+  std::vector<int> red_rows;
+  void grow();
+  void zero_red();
 
   void find_terms(HSStepView &);
-  int slot_of(int i) const { return (i < (int) sstamp.size() && sstamp[i] == sepoch) ? slot[i] : -1; }
-  // E = V_CX, Q = sum v^T V_t'' v and Qbb = sum b^T V_t'' b over its
-  // terms, fc, kv at positions xpos(owner) + image offset, velocities
-  // vel(owner) and the projection's directions bvel(owner)
-  template <class X, class V, class B>
-  void terms_eval(X xpos, V vel, B bvel, double &E, double &Q, double &Qbb);
+  void forward_state(bool with_rel);
+  void remap();
+  // this rank's E = V_CX, Q = sum v^T V_t'' v and Qbb = sum b^T V_t'' b
+  // over its terms at positions xpos(copy); red reversed into the owners
+  template <class X> void terms_eval(X xpos, double &E, double &Q, double &Qbb);
   double local_L(double E, double Q, double T);
   // conservative forces and velocities (held forces taken out), per local index
   std::vector<Vec> fcons_, vcons_;
@@ -116,7 +130,7 @@ class HSLocalModified : protected Pointers {
   void conservative_state(HSStepView &, bool at_start);
   const double *cons(int i) const { return fcons_[i].data(); }
   const double *vcons(int i) const { return vcons_[i].data(); }
-  void relative(HSStepView &);
+  void relative();
 };
 
 }    // namespace LAMMPS_NS

@@ -130,10 +130,6 @@ std::string HSMethodPCVA::local_limits()
     add(fmt::format("a potential with other than radial pair and bond terms ({}; the local "
                     "projection evaluates the colliding spheres' terms through single())",
                     S.pot->describe()));
-  if (comm->nprocs > 1)
-    add(fmt::format("{} MPI ranks (pcva's local projection, hs_local_modified.h, runs on one "
-                    "rank so far)",
-                    comm->nprocs));
   return why;
 }
 

@@ -32,20 +32,13 @@ if [ $? -eq 0 ] && grep -q "substep local (collisions sub-stepped per cluster)" 
 else
   echo "  FAIL: default cva on 2 ranks did not take the local engine"; tail -5 out.cva_default; fail=1
 fi
-echo "pcva's local projection runs on one rank: on 2 ranks the default falls back, an explicit substep local is an error:"
+echo "pcva's default on 2 ranks is the local engine too (test_mpi_local.sh compares it):"
 sed 's/hardsphere\/cva/hardsphere\/pcva/' in.cva_default > in.pcva_default
 mpirun -np 2 --oversubscribe "$LMP" -in in.pcva_default -var nsteps 20 -log none -echo none > out.pcva_default 2>&1
-if [ $? -eq 0 ] && grep -q "falls back to substep global" out.pcva_default && grep -q "2 MPI ranks (pcva" out.pcva_default; then
-  echo "  pcva default: falls back to global with a warning naming the ranks: ok"
+if [ $? -eq 0 ] && grep -q "substep local (collisions sub-stepped per cluster)" out.pcva_default && ! grep -q "falls back" out.pcva_default; then
+  echo "  pcva default: local, no fall-back: ok"
 else
-  echo "  FAIL: default pcva on 2 ranks did not fall back with a warning"; tail -5 out.pcva_default; fail=1
-fi
-sed 's/diameter 1.0/diameter 1.0 substep local/' in.pcva_default > in.pcva_local
-mpirun -np 2 --oversubscribe "$LMP" -in in.pcva_local -var nsteps 20 -log none -echo none > out.pcva_local 2>&1
-if [ $? -ne 0 ] && grep -q "substep local cannot run with 2 MPI ranks (pcva" out.pcva_local; then
-  echo "  pcva explicit substep local: error naming the rank count: ok"
-else
-  echo "  FAIL: explicit pcva substep local on 2 ranks gave no error naming the ranks"; tail -5 out.pcva_local; fail=1
+  echo "  FAIL: default pcva on 2 ranks did not take the local engine"; tail -5 out.pcva_default; fail=1
 fi
 
 mpi_finish

@@ -17,7 +17,8 @@
 # sphere leaves with the striker's velocity), and a pair plus two wall
 # contacts at a rank face. Then the error of a cluster that outgrows the
 # ghost region, and the counted fall-back to the global engine
-# (overflow global).
+# (overflow global). hardsphere/pcva on the fluids, the hot and held
+# fluid and the melt (bonds only) as well.
 
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_local "$@"
@@ -111,6 +112,31 @@ echo "bead-spring melt (bonds, angles, dihedrals), 1000 beads at T 2, 200 steps,
 check_system melt in.local_melt "2 4" -var nsteps 200 -var nb on
 echo "the same with newton_bond off:"
 check_system melt_nboff in.local_melt "2 4" -var nsteps 200 -var nb off
+
+# pcva's local projection (hs_local_modified.h) on the same systems: each
+# rank evaluates its share of the members' terms, sums go to the owners by
+# reverse communication, A, B, C0 and the clusters' centres of mass are
+# reduced, members and partners found again by ID after a rebuild; the
+# projections and skipped projections counted too (the melt with bonds
+# only: the projection needs radial terms)
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
+to_pcva() { sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/'; }
+to_pcva < in.local_fluid500 > in.local_p500
+to_pcva < in.local_fluid4000 > in.local_p4000
+to_pcva < in.local_hot > in.local_phot
+to_pcva < in.local_held > in.local_pheld
+sed '/^angle_/d; /^dihedral_/d' in.local_melt | to_pcva > in.local_pmelt
+echo "pcva: fluid, 500 atoms, 200 steps:"
+check_system p500 in.local_p500 "2 4" -var nsteps 200
+echo "pcva: fluid, 4000 atoms, 300 steps:"
+check_system p4000 in.local_p4000 "2 4" -var nsteps 300
+echo "pcva: 500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 200 steps:"
+check_system phot in.local_phot "2 4" -var nsteps 200
+echo "pcva: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
+check_system pheld in.local_pheld "2 4" -var nsteps 200
+echo "pcva: bead-spring melt with FENE bonds, 200 steps:"
+check_system pmelt in.local_pmelt "2 4" -var nsteps 200 -var nb on
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
 # a thermostat on 2 ranks: fix langevin's random forces differ with the
 # rank count, so the check is statistical: the mean temperature of the
