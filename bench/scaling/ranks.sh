@@ -1,12 +1,12 @@
 #!/bin/bash
 # bench/scaling/ranks.sh: the local engine on 1 and 2 MPI ranks (issue 20).
-# On the hard-core LJ fluid at SIZES atoms: fix nve and hardsphere/cva (its
-# default, the local engine) on 1 and 2 ranks, repeats alternating the four
-# runs; then 4 ranks (oversubscribed on a 2-core machine: correctness only,
-# its collisions must equal 1 rank's). ranks_parse.py writes the table
-# (ranks.md): per repeat the ratios cva(1)/cva(2) (speed-up), cva/nve on 1
-# and on 2 ranks, medians and spreads, collisions per step on 1, 2, 4 ranks
-# and the engine's collectives per collisional step (f_hs[12]).
+# On the hard-core LJ fluid at SIZES atoms: fix nve, hardsphere/cva and
+# hardsphere/pcva (their default, the local engine) on 1 and 2 ranks,
+# repeats alternating the six runs; then 4 ranks (oversubscribed on a
+# 2-core machine: correctness only, its collisions must equal 1 rank's).
+# ranks_parse.py writes the table (ranks.md): per method and repeat the
+# ratios m(1)/m(2) (speed-up), m/nve on 1 and on 2 ranks, medians and
+# spreads, collisions per step on 1, 2, 4 ranks.
 #   bash bench/scaling/ranks.sh                       # SIZES="32000 256000" REPEATS=3
 #   SIZES=32000 REPEATS=5 bash bench/scaling/ranks.sh
 set -euo pipefail
@@ -39,14 +39,16 @@ for N in $SIZES; do
   steps=${STEPS:-$(/usr/bin/python3 -c "print(max(20, round(4e6/$N)))")}
   for k in $(seq 1 "$REPEATS"); do
     for np in 1 2; do
-      for c in nve cva; do
-        if [ $c = nve ]; then f="fix hs all nve"; else f="fix hs all hardsphere/cva diameter 1.0"; fi
+      for c in nve cva pcva; do
+        if [ $c = nve ]; then f="fix hs all nve"; else f="fix hs all hardsphere/$c diameter 1.0"; fi
         echo "[$(date +%T)] N=$N repeat $k: $c on $np ranks ($steps steps)"
         run $np "$LOGS/log.$N.$k.$c.$np" "$N" "$steps" "$f"
       done
     done
   done
-  echo "[$(date +%T)] N=$N: cva on 4 ranks (oversubscribed: collisions only)"
-  run 4 "$LOGS/log.$N.1.cva.4" "$N" "$steps" "fix hs all hardsphere/cva diameter 1.0"
+  for c in cva pcva; do
+    echo "[$(date +%T)] N=$N: $c on 4 ranks (oversubscribed: collisions only)"
+    run 4 "$LOGS/log.$N.1.$c.4" "$N" "$steps" "fix hs all hardsphere/$c diameter 1.0"
+  done
 done
 /usr/bin/python3 "$HERE/ranks_parse.py" "$HERE/ranks.md" "$LOGS"
