@@ -1,11 +1,11 @@
 #!/bin/bash
 # Depletion example, part 3: the mechanism of the thermostat bias (README.md,
 # "The thermostat bias: mechanism"). q = 0.2 AO colloids at rho sigma^3 =
-# 0.05 (864, in.ao) under fix langevin at gamma dt = 0.025 and 0.05 (gamma =
+# 0.05 (864, in.ao; and 0.3) under fix langevin at gamma dt = 0.025 and 0.05 (gamma =
 # 1/damp) and under fix temp/berendsen; hard spheres alone (-var pair hs) at
 # rho 0.05 and 0.5; a Lennard-Jones fluid under fix nve + fix langevin
 # (in.halfstep, no package). One run at a time, nice 19, resumable (FORCE=1
-# redoes a run); about 25 min on one core. Table: bias.py -> results_bias.md.
+# redoes a run); about 40 min on one core. Table: bias.py -> results_bias.md.
 #
 #   bash examples/depletion/run_bias.sh
 set -euo pipefail
@@ -28,6 +28,11 @@ AO=(
   "hs_rho0.05_nve|-var pair hs -var damp 0.1 -var nve yes -var nrun 50000 -var seed 109"
   "hs_rho0.5_lv_d0.1|-var pair hs -var rho 0.5 -var damp 0.1 -var nrun 50000 -var seed 106"
   "hs_rho0.5_ber_d0.1|-var pair hs -var rho 0.5 -var thermostat berendsen -var damp 0.1 -var nrun 50000 -var seed 107"
+  # rho 0.3, against the MC of results_mc.md (no series)
+  "lv_d0.1_rho0.3|-var damp 0.1 -var rho 0.3 -var equil 10000 -var nrun 60000 -var seed 2026"
+  "ber_rho0.3|-var thermostat berendsen -var damp 0.1 -var rho 0.3 -var equil 10000 -var nrun 60000 -var seed 2025"
+  "ber_d2.0_rho0.3|-var thermostat berendsen -var damp 2.0 -var rho 0.3 -var equil 10000 -var nrun 60000 -var seed 2027"
+  "nve_rho0.3|-var nve yes -var damp 2.0 -var rho 0.3 -var equil 10000 -var nrun 60000 -var seed 2028"
 )
 tags=()
 for s in "${AO[@]}"; do
