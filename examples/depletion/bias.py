@@ -20,7 +20,8 @@ value from exp(-u/kT) (1 + rho y1). Series: 1 + B2 rho + B3 rho^2 + B4 rho^3
 (virial.py; B4 = 2.35 +- 0.34 from mayer_b4.cpp, README); for hard spheres
 (log says pair_style zero) Kolafa's equation of state,
 Z = (1 + e + e^2 - (2/3) e^3 (1 + e)) / (1 - e)^3, e = pi rho / 6. Error bars: one standard
-error, blocking (../common/blocking.py).
+error, blocking (../common/blocking.py). At rho > 0.1 (AO) no series:
+those runs are compared with the MC of results_mc.md in README.md.
 """
 import math, os, re, sys
 import numpy as np
@@ -151,16 +152,19 @@ if __name__ == "__main__":
     for tag in [t for t in sys.argv[2:] if t not in lj]:
         r = run(d, tag)
         dz = r["Z"][0] - r["series"]
-        if r["q"] is not None and r["rho"] > 0.1:    # the series (to B4) does not hold: compare with the MC
-            r["series"] = float("nan")
+        dense = r["q"] is not None and r["rho"] > 0.1    # the series does not hold: compare with the MC
+        if dense:
             dz = float("nan")
         ut = f"{r['U'][0]:.4f} ± {r['U'][1]:.4f} ({r['Ut']:.4f})" if r["q"] is not None else "-"
+        if dense:
+            ut = f"{r['U'][0]:.4f} ± {r['U'][1]:.4f}"
         nw = f"{r['nwell']:.4f}" if "nwell" in r else "-"
         print(f"| {tag} | {r['style']} | {r['damp']} | {r['dt']} | {r['gdt']:.4g} | {r['coll']:.4f} | "
               f"{r['T'][0]:.4f} ± {r['T'][1]:.4f} | " +
               (f"{r['Th'][0]:.4f} ± {r['Th'][1]:.4f}" if "Th" in r else "-") +
-              f" | {r['Z'][0]:.5f} ± {r['Z'][1]:.5f} | "
-              f"{dz:+.5f} ± {r['Z'][1]:.5f} ({dz / r['Z'][1]:+.1f}) | {r['pred']:+.5f} | {ut} | " +
+              f" | {r['Z'][0]:.5f} ± {r['Z'][1]:.5f} | " +
+              (f"{dz:+.5f} ± {r['Z'][1]:.5f} ({dz / r['Z'][1]:+.1f}) | {r['pred']:+.5f}" if not dense else "- | -") +
+              f" | {ut} | " +
               (f"{r['Zs'][0]:.4f} ± {r['Zs'][1]:.4f}" if r["q"] is not None else "-") +
               f" | {r['gc'][0]:.3f} ± {r['gc'][1]:.3f} | " +
               (f"{r['gconf'][0]:.3f} ± {r['gconf'][1]:.3f}" if "gconf" in r else "-") + f" | {nw} |")
