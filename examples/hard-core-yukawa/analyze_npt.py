@@ -35,19 +35,35 @@ rows = []
 for s in states:
     T, rho, P, dP = (float(x) for x in s.split(":"))
     tag = "rho%s_T%s" % tuple(s.split(":")[1::-1])
-    log = open(os.path.join(scr, "log.npt." + tag)).read()
-    m = re.search(r"^RESULT (.*)$", log, re.M)
-    b = np.loadtxt(os.path.join(scr, "blocks.npt." + tag + ".txt"))
-    if m:
-        run = dict(zip(*[iter(m.group(1).split())] * 2))
-    else:    # a run stopped early: its finished blocks are still samples; say so
-        th = re.findall(r"^\s+\d+\s+\S+\s+\S+\s+\S+\s+\S+\s+(\d+)\s+(\S+)\s+(\S+)\s*$", log, re.M)
-        run = dict(attempts="-", accepted="-", delta=th[-1][2] if th else "nan",
-                   steps=f"{int(b[-1, 0]) - int(b[0, 0]) + int(b[1, 0] - b[0, 0])} (stopped)")
+    parts = []    # run_npt.sh PARTS=n: the finished parts 1, 2, ... (in.hcy.npt -var part k)
+    k = 1
+    while os.path.exists(os.path.join(scr, f"log.npt.{tag}.{k}")):
+        lg = open(os.path.join(scr, f"log.npt.{tag}.{k}")).read()
+        mk = re.search(r"^RESULT (.*)$", lg, re.M)
+        if not mk:
+            break
+        parts.append((k, dict(zip(*[iter(mk.group(1).split())] * 2))))
+        k += 1
+    if parts:
+        b = np.concatenate([np.loadtxt(os.path.join(scr, f"blocks.npt.{tag}.{k}.txt"), ndmin=2) for k, _ in parts])
+        vs = np.concatenate([np.loadtxt(os.path.join(scr, f"vol.npt.{tag}.{k}.txt"))[:, 1] for k, _ in parts])
+        run = dict(parts[-1][1])
+        for key in ("steps", "attempts", "accepted"):
+            run[key] = str(sum(int(float(p[key])) for _, p in parts))
+        run["steps"] += f" ({len(parts)} parts)"
+    else:
+        log = open(os.path.join(scr, "log.npt." + tag)).read()
+        m = re.search(r"^RESULT (.*)$", log, re.M)
+        b = np.loadtxt(os.path.join(scr, "blocks.npt." + tag + ".txt"))
+        vs = np.loadtxt(os.path.join(scr, "vol.npt." + tag + ".txt"))[:, 1]
+        if m:
+            run = dict(zip(*[iter(m.group(1).split())] * 2))
+        else:    # a run stopped early: its finished blocks are still samples; say so
+            th = re.findall(r"^\s+\d+\s+\S+\s+\S+\s+\S+\s+\S+\s+(\d+)\s+(\S+)\s+(\S+)\s*$", log, re.M)
+            run = dict(attempts="-", accepted="-", delta=th[-1][2] if th else "nan",
+                       steps=f"{int(b[-1, 0]) - int(b[0, 0]) + int(b[1, 0] - b[0, 0])} (stopped)")
     Tb, U, V, n = b[:, 1], b[:, 2], b[:, 3], b[:, 4]
-    # <dV^2> from the volume every 10 steps (block means would smooth it)
-    vfile = os.path.join(scr, "vol.npt." + tag + ".txt")
-    vs = np.loadtxt(vfile)[:, 1]
+    # <dV^2> from the volume every 10 steps (block means would smooth it): vs above
     dPdrho = T * vs.mean() / (rho * vs.var())
     # the volume walks slowly: an error bar from the integrated
     # autocorrelation time of the volume series too, the larger one is used

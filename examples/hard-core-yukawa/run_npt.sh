@@ -7,9 +7,16 @@
 #   bash examples/hard-core-yukawa/run_npt.sh
 #   STATES="1.5:0.6:1.2042:0.0099" NRUN=20000 bash examples/hard-core-yukawa/run_npt.sh
 #
+#   PARTS=20 NRUN=30000 bash examples/hard-core-yukawa/run_npt.sh   # 20 x 30000 steps per state, in parts
+#
 # STATES: "T:rho:P:dP" (dP: the NVT pressure's standard error, from Z's).
 # PAR=1 runs the states at the same time (one process each), else one after
 # the other. Resumable: a finished run (RESULT line) is not repeated.
+# PARTS=n: each state as part 0 (set-up, EQUIL steps, restart file) and
+# parts 1..n of NRUN steps, each a LAMMPS process that continues from the
+# restart file of the one before (in.hcy.npt -var part k): stop any time,
+# run again to go on, raise PARTS to lengthen; the analysis takes the
+# finished parts. Without PARTS: one run of EQUIL + NRUN steps, as before.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -22,12 +29,22 @@ if [ ! -x "$LMP" ]; then
   (cd "$ROOT" && cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null && cmake --build build -j1)
 fi
 mkdir -p "$SCR"; cd "$SCR"
+done_() { [ "${FORCE:-0}" != 1 ] && [ -f "$1" ] && grep -q "^RESULT" "$1"; }
 one() {
   IFS=: read -r T rho P dP <<< "$1"; tag=rho${rho}_T$T
-  if [ "${FORCE:-0}" != 1 ] && [ -f log.npt.$tag ] && grep -q "^RESULT" log.npt.$tag; then return; fi
-  echo "[$(date +%T)] NPT $tag P $P"
-  nice -n 19 "$LMP" -in "$HERE/in.hcy.npt" -var rho "$rho" -var T "$T" -var P "$P" -var every "$EVERY" \
-    -var equil "$EQUIL" -var nrun "$NRUN" -log log.npt.$tag -screen none
+  if [ -z "${PARTS:-}" ]; then
+    done_ log.npt.$tag && return
+    echo "[$(date +%T)] NPT $tag P $P"
+    nice -n 19 "$LMP" -in "$HERE/in.hcy.npt" -var rho "$rho" -var T "$T" -var P "$P" -var every "$EVERY" \
+      -var equil "$EQUIL" -var nrun "$NRUN" -log log.npt.$tag -screen none
+    return
+  fi
+  for k in $(seq 0 "$PARTS"); do
+    done_ log.npt.$tag.$k && continue
+    echo "[$(date +%T)] NPT $tag P $P part $k"
+    nice -n 19 "$LMP" -in "$HERE/in.hcy.npt" -var rho "$rho" -var T "$T" -var P "$P" -var every "$EVERY" \
+      -var equil "$EQUIL" -var nrun "$NRUN" -var part $k -log log.npt.$tag.$k -screen none
+  done
 }
 pids=""
 for s in $STATES; do
