@@ -1474,10 +1474,14 @@ void HSLocalEngine::h2_velocities(bool full)
     rows.insert(rows.end(), sa_rows.begin(), sa_rows.end());
     rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
   }
+  std::vector<int> &send = scratch_wsend;
+  send.clear();
   for (int i : rows) {
     if (i >= nlocal) continue;
     double *wi = wq[i];
-    wi[3] = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
+    const double flag = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
+    bool ch = flag != wi[3];
+    wi[3] = flag;
     double wn[3];
     if (!(mask[i] & F.groupbit) || is_member(i))
       wn[0] = wn[1] = wn[2] = 0.0;
@@ -1488,13 +1492,19 @@ void HSLocalEngine::h2_velocities(bool full)
       else
         for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * f[i][d];
     }
-    if (wn[0] != wi[0] || wn[1] != wi[1] || wn[2] != wi[2]) wchanged.push_back(i);
+    if (wn[0] != wi[0] || wn[1] != wi[1] || wn[2] != wi[2]) {
+      wchanged.push_back(i);
+      ch = true;
+    }
     wi[0] = wn[0];
     wi[1] = wn[1];
     wi[2] = wn[2];
+    if (ch) send.push_back(i);
   }
-  // (the ghosts whose w changed join wchanged)
-  F.forward_columns(wq, 4, &wchanged, 3);
+  // (the ghosts whose w changed join wchanged). After the step's first
+  // (full) forward, only the owners' rows that changed travel: the other
+  // ghosts' rows are still those of that forward
+  F.forward_columns(wq, 4, &wchanged, 3, full ? nullptr : &send);
   ncollective += 1.0;
 }
 

@@ -336,7 +336,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void retire(tagint key);
   // full: every owned atom's w; else only where the sums or membership changed
   void h2_velocities(bool full);
-  std::vector<int> scratch_wrows;
+  std::vector<int> scratch_wrows, scratch_wsend;
   void update_paths(bool full);
   void h2_pos(int l, double *q) const;
   void check_pair(int p, std::vector<Hit> &hits);

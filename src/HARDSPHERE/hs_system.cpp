@@ -271,6 +271,21 @@ void HSSystem::reset_reference(int at_setup)
 
 int HSSystem::pack_reverse_comm(int n, int first, double *buf)
 {
+  if (cols_ && sparse_) {
+    if (n == 0) return 0;    // (nothing is sent or received)
+    int m = 1, cnt = 0;
+    for (int k = 0; k < n; k++) {
+      const double *row = cols_[first + k];
+      bool nz = false;
+      for (int c = 0; c < ncols_ && !nz; c++) nz = row[c] != 0.0;
+      if (!nz) continue;
+      buf[m++] = k;
+      for (int c = 0; c < ncols_; c++) buf[m++] = row[c];
+      cnt++;
+    }
+    buf[0] = cnt;
+    return m;
+  }
   if (cols_) {
     int m = 0;
     for (int k = 0; k < n; k++)
@@ -283,6 +298,21 @@ int HSSystem::pack_reverse_comm(int n, int first, double *buf)
 
 void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
 {
+  if (cols_ && sparse_) {
+    if (n == 0) return;
+    const int cnt = (int) buf[0];
+    int m = 1;
+    for (int k = 0; k < cnt; k++) {
+      double *row = cols_[list_[(int) buf[m++]]];
+      bool nz = false;
+      for (int c = 0; c < ncols_; c++) {
+        nz = nz || buf[m] != 0.0;
+        row[c] += buf[m++];
+      }
+      if (nz && changed_) changed_->push_back(list_[(int) buf[m - ncols_ - 1]]);
+    }
+    return;
+  }
   if (cols_) {
     int m = 0;
     for (int k = 0; k < n; k++) {
@@ -299,7 +329,8 @@ void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
   for (int k = 0; k < n; k++) gap[list_[k]] = MIN(gap[list_[k]], buf[k]);
 }
 
-void HSSystem::forward_columns(double **a, int ncol, std::vector<int> *changed, int ncmp)
+void HSSystem::forward_columns(double **a, int ncol, std::vector<int> *changed, int ncmp,
+                               const std::vector<int> *send)
 {
   if (ncol < 1 || ncol > COMM_COLUMNS || ncmp > ncol)
     error->one(FLERR, "Fix {}: internal error: {} columns to forward", style_name, ncol);
@@ -307,9 +338,20 @@ void HSSystem::forward_columns(double **a, int ncol, std::vector<int> *changed, 
   ncols_ = ncol;
   changed_ = changed;
   ncmp_ = changed ? ncmp : 0;
+  sparse_ = send != nullptr;
+  if (sparse_) {
+    if ((int) sendmark_.size() < atom->nmax) sendmark_.resize(atom->nmax, 0);
+    for (int i : *send) {
+      if (!sendmark_[i]) marked_.push_back(i);
+      sendmark_[i] = 1;
+    }
+  }
   HSCompat::forward_comm_fix(comm, host);
+  for (int i : marked_) sendmark_[i] = 0;
+  marked_.clear();
   cols_ = nullptr;
   changed_ = nullptr;
+  sparse_ = false;
 }
 
 void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed)
@@ -319,9 +361,11 @@ void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed)
   cols_ = a;
   ncols_ = ncol;
   changed_ = changed;
+  sparse_ = true;
   HSCompat::reverse_comm_fix(comm, host);
   cols_ = nullptr;
   changed_ = nullptr;
+  sparse_ = false;
 }
 
 inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
@@ -386,6 +430,22 @@ int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
 {
   double **v = atom->v;
   int m = 0;
+  if (cols_ && sparse_) {
+    if (n == 0) return 0;
+    int cnt = 0;
+    m = 1;
+    // (a swap's list holds owned atoms, or ghosts received in an earlier
+    // swap: their rows are current, sent if their owner's was)
+    for (int k = 0; k < n; k++) {
+      const int j = list_[k];
+      if (!sendmark_[j]) continue;
+      buf[m++] = k;
+      for (int c = 0; c < ncols_; c++) buf[m++] = cols_[j][c];
+      cnt++;
+    }
+    buf[0] = cnt;
+    return m;
+  }
   if (cols_) {
     for (int k = 0; k < n; k++)
       for (int c = 0; c < ncols_; c++) buf[m++] = cols_[list_[k]][c];
@@ -409,6 +469,24 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
   double **v = atom->v;
   int m = 0;
   const int last = first + n;
+  if (cols_ && sparse_) {
+    if (n == 0) return;
+    const int cnt = (int) buf[0];
+    m = 1;
+    for (int k = 0; k < cnt; k++) {
+      const int i = first + (int) buf[m++];
+      double *row = cols_[i];
+      bool ch = false;
+      for (int c = 0; c < ncmp_; c++) ch = ch || row[c] != buf[m + c];
+      if (ch && changed_) changed_->push_back(i);
+      for (int c = 0; c < ncols_; c++) row[c] = buf[m++];
+      // a ghost received here is sent on by later swaps (corners, or
+      // ghost cutoffs beyond the neighbour sub-domain)
+      if (!sendmark_[i]) marked_.push_back(i);
+      sendmark_[i] = 1;
+    }
+    return;
+  }
   if (cols_) {
     for (int i = first; i < last; i++) {
       double *row = cols_[i];

@@ -31,6 +31,10 @@ class HSSystem : protected Pointers, public HSTypes {
   double **cols_ = nullptr;    // forward_columns()/reverse_columns() in progress
   int ncols_ = 0, ncmp_ = 0;
   std::vector<int> *changed_ = nullptr;
+  // sparse messages: {count, (position in the swap's list, row)...}
+  bool sparse_ = false;
+  std::vector<char> sendmark_;    // sparse forward: rows to send (owned, and ghosts received)
+  std::vector<int> marked_;
 
  public:
   HSSystem(class LAMMPS *, Fix *host, const std::string &style_name);
@@ -115,8 +119,15 @@ class HSSystem : protected Pointers, public HSTypes {
   // ghosts' as they were)
   // changed (optional): forward lists the ghosts whose first ncmp columns
   // changed, reverse the owners that received a nonzero row
+  // send (forward, optional): only the owned rows listed go to their ghosts (the others' ghosts keep their rows: the caller
+  // knows they did not change since the last forward of the same array);
+  // reverse sends only the ghost rows with a nonzero entry. Both then
+  // travel as sparse messages (a position and a row each), which LAMMPS'
+  // buffers hold for ncol <= COMM_COLUMNS (comm_forward, comm_reverse are
+  // sized for it)
   static constexpr int COMM_COLUMNS = 7;
-  void forward_columns(double **a, int ncol, std::vector<int> *changed = nullptr, int ncmp = 0);
+  void forward_columns(double **a, int ncol, std::vector<int> *changed = nullptr, int ncmp = 0,
+                       const std::vector<int> *send = nullptr);
   void reverse_columns(double **a, int ncol, std::vector<int> *changed = nullptr);
 
   // earliest approaching contact within tleft of this rank's candidates
