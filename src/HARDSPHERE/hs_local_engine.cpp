@@ -659,11 +659,10 @@ void HSLocalEngine::gather_topology(const std::vector<int> &newids)
   // any number of ranks: the order V_C's bonded forces are summed in)
   for (int ti : fresh) {
     const auto &T = topo.terms[ti];
-    const int w = T.kind == 0 ? 2 : T.kind == 1 ? 3 : 4;
+    const int w = T.width();
     for (int k = 0; k < w; k++)
       if (is_new(T.id[k])) {
-        auto &v = topo.of[T.id[k]];
-        if (v.empty() || v.back() != ti) v.push_back(ti);
+        topo.of[T.id[k]].push_back(ti);    // (fresh lists each term once)
       }
   }
   auto content = [this](int a, int b) {
@@ -681,7 +680,7 @@ void HSLocalEngine::gather_topology(const std::vector<int> &newids)
   std::vector<int> members;
   for (int ti : fresh) {
     const auto &T = topo.terms[ti];
-    const int w = T.kind == 0 ? 2 : T.kind == 1 ? 3 : 4;
+    const int w = T.width();
     members.clear();
     for (int k = 0; k < w; k++) {
       auto it = idof.find(T.id[k]);
@@ -769,7 +768,7 @@ bool HSLocalEngine::member_copies(Run &r)
     if (it == topo.of.end()) continue;
     for (int ti : it->second) {
       const auto &T = topo.terms[ti];
-      const int w = T.kind == 0 ? 2 : T.kind == 1 ? 3 : 4;
+      const int w = T.width();
       for (int q = 0; q < w; q++) {
         const tagint t = T.id[q];
         if (t == r.mtags[k]) continue;

@@ -101,6 +101,16 @@ void HSLocalForces::grow()
   }
 }
 
+void HSLocalForces::next_epoch()
+{
+  if (++epoch_ != 0) return;
+  std::fill(in_c_.begin(), in_c_.end(), 0u);
+  std::fill(zeroed_.begin(), zeroed_.end(), 0u);
+  std::fill(tstamp_.begin(), tstamp_.end(), 0u);
+  for (auto &B : bonded_) std::fill(B.stamp.begin(), B.stamp.end(), 0u);
+  epoch_ = 1;
+}
+
 void HSLocalForces::zero(int i)
 {
   if (zeroed_[i] == epoch_) return;
@@ -292,12 +302,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   const int nall = nlocal + atom->nghost;
   const int nprocs = comm->nprocs;
   grow();
-  if (++epoch_ == 0) {
-    std::fill(in_c_.begin(), in_c_.end(), 0u);
-    std::fill(zeroed_.begin(), zeroed_.end(), 0u);
-    for (auto &B : bonded_) std::fill(B.stamp.begin(), B.stamp.end(), 0u);
-    epoch_ = 1;
-  }
+  next_epoch();
   NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
   if (force->pair && force->pair->compute_flag && !L)
     error->all(FLERR, "{}: pair style {} has no neighbor list to restrict", owner_,
@@ -501,7 +506,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         tstamp_[ti] = epoch_;
         const Topology::Term &T = topo_->terms[ti];
         if (!present[T.kind]) continue;
-        const int w = width[T.kind];
+        const int w = T.width();
         for (int k = 0; k < w; k++) {
           // (another member's copy in C may be a far image: the fold
           // brings the near one's force to it)
@@ -593,12 +598,7 @@ void HSLocalForces::collect_topology(const std::vector<tagint> &ids, std::vector
   int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
                     neighbor->improperlist};
   const int width[4] = {2, 3, 4, 4};
-  if (++epoch_ == 0) {
-    std::fill(in_c_.begin(), in_c_.end(), 0u);
-    std::fill(zeroed_.begin(), zeroed_.end(), 0u);
-    for (auto &B : bonded_) std::fill(B.stamp.begin(), B.stamp.end(), 0u);
-    epoch_ = 1;
-  }
+  next_epoch();
   for (tagint t : ids) {
     const int o = atom->map(t);
     if (o >= 0 && o < nlocal && atom->nspecial) {

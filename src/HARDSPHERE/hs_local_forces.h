@@ -157,6 +157,7 @@ class HSLocalForces : protected Pointers {
     struct Term {
       int kind = 0, type = 0;    // kind: 0 bond, 1 angle, 2 dihedral, 3 improper
       tagint id[4] = {0, 0, 0, 0};
+      int width() const { return kind == 0 ? 2 : kind == 1 ? 3 : 4; }    // atoms in it
     };
     std::vector<Term> terms;
     std::unordered_map<tagint, std::vector<int>> of;    // atom ID -> its terms
@@ -200,6 +201,7 @@ class HSLocalForces : protected Pointers {
   uint32_t epoch_ = 0;
   std::vector<uint32_t> in_c_, zeroed_;
   bool inC(int i) const { return in_c_[i] == epoch_; }
+  void next_epoch();    // a new epoch_ for every stamp array kept with it
 
   // inverse indices, rebuilt when the lists change (neighbor->ncalls)
   int64_t built_ncalls_ = -1;

@@ -142,12 +142,9 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
       red[i][3 + d] += w * kvij[d];
       red[j][3 + d] -= w * kvij[d];
     }
-    red[i][6] = red[j][6] = 1.0;
   }
-  for (int l : tcopies) red_rows.push_back(l);
-  std::vector<int> got;
-  sys->reverse_columns(red, 7, &got);
-  red_rows.insert(red_rows.end(), got.begin(), got.end());
+  red_rows.insert(red_rows.end(), tcopies.begin(), tcopies.end());
+  sys->reverse_columns(red, 6, &red_rows);
 }
 
 /* ----------------------------------------------------------------------
@@ -206,9 +203,7 @@ void HSLocalModified::find_terms(HSStepView &eng)
     red[l][6] = 1.0;
     red_rows.push_back(l);
   }
-  std::vector<int> got;
-  sys->reverse_columns(red, 7, &got);
-  red_rows.insert(red_rows.end(), got.begin(), got.end());
+  sys->reverse_columns(red, 7, &red_rows);
 
   const int nlocal = atom->nlocal;
   if (++oepoch == 0) {
@@ -356,10 +351,7 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
     for (int l : cp) {
       moved.push_back(l);
       saved.push_back({x[l][0], x[l][1], x[l][2]});
-    }
-    for (int l : cp) {
-      double **xx = atom->x;
-      for (int d = 0; d < 3; d++) xx[l][d] = eng.start_x(l)[d];
+      for (int d = 0; d < 3; d++) x[l][d] = eng.start_x(l)[d];
     }
   }
   lf.compute(set.data(), (int) set.size(), false);
@@ -521,36 +513,32 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
 
 // b = v - the cluster's centre-of-mass velocity for the members (v itself
 // for a one-sphere cluster: a wall contact); zero outside the group. The
-// clusters' sums over every rank's members (one reduction)
+// clusters' sums over every rank's members (one reduction: momentum,
+// mass, members in the group)
 void HSLocalModified::relative()
 {
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
-  std::vector<double> s(4 * ncl, 0.0), tot(4 * ncl, 0.0);
+  std::vector<double> s(5 * ncl, 0.0), tot(5 * ncl, 0.0);
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
     const double ms = sys->mass_of(m);
-    double *c = &s[4 * cid[k]];
+    double *c = &s[5 * cid[k]];
     for (int d = 0; d < 3; d++) c[d] += ms * vcons(m)[d];
     c[3] += ms;
+    c[4] += 1.0;
   }
-  std::vector<int> n(ncl, 0), ntot(ncl, 0);
-  for (size_t k = 0; k < mem.size(); k++)
-    if (mask[mem[k]] & gb) n[cid[k]]++;
-  if (comm->nprocs > 1 && ncl > 0) {
-    MPI_Allreduce(s.data(), tot.data(), 4 * ncl, MPI_DOUBLE, MPI_SUM, world);
-    MPI_Allreduce(n.data(), ntot.data(), ncl, MPI_INT, MPI_SUM, world);
-  } else {
+  if (comm->nprocs > 1 && ncl > 0)
+    MPI_Allreduce(s.data(), tot.data(), 5 * ncl, MPI_DOUBLE, MPI_SUM, world);
+  else
     tot = s;
-    ntot = n;
-  }
   rel.assign(mem.size(), {0.0, 0.0, 0.0});
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
-    const double *c = &tot[4 * cid[k]];
-    for (int d = 0; d < 3; d++) rel[k][d] = vcons(m)[d] - (ntot[cid[k]] > 1 ? c[d] / c[3] : 0.0);
+    const double *c = &tot[5 * cid[k]];
+    for (int d = 0; d < 3; d++) rel[k][d] = vcons(m)[d] - (c[4] > 1.5 ? c[d] / c[3] : 0.0);
   }
 }
 

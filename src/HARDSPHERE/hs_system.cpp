@@ -271,7 +271,7 @@ void HSSystem::reset_reference(int at_setup)
 
 int HSSystem::pack_reverse_comm(int n, int first, double *buf)
 {
-  if (cols_ && sparse_) {
+  if (cols_) {    // (always sparse: reverse_columns)
     if (n == 0) return 0;    // (nothing is sent or received)
     int m = 1, cnt = 0;
     for (int k = 0; k < n; k++) {
@@ -286,43 +286,24 @@ int HSSystem::pack_reverse_comm(int n, int first, double *buf)
     buf[0] = cnt;
     return m;
   }
-  if (cols_) {
-    int m = 0;
-    for (int k = 0; k < n; k++)
-      for (int c = 0; c < ncols_; c++) buf[m++] = cols_[first + k][c];
-    return m;
-  }
   for (int k = 0; k < n; k++) buf[k] = gap[first + k];
   return n;
 }
 
 void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
 {
-  if (cols_ && sparse_) {
+  if (cols_) {    // (always sparse: reverse_columns)
     if (n == 0) return;
     const int cnt = (int) buf[0];
     int m = 1;
     for (int k = 0; k < cnt; k++) {
-      double *row = cols_[list_[(int) buf[m++]]];
+      const int j = list_[(int) buf[m++]];
       bool nz = false;
       for (int c = 0; c < ncols_; c++) {
         nz = nz || buf[m] != 0.0;
-        row[c] += buf[m++];
+        cols_[j][c] += buf[m++];
       }
-      if (nz && changed_) changed_->push_back(list_[(int) buf[m - ncols_ - 1]]);
-    }
-    return;
-  }
-  if (cols_) {
-    int m = 0;
-    for (int k = 0; k < n; k++) {
-      double *row = cols_[list_[k]];
-      bool nz = false;
-      for (int c = 0; c < ncols_; c++) {
-        nz = nz || buf[m] != 0.0;
-        row[c] += buf[m++];
-      }
-      if (nz && changed_) changed_->push_back(list_[k]);
+      if (nz && changed_) changed_->push_back(j);
     }
     return;
   }
@@ -361,11 +342,9 @@ void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed)
   cols_ = a;
   ncols_ = ncol;
   changed_ = changed;
-  sparse_ = true;
   HSCompat::reverse_comm_fix(comm, host);
   cols_ = nullptr;
   changed_ = nullptr;
-  sparse_ = false;
 }
 
 inline int HSSystem::screen_atom(int i, double t2, double h4, double im)

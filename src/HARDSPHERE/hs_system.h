@@ -31,7 +31,8 @@ class HSSystem : protected Pointers, public HSTypes {
   double **cols_ = nullptr;    // forward_columns()/reverse_columns() in progress
   int ncols_ = 0, ncmp_ = 0;
   std::vector<int> *changed_ = nullptr;
-  // sparse messages: {count, (position in the swap's list, row)...}
+  // sparse messages: {count, (position in the swap's list, row)...}, always
+  // for reverse_columns, for forward_columns when given the rows to send
   bool sparse_ = false;
   std::vector<char> sendmark_;    // sparse forward: rows to send (owned, and ghosts received)
   std::vector<int> marked_;
