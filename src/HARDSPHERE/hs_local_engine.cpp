@@ -19,6 +19,7 @@
 #include "hs_contact.h"
 #include "hs_fix_rule.h"
 #include "hs_local_forces.h"
+#include "hs_mpi.h"
 #include "hs_method.h"
 #include "hs_system.h"
 
@@ -298,22 +299,7 @@ void HSLocalEngine::set_v(int i, const double *vn)
 void HSLocalEngine::allgather(std::vector<double> &out)
 {
   ncollective += 1.0;
-  if (nprocs == 1) {
-    out = sendbuf;
-    return;
-  }
-  int n = (int) sendbuf.size();
-  rcounts.resize(nprocs);
-  rdispl.resize(nprocs);
-  MPI_Allgather(&n, 1, MPI_INT, rcounts.data(), 1, MPI_INT, world);
-  int tot = 0;
-  for (int p = 0; p < nprocs; p++) {
-    rdispl[p] = tot;
-    tot += rcounts[p];
-  }
-  out.resize(tot);
-  MPI_Allgatherv(sendbuf.data(), n, MPI_DOUBLE, out.data(), rcounts.data(), rdispl.data(),
-                 MPI_DOUBLE, world);
+  HardSphere::allgatherv(world, MPI_DOUBLE, sendbuf, out);
 }
 
 double HSLocalEngine::max_all(double v)

@@ -371,7 +371,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // ---- the replicated registry: packets of each half, shared by one
   // collective per phase
   std::vector<double> sendbuf, recvbuf;
-  std::vector<int> rcounts, rdispl;
   void allgather(std::vector<double> &out);    // sendbuf of every rank, in rank order
   void gather_hits(std::vector<Hit> &hits);
   size_t npk_pos = 0;    // where sendbuf counts its packets

@@ -4,6 +4,7 @@
 ------------------------------------------------------------------------- */
 
 #include "hs_local_forces.h"
+#include "hs_mpi.h"
 
 #include "angle.h"
 #include "atom.h"
@@ -344,12 +345,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   } else {
     std::vector<tagint> mine(nc), all;
     for (int k = 0; k < nc; k++) mine[k] = atom->tag[c[k]];
-    std::vector<int> counts(nprocs), displs(nprocs, 0);
-    MPI_Allgather(&nc, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-    for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
-    all.resize(displs[nprocs - 1] + counts[nprocs - 1]);
-    MPI_Allgatherv(mine.data(), nc, MPI_LMP_TAGINT, all.data(), counts.data(), displs.data(),
-                   MPI_LMP_TAGINT, world);
+    HardSphere::allgatherv(world, MPI_LMP_TAGINT, mine, all);
     for (tagint t : all) mark_chain(atom->map(t));
   }
 

@@ -6,6 +6,7 @@
 #include "hs_local_modified.h"
 
 #include "hs_local_forces.h"
+#include "hs_mpi.h"
 #include "hs_potential.h"
 #include "hs_step_view.h"
 #include "hs_system.h"
@@ -61,23 +62,6 @@ void HSLocalModified::zero_red()
   for (int l : red_rows)
     for (int d = 0; d < 7; d++) red[l][d] = 0.0;
   red_rows.clear();
-}
-
-// every rank's doubles, in rank order
-static void allgather(MPI_Comm world, int nprocs, const std::vector<double> &mine,
-                      std::vector<double> &all)
-{
-  if (nprocs == 1) {
-    all = mine;
-    return;
-  }
-  int n = (int) mine.size();
-  std::vector<int> counts(nprocs), displs(nprocs, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
-  all.resize(displs[nprocs - 1] + counts[nprocs - 1]);
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, world);
 }
 
 /* ----------------------------------------------------------------------
@@ -390,7 +374,7 @@ void HSLocalModified::remap()
     for (const Vec *a : {&st.v0, &st.d1, &st.d2, &st.fr0})
       for (int d = 0; d < 3; d++) mine.push_back((*a)[d]);
   }
-  allgather(world, comm->nprocs, mine, all);
+  HardSphere::allgatherv(world, MPI_DOUBLE, mine, all);
   mtag.clear();
   cid.clear();
   ptag.clear();
