@@ -225,7 +225,9 @@ void HSLocalModified::forward_state(bool with_rel)
       fwd[i][3 + d] = (with_rel && is_mem[s]) ? rel[s][d] : 0.0;
     }
   }
-  sys->forward_columns(fwd, 6);
+  // only the rows of atoms in a term (owners on every rank): a ghost read
+  // by terms_eval() is a copy of one of them (sparse forward, hs_system.h)
+  sys->forward_columns(fwd, 6, nullptr, 0, &owners);
 }
 
 /* ---------------------------------------------------------------------- */
