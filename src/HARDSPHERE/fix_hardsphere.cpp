@@ -248,8 +248,9 @@ void FixHardSphere::choose_engine()
   if (support == HSMethod::ENGINE_GLOBAL_ONLY) {
     if (substep_mode == SUBSTEP_LOCAL)
       error->all(FLERR,
-                 "Fix {} substep local is not available yet: only hardsphere/cva and /pcva "
-                 "(and psa, local by construction) have the local engine; use substep global",
+                 "Fix {} substep local is not available yet: only hardsphere/cva, /pcva and "
+                 "/vci (and psa, local by construction) have the local engine; use substep "
+                 "global",
                  style_name);
     return;
   }

@@ -18,6 +18,7 @@
 
 #include "hs_contact.h"
 #include "hs_fix_rule.h"
+#include "hs_flow_view.h"
 #include "hs_local_forces.h"
 #include "hs_mpi.h"
 #include "hs_method.h"
@@ -38,6 +39,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 
 using namespace LAMMPS_NS;
 using HardSphere::Contact;
@@ -125,6 +127,7 @@ std::string HSLocalEngine::limits()
 
 void HSLocalEngine::chosen()
 {
+  locf->keep_energy(meth.needs_flow_energy());
   cutneigh = sys->list_cutoff;
   if (force->pair && force->pair->cutforce > 0.0)
     cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
@@ -1022,6 +1025,17 @@ std::vector<int> HSLocalEngine::clusters_of(std::vector<tagint> &keys)
    grow.
 ------------------------------------------------------------------------- */
 
+namespace {
+// a cluster's flow as a method sees it (hs_flow_view.h)
+class FlowView : public HSFlowView {
+ public:
+  Substep last{0.0, 0.0, 0.0, 0.0};
+  std::function<Substep(const HSTypes::Impulse &)> trial_fn;
+  const Substep &last_substep() const override { return last; }
+  Substep trial(const HSTypes::Impulse &imp) override { return trial_fn(imp); }
+};
+}    // namespace
+
 bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
@@ -1148,14 +1162,16 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     F.ncoll_wall = nwall_saved;
   };
 
-  double t = 0.0;
-  int stuck = 0;
-  bigint nsub = 0;
-  while (true) {
-    const double tau = h - t;
-    double tbest = BIG;
+  // the next contact of the flow within tau: members against each other,
+  // their contact candidates (a static non-member: the cluster grows) and
+  // the walls, on the Verlet paths of the current sub-step
+  struct Next {
+    double t = BIG;
     int bi = -1, bwall = -1, bli = -1, blj = -1;
     bool bstatic = false;
+  };
+  auto search = [&](double tau) {
+    Next b;
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
       const double *a = fk[mi[k]].data();
@@ -1170,13 +1186,13 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         const double g = F.wall_gap(W, x[i], ri);
         if (g > Di) continue;
         const Contact ct = wall_contact(i, wl, g, v[i][W.dim], ai[W.dim], tau);
-        if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
-          tbest = ct.t;
-          bi = i;
-          bwall = wl;
-          bli = i;
-          blj = -1;
-          bstatic = false;
+        if (ct.status != HardSphere::NO_CONTACT && ct.t < b.t) {
+          b.t = ct.t;
+          b.bi = i;
+          b.bwall = wl;
+          b.bli = i;
+          b.blj = -1;
+          b.bstatic = false;
         }
       }
       int ncr;
@@ -1188,10 +1204,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         if (ko >= 0) {
           if (tag[theirs] < tag[i]) continue;    // the pair is handled from its lower member
           const int o = M[ko];
-          const double *b = fk[mi[ko]].data();
+          const double *bb = fk[mi[ko]].data();
           for (int d = 0; d < 3; d++) {
             vo[d] = v[o][d];
-            ao[d] = (b[d] + fc[ko][d]) * im[ko];
+            ao[d] = (bb[d] + fc[ko][d]) * im[ko];
           }
           Do = tau * sqrt(vo[0] * vo[0] + vo[1] * vo[1] + vo[2] * vo[2]) +
               0.5 * tau * tau * sqrt(ao[0] * ao[0] + ao[1] * ao[1] + ao[2] * ao[2]);
@@ -1206,30 +1222,106 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         const double dvv[3] = {v[i][0] - vo[0], v[i][1] - vo[1], v[i][2] - vo[2]};
         const double da[3] = {ai[0] - ao[0], ai[1] - ao[1], ai[2] - ao[2]};
         const Contact ct = pair_contact(i, theirs, dq, dvv, da, sigma, tau);
-        if (ct.status != HardSphere::NO_CONTACT && ct.t < tbest) {
-          tbest = ct.t;
-          bi = i;
-          bwall = -1;
-          bli = i;
-          blj = theirs;
-          bstatic = ko < 0;
+        if (ct.status != HardSphere::NO_CONTACT && ct.t < b.t) {
+          b.t = ct.t;
+          b.bi = i;
+          b.bwall = -1;
+          b.bli = i;
+          b.blj = theirs;
+          b.bstatic = ko < 0;
         }
       }
     }
-    const bool hit = tbest <= tau;
-    if (hit && bstatic) {    // a non-member: it joins C, the cluster is redone
-      hits.push_back({tag[bli], tag[blj]});
+    return b;
+  };
+  // the first half kick and drift of a sub-step of length d (the members)
+  auto kick_drift = [&](double d) {
+    const double dtfk = 0.5 * d * ftm2v;
+    for (int k = 0; k < nm; k++) {
+      const int i = M[k];
+      const double dtfm = dtfk / F.mass_of(i);
+      double vn[3], xn[3];
+      for (int dd = 0; dd < 3; dd++) {
+        vn[dd] = v[i][dd] + dtfm * (fk[mi[k]][dd] + fc[k][dd]);
+        xn[dd] = x[i][dd] + d * vn[dd];
+      }
+      set_v(i, vn);
+      set_x(i, xn);
+    }
+  };
+
+  // the flow's energies, if the method asks (hs_flow_view.h): V_C of the
+  // restricted terms minus f_X . (q - q_start), 1/2 |v|^2_M of the members
+  const bool energies = meth.needs_flow_energy();
+  std::vector<Vec> &xs = scratch_xs;
+  if (energies) {
+    xs.resize(nm);
+    for (int k = 0; k < nm; k++) xs[k] = {x[M[k]][0], x[M[k]][1], x[M[k]][2]};
+  }
+  auto potential = [&]() {
+    double V = locf->energy();
+    for (int k = 0; k < nm; k++)
+      for (int d = 0; d < 3; d++) V -= fc[k][d] * (x[M[k]][d] - xs[k][d]);
+    return V;
+  };
+  auto kinetic = [&]() {
+    double K = 0.0;
+    for (int i : M) K += F.mass_of(i) * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    return 0.5 * force->mvv2e * K;
+  };
+  double t = 0.0;
+  FlowView view;
+  double Vnow = 0.0;
+  if (energies) {
+    Vnow = potential();
+    view.last = {0.0, kinetic(), Vnow, Vnow};
+    meth.flow_begun(view);
+    // the sub-step the flow would take after the contact's impulse imp
+    view.trial_fn = [&](const Impulse &ti) {
+      std::vector<Vec> &sv = scratch_sv, &sx = scratch_sx;
+      sv.resize(nm);
+      sx.resize(nm);
+      for (int k = 0; k < nm; k++) {
+        sv[k] = {v[M[k]][0], v[M[k]][1], v[M[k]][2]};
+        sx[k] = {x[M[k]][0], x[M[k]][1], x[M[k]][2]};
+      }
+      F.apply_impulse(ti);
+      const Next nb = search(h - t);
+      HSFlowView::Substep s{nb.t <= h - t ? nb.t : h - t, 0.0, Vnow, Vnow};
+      if (s.tau > 0.0) {
+        kick_drift(s.tau);
+        s.kh = kinetic();
+        locf->recompute();
+        ncompute_here += 1.0;
+        s.v1 = potential();
+      } else
+        s.kh = kinetic();
+      for (int k = 0; k < nm; k++) {
+        set_x(M[k], sx[k].data());
+        set_v(M[k], sv[k].data());
+      }
+      return s;
+    };
+  }
+  int stuck = 0;
+  bigint nsub = 0;
+  while (true) {
+    const double tau = h - t;
+    const Next b = search(tau);
+    const bool hit = b.t <= tau;
+    if (hit && b.bstatic) {    // a non-member: it joins C, the cluster is redone
+      hits.push_back({tag[b.bli], tag[b.blj]});
       r.a_done = false;
       keep_counts();
+      meth.take_flow_counts(scratch_mcount);    // a flow redone: its counts dropped
       for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
       return false;
     }
-    const double d = hit ? tbest : tau;
+    const double d = hit ? b.t : tau;
     if (d > 0.0) {
       const double dtfk = 0.5 * d * ftm2v;
       for (int k = 0; k < nm; k++) {
         const int i = M[k];
-        const double dtfm = dtfk / F.mass_of(i);
         Seg s;
         s.t0 = t;
         s.t1 = t + d;
@@ -1239,14 +1331,9 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
           s.a[dd] = (fk[mi[k]][dd] + fc[k][dd]) * im[k];
         }
         segs[k].push_back(s);
-        double vn[3], xn[3];
-        for (int dd = 0; dd < 3; dd++) {
-          vn[dd] = v[i][dd] + dtfm * (fk[mi[k]][dd] + fc[k][dd]);
-          xn[dd] = x[i][dd] + d * vn[dd];
-        }
-        set_v(i, vn);
-        set_x(i, xn);
       }
+      kick_drift(d);
+      const double kh = energies ? kinetic() : 0.0;
       locf->recompute();    // the same terms: their restricted lists again
       ncompute_here += 1.0;
       fl = locf->forces();
@@ -1269,31 +1356,41 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       }
       fk.swap(fk1);
       stuck = 0;
+      if (energies) {
+        const double V1 = potential();
+        view.last = {d, kh, Vnow, V1};
+        Vnow = V1;
+        meth.flow_substep(view);
+      }
+    } else if (hit && energies && t > 0.0) {
+      view.last = {0.0, kinetic(), Vnow, Vnow};
+      meth.flow_substep(view);
     }
     if (!hit) break;
 
     // the contact: the method's collision operator (CVA: R of section 2)
     Impulse imp;
     memset(&imp, 0, sizeof(imp));
-    imp.type = (bwall >= 0) ? WALL_EVENT : PAIR_EVENT;
-    imp.itag = tag[bi];
-    imp.jtag = (bwall >= 0) ? 0 : tag[blj];
-    imp.wall = bwall;
-    if (bwall >= 0) meth.collide_wall(bli, F.walls[bwall], imp);
-    else meth.collide_pair(bli, blj, imp);
-    if (imp.apply) meth.modify_impulse(imp);
+    imp.type = (b.bwall >= 0) ? WALL_EVENT : PAIR_EVENT;
+    imp.itag = tag[b.bi];
+    imp.jtag = (b.bwall >= 0) ? 0 : tag[b.blj];
+    imp.wall = b.bwall;
+    if (b.bwall >= 0) meth.collide_wall(b.bli, F.walls[b.bwall], imp);
+    else meth.collide_pair(b.bli, b.blj, imp);
+    t += d;
+    if (imp.apply) meth.modify_impulse_in_flow(imp, view);
     if (imp.apply) F.add_impulse_virial(imp);
     F.apply_impulse(imp);
     if (imp.apply) {
-      if (bwall >= 0) F.ncoll_wall += 1.0;
+      if (b.bwall >= 0) F.ncoll_wall += 1.0;
       else F.ncoll_pair += 1.0;
     } else if (d == 0.0 && ++stuck > MAX_STUCK)
       F.resting_contact_error(imp);
-    t += d;
     F.check_runaway(++nsub);
   }
 
   keep_counts();
+  meth.take_flow_counts(r.mcount[half]);
   if (first_half) {
     r.xm.resize(nm);
     r.dxm.resize(nm);
@@ -2021,8 +2118,10 @@ int HSLocalEngine::step_clusters()
       F.ncoll_pair += r.npair[h];
       F.ncoll_wall += r.nwall[h];
       if (r.npair[h] + r.nwall[h] > 0.0) F.step_collided = 1;
-      if (r.mine)
+      if (r.mine) {
         for (int k = 0; k < 6; k++) F.host->virial[k] += r.vir[h][k];
+        if (!r.mcount[h].empty()) meth.add_flow_counts(r.mcount[h]);
+      }
     }
     if (!r.mine) continue;
     for (size_t k = 0; k < r.touched.size(); k++) {

@@ -35,6 +35,12 @@
      ghost x0 and the members' xm exchanged after the first halves, which
      the engine needs there anyway (its cross checks).
 
+   Inside a flow the method sees the cluster through HSFlowView
+   (hs_flow_view.h): the sub-steps' energies (V_C from the restricted
+   evaluation's tallies, minus f_X . dq) and trial sub-steps after a
+   contact; vci matches its discrete energy there (issue 21). Its counts
+   are kept per flow (Run::mcount) and summed from the step's final flows.
+
    Each flow is exact for its Hamiltonian up to CVA's / Verlet's own error;
    the step is second order (measured, doc "Step engines") and conserves
    momentum (V_X's forces at q0 and at q_mid are equal and opposite on the
@@ -200,6 +206,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Vec> dvA, dvB, fend;    // runner, on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
+    std::vector<double> mcount[2];    // runner: the method's counts of each half's flow
     void reset()
     {
       mine = false;
@@ -211,6 +218,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
       for (auto &sg : segsB) sg.clear();
       a_done = b_done = false;
       for (int h = 0; h < 2; h++) {
+        mcount[h].clear();
         npair[h] = nwall[h] = 0.0;
         for (int k = 0; k < 6; k++) vir[h][k] = 0.0;
       }
@@ -347,6 +355,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_env_x0;
+  std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
+  std::vector<double> scratch_mcount;
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
   bool settle(std::vector<Hit> &hits);

@@ -735,6 +735,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     for (int k = 0; k < 6; k++) v[k] = t.v[k];
   };
   double d1 = 0.0, d2 = 0.0;
+  const int ef = keep_energy_ ? 1 : 0;
   if (force->pair) save(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
   if (force->bond) save(tal[1], force->bond->energy, d1, force->bond->virial);
   if (force->angle) save(tal[2], force->angle->energy, d1, force->angle->virial);
@@ -764,7 +765,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     L->ilist = ilist_.data();
     L->numneigh = numneigh_;
     L->firstneigh = firstneigh_;
-    force->pair->compute(0, 0);
+    force->pair->compute(ef, 0);
     L->inum = inum0;
     L->ilist = ilist0;
     L->numneigh = numneigh0;
@@ -783,10 +784,10 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     int **l0 = *plist[b];
     *nlist[b] = (int) bonded_[b].sub.size();
     *plist[b] = bonded_[b].sub.data();
-    if (b == 0) force->bond->compute(0, 0);
-    if (b == 1) force->angle->compute(0, 0);
-    if (b == 2) force->dihedral->compute(0, 0);
-    if (b == 3) force->improper->compute(0, 0);
+    if (b == 0) force->bond->compute(ef, 0);
+    if (b == 1) force->angle->compute(ef, 0);
+    if (b == 2) force->dihedral->compute(ef, 0);
+    if (b == 3) force->improper->compute(ef, 0);
     *nlist[b] = n0;
     *plist[b] = l0;
   }
@@ -801,6 +802,14 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
       for (int k = 0; k < 3; k++) std::swap(fl_[i][k], atom->f[i][k]);
   }
 
+  if (keep_energy_) {
+    energy_ = 0.0;
+    if (L) energy_ += force->pair->eng_vdwl + force->pair->eng_coul;
+    if (present[0]) energy_ += force->bond->energy;
+    if (present[1]) energy_ += force->angle->energy;
+    if (present[2]) energy_ += force->dihedral->energy;
+    if (present[3]) energy_ += force->improper->energy;
+  }
   if (force->pair) put(tal[0], force->pair->eng_vdwl, force->pair->eng_coul, force->pair->virial);
   if (force->bond) put(tal[1], force->bond->energy, d2, force->bond->virial);
   if (force->angle) put(tal[2], force->angle->energy, d2, force->angle->virial);

@@ -93,6 +93,12 @@ class HSLocalForces : protected Pointers {
   // record_terms false: term_atoms() etc. are not filled (faster)
   void compute(const int *c, int nc, bool record_terms = true);
   double **forces() const { return fl_; }
+  // while set, each evaluation also sums the styles' own energy tallies of
+  // the restricted terms (eflag 1 for the call; the tallies are restored
+  // after it): V_C at the current x, energy units. This rank's terms only
+  // (compute_rows(), or compute() on one rank)
+  void keep_energy(bool on) { keep_energy_ = on; }
+  double energy() const { return energy_; }
   // the same again at the current x, for the C of the last compute(), with
   // its restricted lists (one rank; no list build since): O(its terms)
   // without the bookkeeping of compute()
@@ -224,6 +230,8 @@ class HSLocalForces : protected Pointers {
   int *numneigh_ = nullptr;
   int **firstneigh_ = nullptr;
   double **fl_ = nullptr;
+  bool keep_energy_ = false;
+  double energy_ = 0.0;
 
   std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_, term_local_, term_extra_;
   int npair_last_ = 0;

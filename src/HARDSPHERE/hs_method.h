@@ -14,7 +14,9 @@
      (begin_collisional_step, end_substep, end_collisional_step): pcva's
      projection, mcva's Gauss flow, vci's energy match;
    - a step taken cluster by cluster (cluster_step_begun/done, seen through
-     HSStepView): pcva's local projection;
+     HSStepView): pcva's local projection; inside one cluster's flow
+     (flow_begun, flow_substep, modify_impulse_in_flow, seen through
+     HSFlowView, rank-local): vci's energy match;
    - which engines it supports, why a set-up rules out the local one, and
      its own counters (output entries after the fix's five, restart).
    All hooks are called on every rank together (collective).
@@ -33,6 +35,7 @@ namespace LAMMPS_NS {
 
 class HSSystem;
 class HSStepView;
+class HSFlowView;
 
 class HSMethod : protected Pointers, public HSTypes {
  public:
@@ -77,6 +80,22 @@ class HSMethod : protected Pointers, public HSTypes {
   // kick (all at the end)
   virtual void cluster_step_begun(HSStepView &) {}
   virtual void cluster_step_done(HSStepView &) {}
+  // inside one cluster's flow (hs_flow_view.h), on the rank that runs it
+  // only (not collective): at its start, after each sub-step (also one of
+  // length 0 between two contacts at the same instant), and at a contact
+  // (the elastic impulse built by collide_*(); the global engine's methods
+  // change it in modify_impulse()). A flow may be redone from its start
+  // when its cluster grows. The flows keep their sub-steps' energies only
+  // if needs_flow_energy()
+  virtual bool needs_flow_energy() const { return false; }
+  virtual void flow_begun(const HSFlowView &) {}
+  virtual void flow_substep(const HSFlowView &) {}
+  virtual void modify_impulse_in_flow(Impulse &, HSFlowView &) {}
+  // the method's counts of the flow just ended, moved into out; the engine
+  // keeps them with the flow and gives back those of the step's final flows
+  // (not redone by a growth round) at the step's end, on the flow's rank
+  virtual void take_flow_counts(std::vector<double> &out) { out.clear(); }
+  virtual void add_flow_counts(const std::vector<double> &) {}
 
   // --- its own counters: output entries after the fix's, restart
   virtual int nvector() const { return 0; }

@@ -19,6 +19,7 @@
 
 #include "hs_potential.h"
 #include "hs_system.h"
+#include "hs_flow_view.h"
 #include "hs_vci.h"
 
 #include "atom.h"
@@ -229,15 +230,28 @@ void HSMethodVCI::modify_impulse(Impulse &imp)
   nevals += r.evals;
   maxevals = MAX(maxevals, (double) r.evals);
 
-  if (r.status == HardSphere::VCI_NOT_CONVERGED)
-    error->all(FLERR,
-               "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
-               "step {} did not converge in {} evaluations (impulse strength in [{}, {}] "
-               "times the elastic one, residual {})",
-               S.style_name, S.contact_name(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
-  if (r.status != HardSphere::VCI_CONVERGED) {
+  if (take_root(r, imp, f1, true)) {
+    nsolved += 1.0;
+    pending = 1;
+    pending_target = Etarget;
+  } else
     nnoroot += 1.0;
-    if (!warned && comm->me == 0)
+}
+
+bool HSMethodVCI::take_root(const HardSphere::VciRoot &r, Impulse &imp, double f1, bool all_ranks)
+{
+  if (r.status == HardSphere::VCI_NOT_CONVERGED) {
+    const std::string msg = fmt::format(
+        "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
+        "step {} did not converge in {} evaluations (impulse strength in [{}, {}] "
+        "times the elastic one, residual {})",
+        S.style_name, S.contact_name(imp), update->ntimestep, r.evals, r.lo, r.hi, r.F);
+    if (all_ranks) error->all(FLERR, msg);
+    error->one(FLERR, msg);
+  }
+  if (r.status != HardSphere::VCI_CONVERGED) {
+    // a flow (local form) runs on one rank: its warning comes from there
+    if (!warned && (comm->me == 0 || !all_ranks))
       error->warning(FLERR,
                      "Fix {}: no impulse strength between {} and {} times the elastic one "
                      "matches the discrete energy across the collision of {} on step {} ({}, "
@@ -247,15 +261,120 @@ void HSMethodVCI::modify_impulse(Impulse &imp)
                      r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
                      Etarget, f1, S.fix_id());
     warned = 1;
-    return;
+    return false;
   }
-  nsolved += 1.0;
-  pending = 1;
-  pending_target = Etarget;
   if (r.s != 1.0) {
     for (int k = 0; k < 3; k++) imp.J[k] *= r.s;
     imp.reflect = 0;
   }
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   local form (doc/fix_hardsphere_vci.rst, "Local form"): inside one
+   cluster's flow, on the flow's energy. E_d^- of a contact is that of the
+   flow's sub-step to it; at the flow's start (or after a contact at the
+   start) H(q, p) of the flow, as at a step's start in the global form
+------------------------------------------------------------------------- */
+
+void HSMethodVCI::local_check(double Ed)
+{
+  if (!pending) return;
+  fmax[1] = MAX(fmax[1], fabs(Ed - pending_target));
+  pending = 0;
+}
+
+void HSMethodVCI::flow_begun(const HSFlowView &fv)
+{
+  const HSFlowView::Substep &s = fv.last_substep();
+  Etarget = s.kh + s.v1;
+  have_target = 1;
+  pending = 0;
+}
+
+void HSMethodVCI::flow_substep(const HSFlowView &fv)
+{
+  const HSFlowView::Substep &s = fv.last_substep();
+  if (s.tau > 0.0) {
+    const double Ed = s.kh + 0.5 * (s.v0 + s.v1);
+    local_check(Ed);
+    Etarget = Ed;
+    have_target = 1;
+  } else if (pending)
+    local_check(s.kh + s.v1);
+}
+
+void HSMethodVCI::modify_impulse_in_flow(Impulse &imp, HSFlowView &fv)
+{
+  pending = 0;
+  // slope of E_d^+ in s near 1 from the kinetic term alone: |J|^2_{M^-1}/2
+  // (the flow's runner holds a copy of both atoms)
+  const double J2 = imp.J[0] * imp.J[0] + imp.J[1] * imp.J[1] + imp.J[2] * imp.J[2];
+  double im = 1.0 / S.mass_of(atom->map(imp.itag));
+  if (imp.type == PAIR_EVENT) im += 1.0 / S.mass_of(atom->map(imp.jtag));
+  const double slope = 0.5 * force->mvv2e * J2 * im;
+
+  double tau2 = 0.0;
+  auto eval = [&](double s, double &scale) {
+    Impulse t = imp;
+    if (s != 1.0) {
+      for (int k = 0; k < 3; k++) t.J[k] = s * imp.J[k];
+      t.reflect = 0;
+    }
+    const HSFlowView::Substep n = fv.trial(t);
+    tau2 = n.tau;
+    scale = n.kh + 0.5 * (fabs(n.v0) + fabs(n.v1)) + fabs(Etarget);
+    return n.tau > 0.0 ? n.kh + 0.5 * (n.v0 + n.v1) - Etarget : n.kh + n.v1 - Etarget;
+  };
+  double scale1;
+  const double f1 = eval(1.0, scale1);
+  if (tau2 == 0.0) {
+    // the next contact at the same instant: as in the global form
+    fcount[2] += 1.0;
+    fcount[3] += 1.0;
+    fmax[0] = MAX(fmax[0], 1.0);
+    return;
+  }
+  const HardSphere::VciRoot r = HardSphere::vci_root(eval, f1, scale1, slope, SMIN, SMAX, MAXIT);
+  fcount[3] += r.evals;
+  fmax[0] = MAX(fmax[0], (double) r.evals);
+  if (take_root(r, imp, f1, false)) {
+    fcount[0] += 1.0;
+    pending = 1;
+    pending_target = Etarget;
+  } else
+    fcount[1] += 1.0;
+}
+
+// the flows' counts of every rank into the counters (collective)
+void HSMethodVCI::cluster_step_done(HSStepView &)
+{
+  double c[4], m[2];
+  MPI_Allreduce(lcount, c, 4, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(lmax, m, 2, MPI_DOUBLE, MPI_MAX, world);
+  nsolved += c[0];
+  nnoroot += c[1];
+  nzero += c[2];
+  nevals += c[3];
+  maxevals = MAX(maxevals, m[0]);
+  maxdiff = MAX(maxdiff, m[1]);
+  for (double &v : lcount) v = 0.0;
+  for (double &v : lmax) v = 0.0;
+}
+
+void HSMethodVCI::take_flow_counts(std::vector<double> &out)
+{
+  out.assign(fcount, fcount + 4);
+  out.insert(out.end(), fmax, fmax + 2);
+  for (double &v : fcount) v = 0.0;
+  for (double &v : fmax) v = 0.0;
+}
+
+// a final flow's counts into this rank's sums of the step
+void HSMethodVCI::add_flow_counts(const std::vector<double> &c)
+{
+  for (int k = 0; k < 4; k++) lcount[k] += c[k];
+  for (int k = 0; k < 2; k++) lmax[k] = MAX(lmax[k], c[4 + k]);
 }
 
 /* ---------------------------------------------------------------------- */

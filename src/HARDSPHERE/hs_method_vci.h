@@ -5,7 +5,11 @@
    of each impulse chosen so that the discrete energy E_d of the sub-step
    after the contact equals that of the sub-step before (an implicit scalar
    equation: trial sub-steps with energy evaluations).
-   See doc/fix_hardsphere_vci.rst.
+   Local form (the local engine, hs_local_engine.h): the same match inside
+   each cluster's flow, on the flow's own energy (members' kinetic energy,
+   V_C of the cluster's terms, the cross terms' constant force), its trial
+   sub-steps through HSFlowView: a contact costs the cluster's terms, not
+   the system's. See doc/fix_hardsphere_vci.rst.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_METHOD_VCI_H
@@ -15,19 +19,32 @@
 
 #include <vector>
 
+namespace HardSphere {
+struct VciRoot;
+}
+
 namespace LAMMPS_NS {
 
 class HSMethodVCI : public HSMethod {
  public:
   HSMethodVCI(class LAMMPS *, HSSystem &);
 
-  int engines_supported() const override { return ENGINE_GLOBAL_ONLY; }
   int needs_derivatives() const override { return 1; }
 
   void finish_step(double tleft) override;
   bool advance_to_contact(double &tau, double tleft, const Impulse &) override;
   void begin_collisional_step() override;
   void modify_impulse(Impulse &) override;
+
+  // local form (rank-local inside a flow; the counters are summed over the
+  // ranks at the end of each step taken by clusters)
+  bool needs_flow_energy() const override { return true; }
+  void flow_begun(const HSFlowView &) override;
+  void flow_substep(const HSFlowView &) override;
+  void modify_impulse_in_flow(Impulse &, HSFlowView &) override;
+  void cluster_step_done(HSStepView &) override;
+  void take_flow_counts(std::vector<double> &out) override;
+  void add_flow_counts(const std::vector<double> &) override;
 
   int nvector() const override { return 6; }
   double vector(int) override;
@@ -52,6 +69,15 @@ class HSMethodVCI : public HSMethod {
   int warned = 0;
 
   std::vector<double> xsave, vsave;
+
+  // local form: this rank's counts since the last sum (as the counters
+  // above: solved, no root, zero, evaluations; largest evaluations, |dE_d|)
+  double lcount[4] = {0.0, 0.0, 0.0, 0.0}, lmax[2] = {0.0, 0.0};
+  double fcount[4] = {0.0, 0.0, 0.0, 0.0}, fmax[2] = {0.0, 0.0};    // the current flow's
+  void local_check(double Ed);
+  // the root search's outcome: stops the run if it did not converge, warns
+  // once if no root (elastic impulse); true if imp was scaled to the root
+  bool take_root(const struct HardSphere::VciRoot &, Impulse &, double f1, bool all_ranks);
 
   double kinetic();
   double potential_at_new_x();

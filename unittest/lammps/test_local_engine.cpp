@@ -241,7 +241,7 @@ TEST(LocalEngine, Errors)
                {"substep must be local or global", "sideways"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 overflow maybe\nrun 1\n",
                {"overflow must be error or global", "maybe"});
-  expect_error(base + "fix x all hardsphere/vci diameter 1.0 substep local\nrun 1\n",
+  expect_error(base + "fix x all hardsphere/mcva diameter 1.0 substep local\nrun 1\n",
                {"substep local is not available yet", "substep global"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"
                       "fix s all spring/self 1.0\nrun 1\n",

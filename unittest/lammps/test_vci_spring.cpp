@@ -8,6 +8,9 @@
 //   E_d = 1/2 m ((x' - x)/tau)^2 + (V(x') + V(x))/2
 // of the sub-step before the contact (x_k -> x_c over tau1) and the one
 // after (x_c -> x_next over tau2 = the rest of the step).
+// The reference is the paper's algorithm, so the fix runs `substep global`
+// (the local engine's step is two flows of dt/2 around a Verlet step of the
+// rest: doc/fix_hardsphere_vci.rst, "Local form").
 // Checks: the fix follows the reference to 1e-10 (while elastic impulses,
 // s = 1, end 1e-4 away), its own diagnostic max |E_d+ - E_d-| is round-off,
 // the reference's realized E_d match too.
@@ -153,7 +156,7 @@ bond_style harmonic
 )" + bc + R"(create_bonds single/bond 1 1 2
 group s type 2
 comm_modify cutoff 5.0
-)" + vel + R"(fix hs s hardsphere/vci diameter 1.0 wall xlo 2.0
+)" + vel + R"(fix hs s hardsphere/vci diameter 1.0 wall xlo 2.0 substep global
 )" + buf + "run " + std::to_string(nsteps) + "\n");
   std::vector<double> x(6), v(6);
   lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());

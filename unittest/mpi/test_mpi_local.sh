@@ -18,7 +18,8 @@
 # contacts at a rank face. Then the error of a cluster that outgrows the
 # ghost region, and the counted fall-back to the global engine
 # (overflow global). hardsphere/pcva on the fluids, the hot and held
-# fluid and the melt (bonds only) as well.
+# fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
+# the hot and held fluid and the melt.
 
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_local "$@"
@@ -136,6 +137,31 @@ echo "pcva: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
 check_system pheld in.local_pheld "2 4" -var nsteps 200
 echo "pcva: bead-spring melt with FENE bonds, 200 steps:"
 check_system pmelt in.local_pmelt "2 4" -var nsteps 200 -var nb on
+
+# vci's local form (the discrete energy matched inside each cluster's flow,
+# its trial sub-steps on the runner's copies; its counters summed over the
+# ranks from the step's final flows): solved, no root, zero-length contacts
+# (f_hs[6..8]) and the engine's clusters and rounds (f_hs[12], f_hs[15])
+# equal on 1, 2, 4 ranks; the melt with bonds, angles, dihedrals. Not the
+# trial sub-steps (f_hs[9]): the secant's last step to round-off depends
+# on the summation order of the copies (e.g. 7127 / 7113 / 7129 here)
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+to_vci() { sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/'; }
+to_vci < in.local_fluid500 > in.local_v500
+to_vci < in.local_fluid4000 > in.local_v4000
+to_vci < in.local_hot > in.local_vhot
+to_vci < in.local_held > in.local_vheld
+to_vci < in.local_melt > in.local_vmelt
+echo "vci: fluid, 500 atoms, 200 steps:"
+check_system v500 in.local_v500 "2 4" -var nsteps 200
+echo "vci: fluid, 4000 atoms, 300 steps:"
+check_system v4000 in.local_v4000 "2 4" -var nsteps 300
+echo "vci: 500 atoms at T 3 with skin 0.2, 200 steps:"
+check_system vhot in.local_vhot "2 4" -var nsteps 200
+echo "vci: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
+check_system vheld in.local_vheld "2 4" -var nsteps 200
+echo "vci: bead-spring melt (bonds, angles, dihedrals), 200 steps:"
+check_system vmelt in.local_vmelt "2 4" -var nsteps 200 -var nb on
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
 # a thermostat on 2 ranks: fix langevin's random forces differ with the

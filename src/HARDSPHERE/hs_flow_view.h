@@ -1,0 +1,52 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: what a method may see and try inside one cluster's
+   flow of the local engine (Phi_H1 of hs_local_engine.h: the members'
+   CVA flow of H1 = T_C + V_C, partners static, the cross terms as a
+   constant force f_X). It is to the cluster what HSSystem's sub-stepping
+   (kick, drift, predict, energy) is to the whole system for a method run
+   by the global engine: fix hardsphere/vci matches the discrete energy of
+   the sub-steps across a contact through it (doc/fix_hardsphere_vci.rst,
+   "Local form").
+
+   The flow's potential is V_C (the styles' own energies of the cluster's
+   restricted terms, hs_local_forces.h) minus f_X . (q - q_start) summed
+   over the members: the potential whose forces the flow integrates.
+   Energies are kept only when the method asks (needs_flow_energy()).
+   A flow runs on one rank (its cluster's runner): nothing here is
+   collective.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_FLOW_VIEW_H
+#define LMP_HS_FLOW_VIEW_H
+
+#include "hs_types.h"
+
+namespace LAMMPS_NS {
+
+class HSFlowView {
+ public:
+  // a Verlet sub-step of the flow (kick, drift, forces, kick) of length
+  // tau: kh = 1/2 |v_h|^2_M of the members, v_h their velocity after the
+  // first half kick (= (q_end - q_start) / tau); v0, v1 the flow's
+  // potential at its start and end. tau = 0: no sub-step (a contact at the
+  // flow's start or at the instant of the last contact): kh the kinetic
+  // energy now, v0 = v1 the potential now
+  struct Substep {
+    double tau, kh, v0, v1;
+  };
+  // the last sub-step taken (at a contact: the one that led to it)
+  virtual const Substep &last_substep() const = 0;
+  // the sub-step the flow would take next if the contact got `imp` instead
+  // of the impulse it is about to get: the impulse applied, the next
+  // contact of the flow predicted in the time left (tau <= that time), the
+  // sub-step's half kick and drift, the potential at its end. The flow's
+  // state is left as it was
+  virtual Substep trial(const HSTypes::Impulse &imp) = 0;
+
+ protected:
+  ~HSFlowView() = default;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
