@@ -11,7 +11,7 @@
 # Variables: SIZES (fluid atom counts, 4 x cells^3), MELT (melt atom count, a
 # multiple of 2000; 0 = no melt), REPEATS, STEPS (timed steps of a baseline run;
 # default 2e6/N, at least 20), NICE (nice level, 10), CONTENDERS (file),
-# RESULTS (the table, default results.md), BINARIES: other builds of lmp to
+# RESULTS (the table, default results.md), LOGS (default scratch/logs), BINARIES: other builds of lmp to
 # compare in the same run, "KEY=PATH ..."; a contender named NAME@KEY runs
 # with that binary (before/after a change, ratios within one repeat):
 #   BINARIES="old=/tmp/lmp-old" CONTENDERS=my-contenders.txt bash bench/scaling/run.sh
@@ -28,7 +28,7 @@ RESULTS=$(realpath -m "${RESULTS:-$HERE/results.md}")
 declare -A BIN=()
 for kv in ${BINARIES:-}; do BIN[${kv%%=*}]=${kv#*=}; done
 SCR=$HERE/scratch
-LOGS=$SCR/logs
+LOGS=$(realpath -m "${LOGS:-$SCR/logs}")
 mkdir -p "$SCR" "$LOGS"
 
 if [ "${PARSE_ONLY:-0}" != 1 ]; then

@@ -56,6 +56,17 @@ fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
 )LMP");
 }
 
+// max |E(t) - E(0)| per atom over T time units of the fluid at dt with the
+// fix command fix, from the start of the given seed
+inline double max_energy_error(const std::string &fix, double dt, double T, int seed)
+{
+  HSLammps L;
+  L.lines(fluid(fix, dt, seed));
+  track_max_energy_error(L);
+  L.cmd("run " + std::to_string((int) std::lround(T / dt)));
+  return L.fix_vector("mx", 3);
+}
+
 // |total momentum| after nsteps more steps, and the scale sqrt(2 M KE) to
 // compare it with (velocity create ... mom yes: zero at the start)
 inline void momentum_after(HSLammps &L, int nsteps, double &P, double &scale)

@@ -85,14 +85,6 @@ std::map<int, std::array<double, 3>> velocities_after(const std::string &substep
 }
 
 // max |E(t) - E(0)| per atom over time T on the 500-sphere fluid
-double max_energy_error(const std::string &fix, double dt, double T, int seed)
-{
-  HSLammps L;
-  L.lines(hs_fluid::fluid(fix, dt, seed));
-  hs_fluid::track_max_energy_error(L);
-  L.cmd("run " + std::to_string((int) std::lround(T / dt)));
-  return L.fix_vector("mx", 3);
-}
 
 }    // namespace
 
@@ -133,7 +125,7 @@ TEST(LocalCross, FluidEnergyErrorSecondOrderOverFiveTimeUnits)
   std::vector<double> nve;
   for (double dt : dts) {
     double s = 0.0;
-    for (int seed : seeds) s += max_energy_error("fix hs all nve", dt, T, seed);
+    for (int seed : seeds) s += hs_fluid::max_energy_error("fix hs all nve", dt, T, seed);
     nve.push_back(s / seeds.size());
     std::printf("nve  dt %-7g mean max|dE|/N %.3e\n", dt, nve.back());
   }
@@ -142,7 +134,7 @@ TEST(LocalCross, FluidEnergyErrorSecondOrderOverFiveTimeUnits)
     for (size_t k = 0; k < dts.size(); k++) {
       double s = 0.0;
       for (int seed : seeds)
-        s += max_energy_error("fix hs all hardsphere/" + method + " diameter 1.0 substep local",
+        s += hs_fluid::max_energy_error("fix hs all hardsphere/" + method + " diameter 1.0 substep local",
                               dts[k], T, seed);
       err.push_back(s / seeds.size());
       std::printf("%-4s dt %-7g mean max|dE|/N %.3e  (%.2f x nve)\n", method.c_str(), dts[k],

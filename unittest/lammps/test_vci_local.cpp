@@ -57,14 +57,6 @@ TEST(VCILocal, DiscreteEnergyMatchedAtEveryContact)
   EXPECT_LE(maxdiff, 1e-11);
 }
 
-double max_energy_error(const std::string &fix, double dt, double T, int seed)
-{
-  HSLammps L;
-  L.lines(hs_fluid::fluid(fix, dt, seed));
-  hs_fluid::track_max_energy_error(L);
-  L.cmd("run " + std::to_string((int) std::lround(T / dt)));
-  return L.fix_vector("mx", 3);
-}
 
 TEST(VCILocal, FluidEnergyErrorSecondOrderOverFiveTimeUnits)
 {
@@ -78,8 +70,8 @@ TEST(VCILocal, FluidEnergyErrorSecondOrderOverFiveTimeUnits)
   for (double dt : dts) {
     double s = 0.0, e = 0.0;
     for (int seed : seeds) {
-      s += max_energy_error("fix hs all nve", dt, T, seed);
-      e += max_energy_error("fix hs all hardsphere/vci diameter 1.0", dt, T, seed);
+      s += hs_fluid::max_energy_error("fix hs all nve", dt, T, seed);
+      e += hs_fluid::max_energy_error("fix hs all hardsphere/vci diameter 1.0", dt, T, seed);
     }
     nve.push_back(s / seeds.size());
     err.push_back(e / seeds.size());
