@@ -76,8 +76,10 @@ struct ChainRun {
 // summary line (all, sphere-sphere and wall collisions) and the series of
 // |H - H0|. extra: LAMMPS expressions printed after the run, e.g.
 // "$(f_hs[7])", returned in ChainRun::extra (a missing line is a failure).
+// substep: the fix's engine ("" = the example's default, global)
 inline ChainRun run_chain(const std::string &method, double dt, double T, int seed,
-                          const std::vector<std::string> &extra = {})
+                          const std::vector<std::string> &extra = {},
+                          const std::string &substep = "")
 {
   ChainRun r;
   std::string input = slurp(chain_path());
@@ -89,9 +91,11 @@ inline ChainRun run_chain(const std::string &method, double dt, double T, int se
   }
   const std::string out =
       scratch_name(method + "_conv_dE_" + std::to_string(seed) + "_" + f17(dt) + ".txt");
-  RunResult res = run_lmp(input, {"-var", "method", method, "-var", "dt", f17(dt), "-var", "T",
-                                  std::to_string(T), "-var", "seed", std::to_string(seed),
-                                  "-var", "out", out});
+  std::vector<std::string> args = {"-var", "method", method, "-var", "dt", f17(dt), "-var", "T",
+                                   std::to_string(T), "-var", "seed", std::to_string(seed),
+                                   "-var", "out", out};
+  if (!substep.empty()) args.insert(args.end(), {"-var", "substep", substep});
+  RunResult res = run_lmp(input, args);
   EXPECT_EQ(res.exit_code, 0) << res.output;
   std::smatch m;
   // the summary line printed by the input (not its echo, which starts with "print")
