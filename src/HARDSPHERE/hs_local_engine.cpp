@@ -196,10 +196,13 @@ void HSLocalEngine::grow_arrays()
       memory->destroy(*a.first);
       memory->create(*a.first, nmax, a.second, "hardsphere/local:peratom");
     }
-    // the sums are kept zero outside the rows listed in sa_rows / sb_rows
+    // the sums are kept zero outside the rows listed in sa_used, dsa_rows,
+    // sb_rows
     for (int l = 0; l < nmax; l++)
-      for (int d = 0; d < 7; d++) sa[l][d] = sb[l][d] = 0.0;
-    sa_rows.clear();
+      for (int d = 0; d < 7; d++) sa[l][d] = sb[l][d] = dsa[l][d] = 0.0;
+    sa_used.clear();
+    std::fill(ustamp_sa.begin(), ustamp_sa.end(), 0u);
+    dsa_rows.clear();
     sb_rows.clear();
   }
   if ((int) mid.size() < nmax) {
@@ -208,6 +211,9 @@ void HSLocalEngine::grow_arrays()
     atom_runs.resize(nmax);
     estamp.resize(nmax, 0);
     astamp.resize(nmax, 0);
+    wstamp.resize(nmax, 0);
+    dstamp_sa.resize(nmax, 0);
+    ustamp_sa.resize(nmax, 0);
     dstamp.resize(nmax, 0);
   }
 }
@@ -989,6 +995,7 @@ void HSLocalEngine::retire(tagint key)
   Run &r = *it->second;
   if (r.mine)
     for (tagint k : r.xnbrs) workX.push_back(k);    // their cross terms with it change
+  if (r.in_sa) sa_change(r, -1.0);    // its sums go (h2_velocities)
   runs.erase(it);
 }
 
@@ -1038,6 +1045,8 @@ class FlowView : public HSFlowView {
 
 bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hits)
 {
+  // a first half done again: its old sums go (h2_velocities)
+  if (first_half && r.in_sa) sa_change(r, -1.0);
   HSSystem &F = *sys;
   double **x = atom->x, **v = atom->v;
   const tagint *tag = atom->tag;
@@ -1521,45 +1530,85 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
    forward them to the ghosts
 ------------------------------------------------------------------------- */
 
+void HSLocalEngine::sa_change(Run &r, double sign)
+{
+  const int *mask = atom->mask;
+  for (size_t k = 0; k < r.touched.size(); k++) {
+    const int p = r.touched[k];
+    if (dstamp_sa[p] != dsepoch) {
+      dstamp_sa[p] = dsepoch;
+      dsa_rows.push_back(p);
+    }
+    for (int d = 0; d < 3; d++) dsa[p][d] += sign * r.fk0[k][d];
+    if (mask[p] & sys->groupbit)
+      for (int d = 0; d < 3; d++) dsa[p][3 + d] += sign * r.dvA[k][d];
+    dsa[p][6] += sign;
+  }
+  r.in_sa = sign > 0.0;
+}
+
 void HSLocalEngine::h2_velocities(bool full)
 {
   HSSystem &F = *sys;
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   double **f = atom->f;
-  // the rows whose sums may change: those zeroed now and those written
-  // below (w elsewhere is as in the last round: v0 and f are the step's)
-  std::vector<int> &rows = scratch_wrows;
-  rows = sa_rows;
-  for (int l : sa_rows)
-    for (int d = 0; d < 7; d++) sa[l][d] = 0.0;
-  sa_rows.clear();
-  for (tagint key : my_keys()) {
-    const Run &r = *run_of(key);
-    if (!r.a_done) continue;
-    for (size_t k = 0; k < r.touched.size(); k++) {
-      const int p = r.touched[k];
-      sa_rows.push_back(p);
-      for (int d = 0; d < 3; d++) sa[p][d] += r.fk0[k][d];
-      if (mask[p] & F.groupbit)
-        for (int d = 0; d < 3; d++) sa[p][3 + d] += r.dvA[k][d];
-      sa[p][6] += 1.0;
+  if (full) {    // a new step: the last step's sums (and changes left) back to zero
+    for (int l : sa_used) {
+      for (int d = 0; d < 7; d++) sa[l][d] = 0.0;
+      ustamp_sa[l] = 0u;
     }
+    sa_used.clear();
+    for (int l : dsa_rows)
+      for (int d = 0; d < 7; d++) dsa[l][d] = 0.0;
+    bump_epoch(dsepoch, dstamp_sa);
+    dsa_rows.clear();
   }
-  F.reverse_columns(sa, 7, &sa_rows);
+  // the runs whose first half is new since the last call add their sums
+  // (those redone or retired took theirs back already), in key order; the
+  // changes go to the owners, who add them to their sums
+  for (tagint key : my_keys()) {
+    Run &r = *run_of(key);
+    if (r.a_done && !r.in_sa) sa_change(r, 1.0);
+  }
+  F.reverse_columns(dsa, 7, &dsa_rows);
   ncollective += 1.0;
+  std::vector<int> &rows = scratch_wrows;
+  rows.clear();
+  bump_epoch(wepoch, wstamp);
+  for (int l : dsa_rows) {
+    if (l < nlocal && wstamp[l] != wepoch) {
+      wstamp[l] = wepoch;
+      double *a = sa[l];
+      for (int d = 0; d < 7; d++) a[d] += dsa[l][d];
+      // no cluster left on it: exactly fix nve's kick again (no round-off
+      // of sums that cancel)
+      if (a[6] == 0.0)
+        for (int d = 0; d < 6; d++) a[d] = 0.0;
+      if (ustamp_sa[l] != 1u) {
+        ustamp_sa[l] = 1u;
+        sa_used.push_back(l);
+      }
+      rows.push_back(l);
+    }
+    for (int d = 0; d < 7; d++) dsa[l][d] = 0.0;
+  }
+  bump_epoch(dsepoch, dstamp_sa);
+  dsa_rows.clear();
   wchanged.clear();
   if (full) {
     rows.resize(nlocal);
     for (int i = 0; i < nlocal; i++) rows[i] = i;
-  } else {
-    rows.insert(rows.end(), sa_rows.begin(), sa_rows.end());
+  } else
     rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
-  }
   std::vector<int> &send = scratch_wsend;
   send.clear();
+  // each owned row once (the lists overlap: neighbouring clusters share
+  // partners, and the rows zeroed are mostly written again)
+  bump_epoch(wepoch, wstamp);
   for (int i : rows) {
-    if (i >= nlocal) continue;
+    if (i >= nlocal || wstamp[i] == wepoch) continue;
+    wstamp[i] = wepoch;
     double *wi = wq[i];
     const double flag = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
     bool ch = flag != wi[3];

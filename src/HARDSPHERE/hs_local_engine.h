@@ -197,6 +197,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     HSLocalForces::Snapshot snap;   // runner: its restricted lists
     std::vector<Vec> fk0;           // runner: V_C's force at the step's start, on touched
     bool a_done = false, b_done = false;
+    bool in_sa = false;    // runner: its first half's sums are in sa (sa_change)
     std::vector<int> env;           // runner: static copies of its flows
     std::vector<Vec> dxm, vm;       // members after Phi_H1(dt/2): displacement from x0, v
     std::vector<Vec> dxe, ve;       // members at the step's end
@@ -216,7 +217,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
       for (auto *v : {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &dvA, &dvB, &fend}) v->clear();
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
-      a_done = b_done = false;
+      a_done = b_done = in_sa = false;
       for (int h = 0; h < 2; h++) {
         mcount[h].clear();
         npair[h] = nwall[h] = 0.0;
@@ -281,16 +282,22 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;
-  // sums over the live clusters' first halves on their copies, then
-  // reversed into the owners: V_C's start force (0-2), partner kicks (3-5),
-  // clusters touching (6)
-  double **sa = nullptr;
+  // on owned copies, sums over the live clusters' first halves: V_C's start
+  // force (0-2), partner kicks (3-5), clusters touching (6); kept up to date
+  // by changes (dsa: what this rank's runs added or took back since the
+  // last h2_velocities(), on their copies, reversed into the owners)
+  double **sa = nullptr, **dsa = nullptr;
+  std::vector<int> dsa_rows, sa_used;    // rows of dsa that may be nonzero; owned rows of sa in use
+  std::vector<uint32_t> dstamp_sa, ustamp_sa;
+  uint32_t dsepoch = 0;
+  // a run's first-half sums into dsa (sign 1) or out of it (-1)
+  void sa_change(Run &r, double sign);
   // the same over the final clusters' second halves: V_C's end force,
   // partner kicks, touched
   double **sb = nullptr;
   // rows of sa / sb that may be nonzero (zeroed before the next sums: no
   // pass over all copies per round); copies whose w changed in this round
-  std::vector<int> sa_rows, sb_rows, wchanged;
+  std::vector<int> sb_rows, wchanged;
   std::vector<int> scratch_paths;
   // member copies placed anew since the last check (new members, new mid
   // positions): with wchanged, the copies whose Phi_H2 path changed
@@ -328,9 +335,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   };
   void grow_arrays();
   // the per-atom arrays, allocated together (columns)
-  std::array<std::pair<double ***, int>, 7> peratom()
+  std::array<std::pair<double ***, int>, 8> peratom()
   {
-    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}}};
+    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}, {&dsa, 7}}};
   }
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
   void set_x(int i, const double *xn);
@@ -345,6 +352,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // full: every owned atom's w; else only where the sums or membership changed
   void h2_velocities(bool full);
   std::vector<int> scratch_wrows, scratch_wsend;
+  std::vector<uint32_t> wstamp;    // rows done by this h2_velocities()
+  uint32_t wepoch = 0;
   void update_paths(bool full);
   void h2_pos(int l, double *q) const;
   void check_pair(int p, std::vector<Hit> &hits);
