@@ -114,6 +114,28 @@ check_system melt in.local_melt "2 4" -var nsteps 200 -var nb on
 echo "the same with newton_bond off:"
 check_system melt_nboff in.local_melt "2 4" -var nsteps 200 -var nb off
 
+# method_cases <m> <sed filter> <melt filter> <melt text>: the fluids at 500
+# and 4000 atoms, the hot and the held fluid and the melt with hardsphere/<m>
+# and the RESULT fields the filter puts in, on 1, 2, 4 ranks
+method_cases() {
+  local m=$1 filter=$2 meltf=$3 melttext=$4
+  local s
+  for s in fluid500:500 fluid4000:4000 hot:hot held:held; do
+    sed "$filter" < "in.local_${s%%:*}" > "in.local_$m${s##*:}"
+  done
+  sed "$meltf" in.local_melt | sed "$filter" > "in.local_${m}melt"
+  echo "$m: fluid, 500 atoms, 200 steps:"
+  check_system "${m}500" "in.local_${m}500" "2 4" -var nsteps 200
+  echo "$m: fluid, 4000 atoms, 300 steps:"
+  check_system "${m}4000" "in.local_${m}4000" "2 4" -var nsteps 300
+  echo "$m: 500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 200 steps:"
+  check_system "${m}hot" "in.local_${m}hot" "2 4" -var nsteps 200
+  echo "$m: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
+  check_system "${m}held" "in.local_${m}held" "2 4" -var nsteps 200
+  echo "$m: bead-spring melt ($melttext), 200 steps:"
+  check_system "${m}melt" "in.local_${m}melt" "2 4" -var nsteps 200 -var nb on
+}
+
 # pcva's local projection (hs_local_modified.h) on the same systems: each
 # rank evaluates its share of the members' terms, sums go to the owners by
 # reverse communication, A, B, C0 and the clusters' centres of mass are
@@ -121,22 +143,8 @@ check_system melt_nboff in.local_melt "2 4" -var nsteps 200 -var nb off
 # projections and skipped projections counted too (the melt with bonds
 # only: the projection needs radial terms)
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
-to_pcva() { sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/'; }
-to_pcva < in.local_fluid500 > in.local_p500
-to_pcva < in.local_fluid4000 > in.local_p4000
-to_pcva < in.local_hot > in.local_phot
-to_pcva < in.local_held > in.local_pheld
-sed '/^angle_/d; /^dihedral_/d' in.local_melt | to_pcva > in.local_pmelt
-echo "pcva: fluid, 500 atoms, 200 steps:"
-check_system p500 in.local_p500 "2 4" -var nsteps 200
-echo "pcva: fluid, 4000 atoms, 300 steps:"
-check_system p4000 in.local_p4000 "2 4" -var nsteps 300
-echo "pcva: 500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 200 steps:"
-check_system phot in.local_phot "2 4" -var nsteps 200
-echo "pcva: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
-check_system pheld in.local_pheld "2 4" -var nsteps 200
-echo "pcva: bead-spring melt with FENE bonds, 200 steps:"
-check_system pmelt in.local_pmelt "2 4" -var nsteps 200 -var nb on
+method_cases pcva 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
+  '/^angle_/d; /^dihedral_/d' "FENE bonds"
 
 # vci's local form (the discrete energy matched inside each cluster's flow,
 # its trial sub-steps on the runner's copies; its counters summed over the
@@ -146,22 +154,8 @@ check_system pmelt in.local_pmelt "2 4" -var nsteps 200 -var nb on
 # trial sub-steps (f_hs[9]): the secant's last step to round-off depends
 # on the summation order of the copies (e.g. 7127 / 7113 / 7129 here)
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
-to_vci() { sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/'; }
-to_vci < in.local_fluid500 > in.local_v500
-to_vci < in.local_fluid4000 > in.local_v4000
-to_vci < in.local_hot > in.local_vhot
-to_vci < in.local_held > in.local_vheld
-to_vci < in.local_melt > in.local_vmelt
-echo "vci: fluid, 500 atoms, 200 steps:"
-check_system v500 in.local_v500 "2 4" -var nsteps 200
-echo "vci: fluid, 4000 atoms, 300 steps:"
-check_system v4000 in.local_v4000 "2 4" -var nsteps 300
-echo "vci: 500 atoms at T 3 with skin 0.2, 200 steps:"
-check_system vhot in.local_vhot "2 4" -var nsteps 200
-echo "vci: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
-check_system vheld in.local_vheld "2 4" -var nsteps 200
-echo "vci: bead-spring melt (bonds, angles, dihedrals), 200 steps:"
-check_system vmelt in.local_vmelt "2 4" -var nsteps 200 -var nb on
+method_cases vci 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
+  '' "bonds, angles, dihedrals"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
 # a thermostat on 2 ranks: fix langevin's random forces differ with the
