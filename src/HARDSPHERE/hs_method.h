@@ -7,8 +7,9 @@
    engine calls it, and calls only the system layer (hs_system.h).
 
    - the collision operator: collide_pair/collide_wall build the elastic
-     impulse at contact, modify_impulse changes it (mcva's alpha-hat, vci's
-     E_d match); both engines call them;
+     impulse at contact (both engines call them); modify_impulse changes it
+     in the global engine (mcva's alpha-hat, vci's E_d match),
+     modify_impulse_in_flow in a cluster's flow of the local one (vci);
    - the smooth map between contacts of a step that sub-steps every atom
      (finish_step, advance_to_contact) and the bookkeeping around it
      (begin_collisional_step, end_substep, end_collisional_step): pcva's
@@ -19,7 +20,8 @@
      HSFlowView, rank-local): vci's energy match;
    - which engines it supports, why a set-up rules out the local one, and
      its own counters (output entries after the fix's five, restart).
-   All hooks are called on every rank together (collective).
+   All hooks are called on every rank together (collective), except those
+   inside a cluster's flow (on the rank that runs it).
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_METHOD_H
