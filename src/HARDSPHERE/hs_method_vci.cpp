@@ -41,6 +41,17 @@ using namespace LAMMPS_NS;
 static constexpr double SMIN = 0.5, SMAX = 2.0;
 static constexpr int MAXIT = 100;
 
+// the impulse s J (s = 1: J itself, a wall's exact reflection included)
+static HSTypes::Impulse scaled(const HSTypes::Impulse &imp, double s)
+{
+  HSTypes::Impulse t = imp;
+  if (s != 1.0) {
+    for (int k = 0; k < 3; k++) t.J[k] = s * imp.J[k];
+    t.reflect = 0;
+  }
+  return t;
+}
+
 /* ---------------------------------------------------------------------- */
 
 HSMethodVCI::HSMethodVCI(LAMMPS *lmp, HSSystem &sys) : HSMethod(lmp, sys) {}
@@ -68,10 +79,10 @@ double HSMethodVCI::potential_at_new_x()
   return S.pot->energy();
 }
 
-void HSMethodVCI::check_pending(double Ed)
+void HSMethodVCI::check_pending(double Ed, Tally &t)
 {
   if (!pending) return;
-  maxdiff = MAX(maxdiff, fabs(Ed - pending_target));
+  t.mx[1] = MAX(t.mx[1], fabs(Ed - pending_target));
   pending = 0;
 }
 
@@ -102,7 +113,7 @@ bool HSMethodVCI::advance_to_contact(double &tau, double tleft, const Impulse &)
     S.kick(tau);
     S.comm_vel_acc();
     const double Ed = Kh + 0.5 * (Vk + Vc);
-    check_pending(Ed);
+    check_pending(Ed, all);
     Etarget = Ed;
     have_target = 1;
     Vk = Vc;
@@ -110,7 +121,7 @@ bool HSMethodVCI::advance_to_contact(double &tau, double tleft, const Impulse &)
     // a contact at the same instant as the last one (or at the step's
     // start): no sub-step in between. E_d^- stays the last sub-step's; at
     // the step's start it is the limit of E_d for tau -> 0, H(q, p).
-    if (pending) check_pending(kinetic() + Vk);
+    if (pending) check_pending(kinetic() + Vk, all);
     if (!have_target) {
       Etarget = kinetic() + Vk;
       have_target = 1;
@@ -131,7 +142,7 @@ void HSMethodVCI::finish_step(double tleft)
   if (pending) {
     const double Kh = kinetic();
     const double Vn = potential_at_new_x();
-    check_pending(Kh + 0.5 * (Vk + Vn));
+    check_pending(Kh + 0.5 * (Vk + Vn), all);
   }
 }
 
@@ -144,12 +155,7 @@ void HSMethodVCI::finish_step(double tleft)
 
 double HSMethodVCI::trial(const Impulse &imp, double s, double &scale, double &tau2)
 {
-  Impulse t = imp;
-  if (s != 1.0) {
-    for (int k = 0; k < 3; k++) t.J[k] = s * imp.J[k];
-    t.reflect = 0;
-  }
-  S.apply_impulse(t);
+  S.apply_impulse(scaled(imp, s));
 
   S.screen(tleft_after);
   S.comm_vel_acc();
@@ -191,7 +197,6 @@ double HSMethodVCI::trial(const Impulse &imp, double s, double &scale, double &t
 
 void HSMethodVCI::modify_impulse(Impulse &imp)
 {
-  pending = 0;
   const int nall = atom->nlocal + atom->nghost;
   xsave.resize(3 * (size_t) nall);
   vsave.resize(3 * (size_t) nall);
@@ -202,44 +207,44 @@ void HSMethodVCI::modify_impulse(Impulse &imp)
 
   // slope of E_d^+ in s near 1 from the kinetic term alone: |J|^2_{M^-1}/2
   const double J2 = imp.J[0] * imp.J[0] + imp.J[1] * imp.J[1] + imp.J[2] * imp.J[2];
-  double loc = 0.0, all;
+  double loc = 0.0, sum = 0.0;
   const tagint *tag = atom->tag;
   for (int i = 0; i < atom->nlocal; i++) {
     if (tag[i] == imp.itag) loc += J2 / S.mass_of(i);
     if (imp.type == PAIR_EVENT && tag[i] == imp.jtag) loc += J2 / S.mass_of(i);
   }
-  MPI_Allreduce(&loc, &all, 1, MPI_DOUBLE, MPI_SUM, world);
-  const double slope = 0.5 * force->mvv2e * all;
+  MPI_Allreduce(&loc, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
+  const double slope = 0.5 * force->mvv2e * sum;
 
+  solve(
+      imp, slope,
+      [&](double s, double &scale, double &tau2) { return trial(imp, s, scale, tau2); }, all,
+      true);
+}
+
+void HSMethodVCI::solve(Impulse &imp, double slope,
+                        const std::function<double(double, double &, double &)> &eval, Tally &t,
+                        bool all_ranks)
+{
+  pending = 0;
   double scale1, tau2;
-  const double f1 = trial(imp, 1.0, scale1, tau2);
+  const double f1 = eval(1.0, scale1, tau2);
   if (tau2 == 0.0) {
     // the next contact is at the same instant: no sub-step after this one
     // whose E_d could be matched; E_d^+ degenerates to H(q_c, p+), which
     // the elastic impulse conserves. E_d^- is carried to that next contact.
-    nzero += 1.0;
-    nevals += 1.0;
-    maxevals = MAX(maxevals, 1.0);
+    t.n[2] += 1.0;
+    t.n[3] += 1.0;
+    t.mx[0] = MAX(t.mx[0], 1.0);
     return;
   }
-  auto eval = [&](double s, double &scale) {
+  auto F = [&](double s, double &scale) {
     double t2;
-    return trial(imp, s, scale, t2);
+    return eval(s, scale, t2);
   };
-  const HardSphere::VciRoot r = HardSphere::vci_root(eval, f1, scale1, slope, SMIN, SMAX, MAXIT);
-  nevals += r.evals;
-  maxevals = MAX(maxevals, (double) r.evals);
-
-  if (take_root(r, imp, f1, true)) {
-    nsolved += 1.0;
-    pending = 1;
-    pending_target = Etarget;
-  } else
-    nnoroot += 1.0;
-}
-
-bool HSMethodVCI::take_root(const HardSphere::VciRoot &r, Impulse &imp, double f1, bool all_ranks)
-{
+  const HardSphere::VciRoot r = HardSphere::vci_root(F, f1, scale1, slope, SMIN, SMAX, MAXIT);
+  t.n[3] += r.evals;
+  t.mx[0] = MAX(t.mx[0], (double) r.evals);
   if (r.status == HardSphere::VCI_NOT_CONVERGED) {
     const std::string msg = fmt::format(
         "Fix {}: the discrete-energy equation E_d+(s) = E_d- of the collision of {} on "
@@ -261,13 +266,13 @@ bool HSMethodVCI::take_root(const HardSphere::VciRoot &r, Impulse &imp, double f
                      r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
                      Etarget, f1, S.fix_id());
     warned = 1;
-    return false;
+    t.n[1] += 1.0;
+    return;
   }
-  if (r.s != 1.0) {
-    for (int k = 0; k < 3; k++) imp.J[k] *= r.s;
-    imp.reflect = 0;
-  }
-  return true;
+  imp = scaled(imp, r.s);
+  t.n[0] += 1.0;
+  pending = 1;
+  pending_target = Etarget;
 }
 
 /* ----------------------------------------------------------------------
@@ -276,13 +281,6 @@ bool HSMethodVCI::take_root(const HardSphere::VciRoot &r, Impulse &imp, double f
    flow's sub-step to it; at the flow's start (or after a contact at the
    start) H(q, p) of the flow, as at a step's start in the global form
 ------------------------------------------------------------------------- */
-
-void HSMethodVCI::local_check(double Ed)
-{
-  if (!pending) return;
-  fmax[1] = MAX(fmax[1], fabs(Ed - pending_target));
-  pending = 0;
-}
 
 void HSMethodVCI::flow_begun(const HSFlowView &fv)
 {
@@ -297,16 +295,15 @@ void HSMethodVCI::flow_substep(const HSFlowView &fv)
   const HSFlowView::Substep &s = fv.last_substep();
   if (s.tau > 0.0) {
     const double Ed = s.kh + 0.5 * (s.v0 + s.v1);
-    local_check(Ed);
+    check_pending(Ed, flow);
     Etarget = Ed;
     have_target = 1;
   } else if (pending)
-    local_check(s.kh + s.v1);
+    check_pending(s.kh + s.v1, flow);
 }
 
 void HSMethodVCI::modify_impulse_in_flow(Impulse &imp, HSFlowView &fv)
 {
-  pending = 0;
   // slope of E_d^+ in s near 1 from the kinetic term alone: |J|^2_{M^-1}/2
   // (the flow's runner holds a copy of both atoms)
   const double J2 = imp.J[0] * imp.J[0] + imp.J[1] * imp.J[1] + imp.J[2] * imp.J[2];
@@ -314,92 +311,53 @@ void HSMethodVCI::modify_impulse_in_flow(Impulse &imp, HSFlowView &fv)
   if (imp.type == PAIR_EVENT) im += 1.0 / S.mass_of(atom->map(imp.jtag));
   const double slope = 0.5 * force->mvv2e * J2 * im;
 
-  double tau2 = 0.0;
-  auto eval = [&](double s, double &scale) {
-    Impulse t = imp;
-    if (s != 1.0) {
-      for (int k = 0; k < 3; k++) t.J[k] = s * imp.J[k];
-      t.reflect = 0;
-    }
-    const HSFlowView::Substep n = fv.trial(t);
-    tau2 = n.tau;
-    scale = n.kh + 0.5 * (fabs(n.v0) + fabs(n.v1)) + fabs(Etarget);
-    return n.tau > 0.0 ? n.kh + 0.5 * (n.v0 + n.v1) - Etarget : n.kh + n.v1 - Etarget;
-  };
-  double scale1;
-  const double f1 = eval(1.0, scale1);
-  if (tau2 == 0.0) {
-    // the next contact at the same instant: as in the global form
-    fcount[2] += 1.0;
-    fcount[3] += 1.0;
-    fmax[0] = MAX(fmax[0], 1.0);
-    return;
-  }
-  const HardSphere::VciRoot r = HardSphere::vci_root(eval, f1, scale1, slope, SMIN, SMAX, MAXIT);
-  fcount[3] += r.evals;
-  fmax[0] = MAX(fmax[0], (double) r.evals);
-  if (take_root(r, imp, f1, false)) {
-    fcount[0] += 1.0;
-    pending = 1;
-    pending_target = Etarget;
-  } else
-    fcount[1] += 1.0;
+  solve(
+      imp, slope,
+      [&](double s, double &scale, double &tau2) {
+        const HSFlowView::Substep n = fv.trial(scaled(imp, s));
+        tau2 = n.tau;
+        scale = n.kh + 0.5 * (fabs(n.v0) + fabs(n.v1)) + fabs(Etarget);
+        return n.tau > 0.0 ? n.kh + 0.5 * (n.v0 + n.v1) - Etarget : n.kh + n.v1 - Etarget;
+      },
+      flow, false);
 }
 
 // the flows' counts of every rank into the counters (collective)
 void HSMethodVCI::cluster_step_done(HSStepView &)
 {
-  double c[4], m[2];
-  MPI_Allreduce(lcount, c, 4, MPI_DOUBLE, MPI_SUM, world);
-  MPI_Allreduce(lmax, m, 2, MPI_DOUBLE, MPI_MAX, world);
-  nsolved += c[0];
-  nnoroot += c[1];
-  nzero += c[2];
-  nevals += c[3];
-  maxevals = MAX(maxevals, m[0]);
-  maxdiff = MAX(maxdiff, m[1]);
-  for (double &v : lcount) v = 0.0;
-  for (double &v : lmax) v = 0.0;
+  Tally sum;
+  MPI_Allreduce(rank.n, sum.n, 4, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(rank.mx, sum.mx, 2, MPI_DOUBLE, MPI_MAX, world);
+  for (int k = 0; k < 4; k++) all.n[k] += sum.n[k];
+  for (int k = 0; k < 2; k++) all.mx[k] = MAX(all.mx[k], sum.mx[k]);
+  rank = Tally();
 }
 
 void HSMethodVCI::take_flow_counts(std::vector<double> &out)
 {
-  out.assign(fcount, fcount + 4);
-  out.insert(out.end(), fmax, fmax + 2);
-  for (double &v : fcount) v = 0.0;
-  for (double &v : fmax) v = 0.0;
+  out.assign(flow.n, flow.n + 4);
+  out.insert(out.end(), flow.mx, flow.mx + 2);
+  flow = Tally();
 }
 
 // a final flow's counts into this rank's sums of the step
 void HSMethodVCI::add_flow_counts(const std::vector<double> &c)
 {
-  for (int k = 0; k < 4; k++) lcount[k] += c[k];
-  for (int k = 0; k < 2; k++) lmax[k] = MAX(lmax[k], c[4 + k]);
+  for (int k = 0; k < 4; k++) rank.n[k] += c[k];
+  for (int k = 0; k < 2; k++) rank.mx[k] = MAX(rank.mx[k], c[4 + k]);
 }
 
 /* ---------------------------------------------------------------------- */
 
 double HSMethodVCI::vector(int k)
 {
-  switch (k) {
-    case 0:
-      return nsolved;
-    case 1:
-      return nnoroot;
-    case 2:
-      return nzero;
-    case 3:
-      return nevals;
-    case 4:
-      return maxevals;
-    case 5:
-      return maxdiff;
-  }
+  if (k >= 0 && k < 4) return all.n[k];
+  if (k >= 4 && k < 6) return all.mx[k - 4];
   return 0.0;
 }
 
 // the counters after the fix's in restart files
 std::vector<double *> HSMethodVCI::counters()
 {
-  return {&nsolved, &nnoroot, &nzero, &nevals, &maxevals, &maxdiff};
+  return {&all.n[0], &all.n[1], &all.n[2], &all.n[3], &all.mx[0], &all.mx[1]};
 }

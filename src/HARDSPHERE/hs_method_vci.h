@@ -17,11 +17,8 @@
 
 #include "hs_method.h"
 
+#include <functional>
 #include <vector>
-
-namespace HardSphere {
-struct VciRoot;
-}
 
 namespace LAMMPS_NS {
 
@@ -59,30 +56,33 @@ class HSMethodVCI : public HSMethod {
   int pending = 0;         // the last contact was solved: check the next sub-step's E_d
   double pending_target = 0.0;
 
-  // counters (global, identical on all ranks)
-  double nsolved = 0.0;      // contacts whose impulse matched E_d
-  double nnoroot = 0.0;      // elastic fallback: no root (or a jump of E_d^+)
-  double nzero = 0.0;        // elastic: the next sub-step has zero length
-  double nevals = 0.0;       // evaluations of E_d^+ (trial sub-steps)
-  double maxevals = 0.0;     // most evaluations for one contact
-  double maxdiff = 0.0;      // max |E_d(sub-step after) - E_d(sub-step before)| measured
+  // counts of the contacts' solves: solved (matched E_d), no root (elastic
+  // fallback: no root or a jump of E_d^+), zero (elastic: the next sub-step
+  // has zero length), evaluations of E_d^+ (trial sub-steps); maxima: most
+  // evaluations for one contact, largest |E_d(sub-step after) - E_d(before)|
+  struct Tally {
+    double n[4] = {0.0, 0.0, 0.0, 0.0};
+    double mx[2] = {0.0, 0.0};
+  };
+  Tally all;     // the counters (global, identical on all ranks)
+  Tally rank;    // local form: this rank's final flows since the last sum
+  Tally flow;    // local form: the current flow's
   int warned = 0;
 
   std::vector<double> xsave, vsave;
 
-  // local form: this rank's counts since the last sum (as the counters
-  // above: solved, no root, zero, evaluations; largest evaluations, |dE_d|)
-  double lcount[4] = {0.0, 0.0, 0.0, 0.0}, lmax[2] = {0.0, 0.0};
-  double fcount[4] = {0.0, 0.0, 0.0, 0.0}, fmax[2] = {0.0, 0.0};    // the current flow's
-  void local_check(double Ed);
-  // the root search's outcome: stops the run if it did not converge, warns
-  // once if no root (elastic impulse); true if imp was scaled to the root
-  bool take_root(const struct HardSphere::VciRoot &, Impulse &, double f1, bool all_ranks);
+  // the impulse strength for imp, both forms: eval(s, scale, tau2) is
+  // E_d^+(s) - E_d^- of a trial sub-step (tau2: its length); stops the run
+  // if the root search does not converge, warns once if there is no root
+  // (elastic impulse); counts into t
+  void solve(Impulse &imp, double slope,
+             const std::function<double(double, double &, double &)> &eval, Tally &t,
+             bool all_ranks);
 
   double kinetic();
   double potential_at_new_x();
   double trial(const Impulse &, double s, double &scale, double &tau2);
-  void check_pending(double Ed);
+  void check_pending(double Ed, Tally &t);
 };
 
 }    // namespace LAMMPS_NS
