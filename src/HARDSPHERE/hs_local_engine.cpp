@@ -201,7 +201,7 @@ void HSLocalEngine::grow_arrays()
     for (int l = 0; l < nmax; l++)
       for (int d = 0; d < 7; d++) sa[l][d] = sb[l][d] = dsa[l][d] = 0.0;
     sa_used.clear();
-    std::fill(ustamp_sa.begin(), ustamp_sa.end(), 0u);
+    std::fill(in_used.begin(), in_used.end(), 0);
     dsa_rows.clear();
     sb_rows.clear();
   }
@@ -213,7 +213,7 @@ void HSLocalEngine::grow_arrays()
     astamp.resize(nmax, 0);
     wstamp.resize(nmax, 0);
     dstamp_sa.resize(nmax, 0);
-    ustamp_sa.resize(nmax, 0);
+    in_used.resize(nmax, 0);
     dstamp.resize(nmax, 0);
   }
 }
@@ -1169,6 +1169,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     }
     F.ncoll_pair = npair_saved;
     F.ncoll_wall = nwall_saved;
+    meth.take_flow_counts(r.mcount[half]);
   };
 
   // the next contact of the flow within tau: members against each other,
@@ -1322,7 +1323,6 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       hits.push_back({tag[b.bli], tag[b.blj]});
       r.a_done = false;
       keep_counts();
-      meth.take_flow_counts(scratch_mcount);    // a flow redone: its counts dropped
       for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
       return false;
     }
@@ -1399,7 +1399,6 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   }
 
   keep_counts();
-  meth.take_flow_counts(r.mcount[half]);
   if (first_half) {
     r.xm.resize(nm);
     r.dxm.resize(nm);
@@ -1556,7 +1555,7 @@ void HSLocalEngine::h2_velocities(bool full)
   if (full) {    // a new step: the last step's sums (and changes left) back to zero
     for (int l : sa_used) {
       for (int d = 0; d < 7; d++) sa[l][d] = 0.0;
-      ustamp_sa[l] = 0u;
+      in_used[l] = 0;
     }
     sa_used.clear();
     for (int l : dsa_rows)
@@ -1585,8 +1584,8 @@ void HSLocalEngine::h2_velocities(bool full)
       // of sums that cancel)
       if (a[6] == 0.0)
         for (int d = 0; d < 6; d++) a[d] = 0.0;
-      if (ustamp_sa[l] != 1u) {
-        ustamp_sa[l] = 1u;
+      if (!in_used[l]) {
+        in_used[l] = 1;
         sa_used.push_back(l);
       }
       rows.push_back(l);
@@ -1603,8 +1602,7 @@ void HSLocalEngine::h2_velocities(bool full)
     rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
   std::vector<int> &send = scratch_wsend;
   send.clear();
-  // each owned row once (the lists overlap: neighbouring clusters share
-  // partners, and the rows zeroed are mostly written again)
+  // each owned row once (a new member may also have had its sums changed)
   bump_epoch(wepoch, wstamp);
   for (int i : rows) {
     if (i >= nlocal || wstamp[i] == wepoch) continue;

@@ -207,7 +207,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Vec> dvA, dvB, fend;    // runner, on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
-    std::vector<double> mcount[2];    // runner: the method's counts of each half's flow
+    std::vector<double> mcount[2];    // runner: the method's counts of each half's last flow
     void reset()
     {
       mine = false;
@@ -288,15 +288,16 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // last h2_velocities(), on their copies, reversed into the owners)
   double **sa = nullptr, **dsa = nullptr;
   std::vector<int> dsa_rows, sa_used;    // rows of dsa that may be nonzero; owned rows of sa in use
-  std::vector<uint32_t> dstamp_sa, ustamp_sa;
+  std::vector<char> in_used;             // listed in sa_used
+  std::vector<uint32_t> dstamp_sa;
   uint32_t dsepoch = 0;
   // a run's first-half sums into dsa (sign 1) or out of it (-1)
   void sa_change(Run &r, double sign);
   // the same over the final clusters' second halves: V_C's end force,
   // partner kicks, touched
   double **sb = nullptr;
-  // rows of sa / sb that may be nonzero (zeroed before the next sums: no
-  // pass over all copies per round); copies whose w changed in this round
+  // rows of sb that may be nonzero (zeroed before the next sums: no pass
+  // over all copies per round); copies whose w changed in this round
   std::vector<int> sb_rows, wchanged;
   std::vector<int> scratch_paths;
   // member copies placed anew since the last check (new members, new mid
@@ -365,7 +366,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // scratch of flow(), kept to avoid allocations
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_env_x0;
   std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
-  std::vector<double> scratch_mcount;
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
   bool settle(std::vector<Hit> &hits);
