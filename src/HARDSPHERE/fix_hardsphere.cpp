@@ -45,9 +45,11 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
   extvector = 0;
   virial_global_flag = 1;
   thermo_virial = 1;
-  // v, a, active; or an engine's columns, sparse: a position per row and
-  // a count per message (HSSystem::forward_columns)
-  comm_forward = HSSystem::COMM_COLUMNS + 1;
+  // v, a, active and an engine's extra columns (HSSystem::forward_vel_acc);
+  // or an engine's columns, sparse: a position per row and a count per
+  // message (HSSystem::forward_columns)
+  static_assert(7 + HSSystem::COMM_EXTRA >= HSSystem::COMM_COLUMNS + 1, "comm_forward");
+  comm_forward = 7 + HSSystem::COMM_EXTRA;
   comm_reverse = HSSystem::COMM_COLUMNS + 2;    // the gap, or an engine's columns (sparse)
   restart_global = 1;
   force_reneighbor = 1;    // we ask for a list build when a sphere moved skin/2

@@ -485,11 +485,6 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const double *gap = F.gap;
   const double dt = F.dtv;
   double c[5];
-  auto path = [&](int k) {
-    const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
-    const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
-    return dt * vv + 0.5 * dt * dt * aa;
-  };
   // the screen's active spheres, and those within LINE_MARGIN / 2 of being
   // active (Phi_H2's lines may deviate that much from fix nve's, below);
   // flags and free gaps go to the ghosts (cols: gap, flag)
@@ -517,10 +512,24 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     act0.push_back(i);
     cols[i][1] = 1.0;
   }
-  sys->forward_columns(cols, 2);
+  // with v and a, in one exchange
+  sys->forward_vel_acc(cols, 2);
   ncollective += 1.0;
+  // the path bound dt |v| + dt^2/2 |a| of fix nve's step: per flagged
+  // copy once (the pair loop's), else for a pair's unflagged partner
+  auto path = [&](int k) {
+    const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+    const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
+    return dt * vv + 0.5 * dt * dt * aa;
+  };
+  pflag.resize(nall);
+  pathv.resize(nall);
+  for (int k = 0; k < nall; k++) {
+    pflag[k] = cols[k][1] != 0.0;
+    if (pflag[k]) pathv[k] = path(k);
+  }
   for (int i : act0) {
-    const double Di = path(i), r = F.radius_of(i);
+    const double Di = pathv[i], r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
       const Wall &W = F.walls[wl];
       const double g = F.wall_gap(W, x[i], r);
@@ -550,13 +559,13 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const int np = (int) cand.size() / 2;
   for (int p = 0; p < np; p++) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
-    if (cols[i][1] == 0.0 && cols[j][1] == 0.0) continue;
+    if (!pflag[i] && !pflag[j]) continue;
     if (tag[i] == tag[j]) continue;
     const double sigma = F.radius_of(i) + F.radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
     const double sm = sigma * (1.0 + LINE_MARGIN);
-    const double reach = sm + path(i) + path(j);
+    const double reach = sm + (pflag[i] ? pathv[i] : path(i)) + (pflag[j] ? pathv[j] : path(j));
     if (r2 > reach * reach) continue;
     const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
     const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
@@ -836,42 +845,30 @@ void HSLocalEngine::held_of(Run &r)
    gives a contact inside a half the wrong normal velocity by
    2 min(t_c, dt - t_c) a_X.n, O(dt); a constant force within each half
    errs by O(dt^2) at any time, and the total impulse is still
-   dt F_X(x_mid), so momentum is kept. Cross terms pair two members, both
-   at x0 here: the forces on the two clusters are equal and opposite.
+   dt F_X(x_mid), so momentum is kept (F_X(x0) enters the two halves with
+   opposite signs).
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::cross_at_start(Run &r)
+void HSLocalEngine::cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi)
 {
+  // F_X(x0) without an evaluation of its own: every term's force on a
+  // member at x0 is LAMMPS' force of the step's start (its acceleration,
+  // forwarded to ghost copies, so every rank computes the same) less the
+  // held forces; the cluster's own and partner terms at x0 are fk (the
+  // first half's start). What is left is the cross terms'
   const int nm = (int) r.members.size();
   r.fx0.assign(nm, Vec{0.0, 0.0, 0.0});
   if (!force->pair) return;
-  double **x = atom->x;
-  locf->set_labels(lab.data(), HSLocalForces::CROSS);
-  vc(r.members.data(), nm);
-  const std::vector<int> T = locf->touched();
-  std::vector<Vec> &saved = scratch_env_x0;
-  saved.resize(T.size());
-  bool moved = false;
-  for (size_t k = 0; k < T.size(); k++) {
-    const int t = T[k];
-    saved[k] = {x[t][0], x[t][1], x[t][2]};
-    if (x[t][0] != x0[t][0] || x[t][1] != x0[t][1] || x[t][2] != x0[t][2]) {
-      set_x(t, x0[t]);
-      moved = true;
-    }
-  }
-  if (moved) {
-    locf->recompute();
-    ncompute_here += 1.0;
-  }
-  double **fl = locf->forces();
+  double **acc = sys->acc;
+  const double ftm2v = force->ftm2v;
   for (int k = 0; k < nm; k++) {
     const int i = r.members[k];
-    r.fx0[k] = {fl[i][0], fl[i][1], fl[i][2]};
+    const double m = sys->mass_of(i) / ftm2v;
+    for (int d = 0; d < 3; d++) {
+      const double fall = acc[i][d] * m - (sys->nheld ? held0[i][d] : 0.0);
+      r.fx0[k][d] = fall - fk[mi[k]][d];
+    }
   }
-  if (moved)
-    for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
-  locf->set_labels(lab.data());
 }
 
 /* ----------------------------------------------------------------------
@@ -1060,15 +1057,6 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int i : M) set_x(i, x0[i]);
   } else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
-  if (first_half) cross_at_start(r);
-  // the constant cross force on the members in this half (fx0 is set by
-  // every first half; fx only once cross_at_mid() ran, else F_X(q0) again)
-  std::vector<Vec> &fc = scratch_fc;
-  const bool mid_known = (int) r.fx.size() == nm;
-  fc.resize(nm);
-  for (int k = 0; k < nm; k++)
-    for (int d = 0; d < 3; d++)
-      fc[k][d] = (first_half || !mid_known) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
   if (first_half) vc(M.data(), nm);
   else {
     locf->recompute(r.snap);    // the lists of the first half
@@ -1128,6 +1116,15 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
                  F.style_name, r.mtags[k]);
     mi[k] = (int) (it - T.begin());
   }
+  if (first_half) cross_at_start(r, fk, mi);
+  // the constant cross force on the members in this half (fx0 is set by
+  // every first half; fx only once cross_at_mid() ran, else F_X(q0) again)
+  std::vector<Vec> &fc = scratch_fc;
+  const bool mid_known = (int) r.fx.size() == nm;
+  fc.resize(nm);
+  for (int k = 0; k < nm; k++)
+    for (int d = 0; d < 3; d++)
+      fc[k][d] = (first_half || !mid_known) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
   if (first_half) {
     r.fk0 = fk;
     // the held forces' half kick (f - F_C: LAMMPS' forces minus V_C's)
@@ -2106,9 +2103,8 @@ int HSLocalEngine::step_clusters()
   grow_arrays();
   build_adjacency();
   if ((int) hstampv.size() < nmax) hstampv.resize(nmax, 0u);
-  F.comm_vel_acc();    // ghosts' v, a: the first guess needs them
+  F.set_acc();    // (the ghosts' v, a go with the first guess's flags)
   const double ncoll0 = ncollective;
-  ncollective += 1.0;
   std::vector<Hit> hits;
   predict_all(hits);
   gather_hits(hits);

@@ -341,6 +341,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}, {&dsa, 7}}};
   }
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
+  std::vector<char> pflag;      // predict_all(): cols' flag and the path bound per copy
+  std::vector<double> pathv;
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);
@@ -364,7 +366,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
                                    const double *da, double sigma, double tmax);
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
-  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_env_x0;
+  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc;
   std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
   std::vector<int> scratch_mi;
   std::vector<double> scratch_im;
@@ -375,7 +377,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void label_cluster(int c);
   void cross_at_mid();
   void cross_of(Run &r);
-  void cross_at_start(Run &r);
+  void cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi);
   void held_of(Run &r);
   // the member copies of a cluster this rank runs: the key's owned copy and
   // for every other member its copy nearest it; checked against the ghost

@@ -393,6 +393,12 @@ int HSSystem::screen(double tleft)
 
 void HSSystem::comm_vel_acc()
 {
+  set_acc();
+  forward_vel_acc();
+}
+
+void HSSystem::set_acc()
+{
   double **f = atom->f;
   const int nlocal = atom->nlocal;
   const double ftm2v = force->ftm2v;
@@ -402,7 +408,17 @@ void HSSystem::comm_vel_acc()
     acc[i][1] = f[i][1] * im;
     acc[i][2] = f[i][2] * im;
   }
+}
+
+void HSSystem::forward_vel_acc(double **extra, int nextra)
+{
+  if (nextra < 0 || nextra > COMM_EXTRA || (nextra && !extra))
+    error->one(FLERR, "Fix {}: internal error: {} extra columns to forward", style_name, nextra);
+  extra_ = extra;
+  nextra_ = nextra;
   HSCompat::forward_comm_fix(comm, host);
+  extra_ = nullptr;
+  nextra_ = 0;
 }
 
 int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
@@ -439,6 +455,7 @@ int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
     buf[m++] = acc[j][1];
     buf[m++] = acc[j][2];
     buf[m++] = active[j];
+    for (int c = 0; c < nextra_; c++) buf[m++] = extra_[j][c];
   }
   return m;
 }
@@ -484,6 +501,7 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
     acc[i][1] = buf[m++];
     acc[i][2] = buf[m++];
     active[i] = buf[m++];
+    for (int c = 0; c < nextra_; c++) extra_[i][c] = buf[m++];
   }
 }
 

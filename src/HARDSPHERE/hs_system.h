@@ -29,6 +29,8 @@ class HSPotential;
 
 class HSSystem : protected Pointers, public HSTypes {
   double **cols_ = nullptr;    // forward_columns()/reverse_columns() in progress
+  double **extra_ = nullptr;    // forward_vel_acc()'s extra columns
+  int nextra_ = 0;
   int ncols_ = 0, ncmp_ = 0;
   std::vector<int> *changed_ = nullptr;
   // sparse messages: {count, (position in the swap's list, row)...}, always
@@ -110,6 +112,12 @@ class HSSystem : protected Pointers, public HSTypes {
   void reset_reference(int at_setup);
   // accelerations of owned atoms, then v, a and active to the ghosts
   void comm_vel_acc();
+  // its two parts: the owned atoms' accelerations; v, a and active to the
+  // ghosts, with up to COMM_EXTRA columns of an engine in the same
+  // messages (the local engine's first guess: one exchange, not two)
+  void set_acc();
+  static constexpr int COMM_EXTRA = 2;
+  void forward_vel_acc(double **extra = nullptr, int nextra = 0);
   int pack_forward_comm(int n, int *list, double *buf);
   void unpack_forward_comm(int n, int first, double *buf);
   int pack_reverse_comm(int n, int first, double *buf);
