@@ -408,7 +408,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       for (int k = 0; k < len; k++) {
         const tagint tj = row[k].first;
         const int raw = row[k].second;
-        if (tj < ta.first && copy_in_c(tj) >= 0) continue;    // from tj's row
+        // (every copy of C's atoms is marked: inC by index, no search by tag)
+        if (tj < ta.first && inC(raw & NEIGHMASK)) continue;    // from tj's row
         if (cross(a, raw & NEIGHMASK) != only_cross) continue;
         neigh_.push_back(raw);
         const int pr[2] = {a, raw & NEIGHMASK};
