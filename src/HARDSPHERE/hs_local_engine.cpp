@@ -1567,7 +1567,7 @@ void HSLocalEngine::h2_velocities(bool full)
     Run &r = *run_of(key);
     if (r.a_done && !r.in_sa) sa_change(r, 1.0);
   }
-  F.reverse_columns(dsa, 7, &dsa_rows);
+  F.reverse_columns(dsa, 7, &dsa_rows, true);
   ncollective += 1.0;
   std::vector<int> &rows = scratch_wrows;
   rows.clear();
@@ -2177,7 +2177,7 @@ int HSLocalEngine::step_clusters()
       sb[p][6] += 1.0;
     }
   }
-  F.reverse_columns(sb, 7, &sb_rows);
+  F.reverse_columns(sb, 7, &sb_rows, true);
   ncollective += 1.0;
 
   // the non-members' velocities: w plus the second half's partner kicks

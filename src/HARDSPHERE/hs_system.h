@@ -38,6 +38,10 @@ class HSSystem : protected Pointers, public HSTypes {
   bool sparse_ = false;
   std::vector<char> sendmark_;    // sparse forward: rows to send (owned, and ghosts received)
   std::vector<int> marked_;
+  // reverse_columns with listed rows: the ghost rows that may be nonzero
+  std::vector<char> revmark_;
+  std::vector<int> revmarked_;
+  bool revlisted_ = false;
 
  public:
   HSSystem(class LAMMPS *, Fix *host, const std::string &style_name);
@@ -137,7 +141,10 @@ class HSSystem : protected Pointers, public HSTypes {
   static constexpr int COMM_COLUMNS = 7;
   void forward_columns(double **a, int ncol, std::vector<int> *changed = nullptr, int ncmp = 0,
                        const std::vector<int> *send = nullptr);
-  void reverse_columns(double **a, int ncol, std::vector<int> *changed = nullptr);
+  // listed (reverse): changed holds on entry every row that may be nonzero
+  // (the caller's invariant), so the ghosts not in it are not looked at
+  void reverse_columns(double **a, int ncol, std::vector<int> *changed = nullptr,
+                       bool listed = false);
 
   // earliest approaching contact within tleft of this rank's candidates
   double predict(double tleft, Event &);
