@@ -105,7 +105,7 @@ if os.path.exists(os.path.join(LOGS, "machine.txt")):
     for line in open(os.path.join(LOGS, "machine.txt")):
         k, _, v = line.strip().partition(" ")
         mach.setdefault(k, v)
-        if k == "load_end":
+        if k in ("load_end", "end"):
             mach[k] = v
 
 
@@ -132,11 +132,15 @@ def mean_se(vals):
 # ---- model error (long runs at kT = 1)
 longs = {}
 for m in ("cva", "wca", "mie", "psa"):
-    lr = get("A", m, "long")
-    if lr is not None and "pblk" in lr:
-        b = lr["pblk"]
+    lrs = [r for r in runs if r["ok"] and r["method"] == m and r["tag"] == "long" and "pblk" in r]
+    if lrs:
+        # the blocks of every state's long run together (independent runs)
+        b = np.concatenate([r["pblk"] for r in lrs])
         longs[m] = dict(P=float(b.mean()), se=float(b.std(ddof=1) / math.sqrt(len(b))), n=len(b),
-                        T=float(lr["tblk"].mean()), r=lr)
+                        T=float(np.concatenate([r["tblk"] for r in lrs]).mean()), r=lrs[0],
+                        states="+".join(r["state"] for r in lrs), Ttot=sum(r["T"] for r in lrs),
+                        ctime=sum(r["ctime"] for r in lrs),
+                        per_state={r["state"]: float(r["pblk"].mean()) for r in lrs})
 hs_long = longs.get("cva")
 P_HS = hs_long["P"] if hs_long else None
 offset = {m: (0.0, 0.0) for m in HS}
@@ -187,14 +191,44 @@ for (m, dt_s), rs in points.items():
     if diffs:
         d, dse, nd = mean_se(diffs)
         p["dP_own"] = d
-        p["dP_own_se"] = dse
+        p["dP_own_se2"] = dse          # from this point's states alone (1 dof with two)
         p["dP_own_n"] = nd
-        o, ose = offset[m]
-        p["dP_hs"] = d + o / P_HS
-        p["dP_hs_se"] = math.hypot(dse if np.isfinite(dse) else 0.0, ose / P_HS)
+        p["dP_diffs"] = {r["state"]: x for r, x in zip(ok, diffs)} if len(diffs) == len(ok) else {}
     p["P1"] = float(np.mean([r["P1"] for r in ok if "P1" in r]))
     table.append(p)
 table.sort(key=lambda p: (ORDER.index(p["method"]) if p["method"] in ORDER else 99, -p["dt"]))
+
+# Noise of the pressure differences: the run and its reference start from the same
+# state but their trajectories drift apart over the window, so the difference has a
+# random part besides the dt error, and it grows with dt. The difference of the two
+# states' values, dA - dB, is free of the dt error (the same for both): |dA - dB|/sqrt(2)
+# estimates the per-state noise at that dt with one degree of freedom. Per contender,
+# a power law sigma = c dt^b is fitted to ln(|dA - dB|/sqrt(2)) over its dt values
+# (+0.635 = -E ln|Z| for a normal Z, so that the fit estimates sigma, not the mean
+# log); the standard error of the mean over n states is sigma(dt)/sqrt(n).
+sigma_fit = {}
+for m in ORDER:
+    pts = [(p["dt"], list(p["dP_diffs"].values())) for p in table
+           if p["method"] == m and len(p.get("dP_diffs", {})) >= 2]
+    pts = [(dt, abs(v[0] - v[1]) / math.sqrt(2)) for dt, v in pts]
+    pts = [(dt, x) for dt, x in pts if x > 0]
+    if len(pts) >= 3:
+        X = np.log([q[0] for q in pts])
+        Y = np.log([q[1] for q in pts]) + 0.635
+        b, a = np.polyfit(X, Y, 1)
+        sigma_fit[m] = (a, b, len(pts))
+    elif pts:
+        sigma_fit[m] = (math.log(math.sqrt(np.mean([q[1] ** 2 for q in pts]))), 0.0, len(pts))
+for p in table:
+    if "dP_own" not in p:
+        continue
+    m = p["method"]
+    se = math.exp(sigma_fit[m][0] + sigma_fit[m][1] * math.log(p["dt"])) / math.sqrt(p["dP_own_n"]) \
+        if m in sigma_fit else float("nan")
+    p["dP_own_se"] = se
+    o, ose = offset[m]
+    p["dP_hs"] = p["dP_own"] + o / P_HS
+    p["dP_hs_se"] = math.hypot(se if np.isfinite(se) else 0.0, ose / P_HS)
 
 
 def fmt(x, se=None, d=2):
@@ -240,19 +274,30 @@ md.append(f"Start states: {', '.join(states)} (each value is the mean over them;
           f"Pressure errors are relative to the hard-sphere pressure P_hs = {P_HS:.5f}. "
           f"dE/dt: slope of a line through {NBLK_E} block means of E(t), ± its standard error "
           f"(inverse-variance mean over the states). Collisions per unit time.\n")
+if sigma_fit:
+    md.append("Noise of the pressure differences: the run and its reference drift apart over the window, "
+              "so a difference has a random part besides the dt error. The difference between the two "
+              "states' values, which the dt error cancels from, measures it: per contender a power law "
+              "sigma = c dt^b per state is fitted to |dA - dB|/sqrt(2) over its dt values (in logs, "
+              "corrected by +0.635 for the mean log of a normal's modulus); the ± of the pressure errors "
+              "is sigma(dt)/sqrt(number of states). Fitted exponents b: " +
+              ", ".join(f"{LABEL[m]} {v[1]:.2f} ({v[2]} dt)" for m, v in sigma_fit.items()) +
+              ". The values of each state are in the last column.\n")
 md.append("| contender | dt | cost CPU s / time unit | min CPU use | collisions / time unit | "
-          "max abs(E-E0) per atom | dE/dt per atom | P error vs own limit | P error vs hard spheres |")
-md.append("|---|---|---|---|---|---|---|---|---|")
+          "max abs(E-E0) per atom | dE/dt per atom | P error vs own limit | P error vs hard spheres | "
+          "P error per state |")
+md.append("|---|---|---|---|---|---|---|---|---|---|")
 for p in table:
     if p["n"] == 0:
         md.append(f"| {LABEL.get(p['method'], p['method'])} | {p['dt_s']} | FAILED: "
-                  f"{p['failed'][0].get('error', '')[:100]} | | | | | | |")
+                  f"{p['failed'][0].get('error', '')[:100]} | | | | | | | |")
         continue
     fail = f" ({len(p['failed'])} failed)" if p["failed"] else ""
     md.append(f"| {LABEL.get(p['method'], p['method'])}{fail} | {p['dt_s']} | {fmt(p['cost'], p['cost_se'])} | "
               f"{p['cpu']:.0f}% | {p['coll']:.3g} | {fmt(p['dE'], p['dE_se'])} | "
               f"{fmt(p.get('slope'), p.get('slope_se'))} | {fmt(p.get('dP_own'), p.get('dP_own_se'))} | "
-              f"{fmt(p.get('dP_hs'), p.get('dP_hs_se'))} |")
+              f"{fmt(p.get('dP_hs'), p.get('dP_hs_se'))} | "
+              f"{', '.join(f'{S} {v:+.1e}' for S, v in sorted(p.get('dP_diffs', {}).items()))} |")
 md.append("")
 
 # references
@@ -272,13 +317,14 @@ for S in states:
 md.append("")
 if longs:
     md.append("Model error: long runs with `fix langevin 1 1 1` beside the integrator (all models at "
-              "kT = 1), from state A; pressure mean over blocks of 0.5 time units, standard error from "
+              "kT = 1), from each state listed; pressure mean over blocks of 0.5 time units, standard error from "
               "the block means:\n")
-    md.append("| model | dt | T | pressure | std. error | blocks | mean temperature | CPU s |")
-    md.append("|---|---|---|---|---|---|---|---|")
+    md.append("| model | dt | states | T total | pressure | std. error | blocks | mean per state | mean temperature | CPU s |")
+    md.append("|---|---|---|---|---|---|---|---|---|---|")
     for m, L in longs.items():
-        md.append(f"| {LABEL[m]} | {L['r']['dt_s']} | {L['r']['T']} | {L['P']:.5f} | {L['se']:.5f} | {L['n']} | "
-                  f"{L['T']:.4f} | {L['r']['ctime']:.3g} |")
+        md.append(f"| {LABEL[m]} | {L['r']['dt_s']} | {L['states']} | {L['Ttot']:g} | {L['P']:.5f} | {L['se']:.5f} | "
+                  f"{L['n']} | {', '.join(f'{k} {v:.4f}' for k, v in L['per_state'].items())} | "
+                  f"{L['T']:.4f} | {L['ctime']:.3g} |")
     md.append("")
     for m in SOFT:
         o, ose = offset[m]
@@ -289,6 +335,7 @@ if longs:
 # mcva
 mc = get("A", "mcva", "short")
 cs = get("A", "cva", "short2916")
+cg = get("A", "cva", "short2916g")
 if mc:
     per = mc["ctime"] / mc["steps"]
     txt = (f"**mcva** (global engine only): {mc['steps']} steps at dt {mc['dt_s']} on {mc['atoms']} atoms "
@@ -298,6 +345,10 @@ if mc:
         pc = cs["ctime"] / cs["steps"]
         txt += (f"; cva (local) on the same data: {pc * 1000:.1f} CPU ms per step ({cs['coll'] / cs['steps']:.1f} "
                 f"collisions per step), so mcva costs {per / pc:.0f}x cva there")
+    if cs and cg:
+        txt += (f". Energy on those 2916 atoms, dt {cs['dt_s']}, T {cs['T']}: max abs(E - E0) per atom "
+                f"{cs['dE']:.2e} with cva's local engine, {cg['dE']:.2e} with its global engine "
+                f"({cg['ctime'] / cg['steps'] * 1000:.0f} CPU ms per step)")
     txt += (f". Its cost per collision is O(N) and collisions per step grow as N, so at N = 32000 a step "
             f"would cost about (32000/{mc['atoms']})^2 = {(32000 / mc['atoms']) ** 2:.0f}x more, "
             f"~{per * (32000 / mc['atoms']) ** 2 / 60:.0f} CPU min per step: it is left out of the curves.\n")
@@ -371,7 +422,7 @@ for ax, (k, desc) in zip(axs.flat, KINDS):
         ps = [p for p in table if p["method"] == m and p["n"] > 0 and np.isfinite(p.get(k, float("nan")))]
         if not ps:
             continue
-        ps.sort(key=lambda p: p["cost"])
+        ps.sort(key=lambda p: -p["dt"])
         x = np.array([p["cost"] for p in ps])
         y = np.array([abs(p[k]) for p in ps])
         se = np.array([p.get(k + "_se", float("nan")) for p in ps])

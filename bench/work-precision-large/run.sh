@@ -31,13 +31,13 @@ CELLS=${CELLS:-20}                       # N = 4 cells^3 = 32000
 NICE=${NICE:-19}
 
 if [ "$MODE" = short ]; then
-  STATES="A"; T_E=0.4; TW=0.4; T_LONG=0
+  STATES="A"; T_E=0.4; TW=0.4; T_LONG=0; LONG_STATES=""
   G_PSA="0.005 0.0025"; G_CVA="0.01 0.005"; G_PCVA="0.01 0.005"; G_VCI="0.01 0.005"
   G_WCA="0.0025 0.001"; G_MIE="0.001 0.0005"
   R_HS=0.001; R_PSA=""; R_WCA=0.0002; R_MIE=0.0002; MCVA=0
   SUFFIX=-short
 else
-  STATES=${STATES:-"A B"}; T_E=${T_E:-0.8}; TW=0.4; T_LONG=${T_LONG:-5}
+  STATES=${STATES:-"A B"}; T_E=${T_E:-0.8}; TW=0.4; T_LONG=${T_LONG:-5}; LONG_STATES=${LONG_STATES:-"A B"}
   G_PSA="0.01 0.005 0.0025 0.001"; G_CVA="0.02 0.01 0.005 0.0025"
   G_PCVA="0.02 0.01 0.005 0.0025"; G_VCI="0.01 0.005 0.0025"
   G_WCA="0.005 0.0025 0.001 0.0005"; G_MIE="0.0025 0.001 0.0005 0.00025"
@@ -122,9 +122,11 @@ if [ "$PARSE_ONLY" != 1 ]; then
 
   # ---- model error: long runs at kT = 1 (fix langevin beside each integrator)
   if [ "$T_LONG" != 0 ]; then
-    one A cva 0.01 $T_LONG long -var nvt yes -var Tw 0.5
-    one A wca 0.001 $T_LONG long -var nvt yes -var Tw 0.5
-    one A mie 0.001 $T_LONG long -var nvt yes -var Tw 0.5
+    for S in $LONG_STATES; do
+      one $S cva 0.01 $T_LONG long -var nvt yes -var Tw 0.5
+      one $S wca 0.001 $T_LONG long -var nvt yes -var Tw 0.5
+      one $S mie 0.001 $T_LONG long -var nvt yes -var Tw 0.5
+    done
   fi
 
   # ---- mcva (global engine, O(N) per collision): one step at N = 2916
@@ -135,6 +137,7 @@ if [ "$PARSE_ONLY" != 1 ]; then
     fi
     one A mcva 0.005 0.01 short -var every 1
     one A cva 0.005 0.5 short2916     # cva (local) on the same data, for comparison
+    one A cva 0.005 0.5 short2916g -var engine global   # and the global engine (energy error)
   fi
   [ -n "${STABILITY:-}" ] && bash "$HERE/stability.sh"
 
