@@ -102,7 +102,7 @@ if groups:
                 continue
             for ax in row:
                 ax.plot(r["t"], r["e"], lw=0.8, color=COLOR.get(r["method"]),
-                        label=f"{r['method']} dt {r['dt']}")
+                        label=f"{r['method']} dt {r['dt']}, {r['steps_req']:.0e} steps")
         row[0].set_title(f"{g} atoms: E(t) - E(0) per atom [kT]")
         row[1].set_yscale("symlog", linthresh=1e-6)
         row[1].set_title("same, symlog scale")
