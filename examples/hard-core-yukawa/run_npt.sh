@@ -20,7 +20,7 @@
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
-LMP=$ROOT/build/lmp
+LMP=${LMP:-$ROOT/build/lmp}    # LMP=path: another LAMMPS binary
 # P = Z rho T and dP = dZ rho T from the NVT MD of results.md
 STATES=${STATES:-"1.5:0.3:0.30825:0.0018 1.5:0.6:1.2042:0.0099 2.0:0.7:4.2252:0.0294"}
 EQUIL=${EQUIL:-5000}; NRUN=${NRUN:-30000}; EVERY=${EVERY:-2}
