@@ -1,5 +1,6 @@
 #!/usr/bin/python3
 """Summarise the NPT runs of run_npt.sh: analyze_npt.py SCRATCHDIR OUT.md "T:rho:P:dP ..."
+(environment NPT_SKIP=m: leave out the first m finished parts as equilibration)
 
 Per block (each averages every step): T, shifted U/N, V, N/V. The mean
 density with one standard error by blocking (as analyze.py). The NVT
@@ -33,8 +34,10 @@ def tau_int(x):
 
 rows = []
 for s in states:
-    T, rho, P, dP = (float(x) for x in s.split(":"))
-    tag = "rho%s_T%s" % tuple(s.split(":")[1::-1])
+    f = s.split(":")    # T:rho:P:dP[:ref]: rho the start's density (tag), ref the NVT one (default rho)
+    T, rho0, P, dP = (float(x) for x in f[:4])
+    rho = float(f[4]) if len(f) > 4 else rho0
+    tag = f"rho{f[1]}_T{f[0]}"
     parts = []    # run_npt.sh PARTS=n: the finished parts 1, 2, ... (in.hcy.npt -var part k)
     k = 1
     while os.path.exists(os.path.join(scr, f"log.npt.{tag}.{k}")):
@@ -44,13 +47,18 @@ for s in states:
             break
         parts.append((k, dict(zip(*[iter(mk.group(1).split())] * 2))))
         k += 1
+    # NPT_SKIP=m: the first m finished parts are more equilibration (the density
+    # still drifting from the fcc start's), left out of every average below
+    skip = int(os.environ.get("NPT_SKIP", "0"))
+    nskip = len(parts[:skip])
+    parts = parts[skip:]
     if parts:
         b = np.concatenate([np.loadtxt(os.path.join(scr, f"blocks.npt.{tag}.{k}.txt"), ndmin=2) for k, _ in parts])
         vs = np.concatenate([np.loadtxt(os.path.join(scr, f"vol.npt.{tag}.{k}.txt"))[:, 1] for k, _ in parts])
         run = dict(parts[-1][1])
         for key in ("steps", "attempts", "accepted"):
             run[key] = str(sum(int(float(p[key])) for _, p in parts))
-        run["steps"] += f" ({len(parts)} parts)"
+        run["steps"] += f" ({len(parts)} parts" + (f", after {nskip} left out)" if nskip else ")")
     else:
         log = open(os.path.join(scr, "log.npt." + tag)).read()
         m = re.search(r"^RESULT (.*)$", log, re.M)
@@ -70,10 +78,19 @@ for s in states:
     tv = tau_int(vs)
     se_tau = (vs.std() * math.sqrt(2 * tv / len(vs)) / vs.mean() * n.mean()) if tv else float("inf")
     se = max(blocking_se(n), se_tau)
+    # the block averages' own statement of independence: blocks of L steps
+    # (the coarsest blocking level that keeps >= 16 blocks) against tau_int
+    bstep = int(round(b[1, 0] - b[0, 0])) if len(b) > 1 else 0
+    nlev = len(n)
+    while nlev // 2 >= 16:
+        nlev //= 2
+    blen = bstep * (len(n) // nlev)
+    se_blk = blocking_se(n)
     shift = dP / dPdrho
     dev = (n.mean() - rho) / math.hypot(se, shift) if math.isfinite(se) else float("nan")
     rows.append((T, rho, P, dP, n.mean(), se, (10 * tv if tv else None), dPdrho, shift, dev, Tb.mean(), blocking_se(Tb),
-                 run["attempts"], run["accepted"], float(run["delta"]), run["steps"], len(n)))
+                 run["attempts"], run["accepted"], float(run["delta"]), run["steps"], len(n),
+                 blen, se_blk, se_tau, rho0))
 
 L = ["# Hard-core Yukawa fluid in NPT (fix hardsphere/press) at the NVT pressures\n",
      "Written by `analyze_npt.py` from the runs of `run_npt.sh` (README.md, \"NPT\"). "
@@ -83,11 +100,42 @@ L = ["# Hard-core Yukawa fluid in NPT (fix hardsphere/press) at the NVT pressure
      "error bar infinite). (dP/drho)_T from the NPT run's volume "
      "fluctuations; rho shift = dP / (dP/drho), the density error that the NVT pressure's "
      "error carries; dev = (<N/V> - rho) / sqrt(se^2 + shift^2).\n",
-     "| T* | rho* (NVT) | P | <N/V> (NPT) | <N/V>/rho - 1 | volume tau_int (steps) | (dP/drho)_T | rho shift from dP | dev | <T>/T* - 1 | volume moves (accepted) | d | steps (blocks) |",
-     "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-for (T, rho, P, dP, nm, se, tv, dpr, sh, dev, Tm, Tse, att, acc, d, st, nb) in rows:
+     "| T* | rho* (NVT) | start | P | <N/V> (NPT) | <N/V>/rho - 1 | volume tau_int (steps) | (dP/drho)_T | rho shift from dP | dev | <T>/T* - 1 | volume moves (accepted) | d | steps (blocks) |",
+     "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+for (T, rho, P, dP, nm, se, tv, dpr, sh, dev, Tm, Tse, att, acc, d, st, nb, *_, rho0) in rows:
     devs = "-" if dev != dev else f"{dev:+.1f}"
-    L.append(f"| {T} | {rho} | {P:.4f} ± {dP:.4f} | {nm:.4f} ± {se:.4f} | {100*(nm/rho-1):+.2f} ± {100*se/rho:.2f} % "
+    L.append(f"| {T} | {rho} | fcc {rho0} | {P:.4f} ± {dP:.4f} | {nm:.4f} ± {se:.4f} | {100*(nm/rho-1):+.2f} ± {100*se/rho:.2f} % "
              f"| {tv if tv is None else round(tv)} | {dpr:.2f} | ± {sh:.4f} | {devs} | {100*(Tm/T-1):+.2f} ± {100*Tse/T:.2f} % | {att} ({acc}) | {d:.4g} | {st} ({nb}) |")
+L += ["\n## Are the blocks independent?\n",
+      "The error of <N/V> two ways: blocking of the block means (Flyvbjerg-Petersen, coarsened "
+      "while >= 16 blocks remain; the largest standard error kept), and sigma sqrt(2 tau_int / n) "
+      "from the volume series (every 10 steps). Blocks are independent when they are several "
+      "tau_int long: the coarsest blocks below, in units of tau_int, say how far that holds; "
+      "when both errors agree the plateau is reached.\n",
+      "| T* | rho* | start | coarsest block (steps) | in tau_int | se (blocking) | se (tau_int) |",
+      "|---|---|---|---|---|---|---|"]
+for (T, rho, P, dP, nm, se, tv, dpr, sh, dev, Tm, Tse, att, acc, d, st, nb, blen, se_blk, se_tau, rho0) in rows:
+    ratio = f"{blen / tv:.1f}" if tv else "-"
+    L.append(f"| {T} | {rho} | fcc {rho0} | {blen} | {ratio} | {se_blk:.4f} | {se_tau:.4f} |")
+# independent runs (other starts or seeds) of one state: their means' scatter
+# is an error bar that does not depend on estimating tau_int within a run
+groups = {}
+for r in rows:
+    groups.setdefault((r[0], r[1], r[2]), []).append(r)
+if any(len(g) > 1 for g in groups.values()):
+    L += ["\n## Independent runs of one state\n",
+          "Runs from different starts are independent samples of <N/V>: their mean, and its standard "
+          "error from the scatter of the run means (n - 1 degrees of freedom; no within-run "
+          "correlation time needed). dev as above, with this error.\n",
+          "| T* | rho* (NVT) | P | runs | run means | mean | <N/V>/rho - 1 | scatter of run means (sd) | dev |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    for (T, rho, P), g in groups.items():
+        if len(g) < 2:
+            continue
+        m = np.array([r[4] for r in g])
+        se = m.std(ddof=1) / math.sqrt(len(m))
+        sh = max(r[8] for r in g)
+        L.append(f"| {T} | {rho} | {P:.4f} | {len(m)} | {', '.join(f'{x:.4f}' for x in m)} | {m.mean():.4f} ± {se:.4f} | "
+                 f"{100*(m.mean()/rho-1):+.2f} ± {100*se/rho:.2f} % | {m.std(ddof=1):.4f} | {(m.mean()-rho)/math.hypot(se, sh):+.1f} |")
 open(out, "w").write("\n".join(L) + "\n")
 print("\n".join(L))

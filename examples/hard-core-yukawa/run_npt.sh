@@ -9,7 +9,9 @@
 #
 #   PARTS=20 NRUN=30000 bash examples/hard-core-yukawa/run_npt.sh   # 20 x 30000 steps per state, in parts
 #
-# STATES: "T:rho:P:dP" (dP: the NVT pressure's standard error, from Z's).
+# STATES: "T:rho:P:dP[:ref]" (dP: the NVT pressure's standard error, from
+# Z's; rho: the fcc start's density and the tag; ref: the NVT density that
+# P belongs to, when the run starts elsewhere, default rho).
 # PAR=1 runs the states at the same time (one process each), else one after
 # the other. Resumable: a finished run (RESULT line) is not repeated.
 # PARTS=n: each state as part 0 (set-up, EQUIL steps, restart file) and
@@ -20,7 +22,7 @@
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
-LMP=$ROOT/build/lmp
+LMP=${LMP:-$ROOT/build/lmp}    # LMP=path: another LAMMPS binary
 # P = Z rho T and dP = dZ rho T from the NVT MD of results.md
 STATES=${STATES:-"1.5:0.3:0.30825:0.0018 1.5:0.6:1.2042:0.0099 2.0:0.7:4.2252:0.0294"}
 EQUIL=${EQUIL:-5000}; NRUN=${NRUN:-30000}; EVERY=${EVERY:-2}
@@ -31,7 +33,7 @@ fi
 mkdir -p "$SCR"; cd "$SCR"
 done_() { [ "${FORCE:-0}" != 1 ] && [ -f "$1" ] && grep -q "^RESULT" "$1"; }
 one() {
-  IFS=: read -r T rho P dP <<< "$1"; tag=rho${rho}_T$T
+  IFS=: read -r T rho P dP ref <<< "$1"; tag=rho${rho}_T$T
   if [ -z "${PARTS:-}" ]; then
     done_ log.npt.$tag && return
     echo "[$(date +%T)] NPT $tag P $P"
