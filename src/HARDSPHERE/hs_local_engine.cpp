@@ -522,12 +522,9 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
     return dt * vv + 0.5 * dt * dt * aa;
   };
-  pflag.resize(nall);
   pathv.resize(nall);
-  for (int k = 0; k < nall; k++) {
-    pflag[k] = cols[k][1] != 0.0;
-    if (pflag[k]) pathv[k] = path(k);
-  }
+  for (int k = 0; k < nall; k++)
+    if (cols[k][1] != 0.0) pathv[k] = path(k);
   for (int i : act0) {
     const double Di = pathv[i], r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
@@ -559,13 +556,14 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const int np = (int) cand.size() / 2;
   for (int p = 0; p < np; p++) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
-    if (!pflag[i] && !pflag[j]) continue;
+    const bool fi = cols[i][1] != 0.0, fj = cols[j][1] != 0.0;
+    if (!fi && !fj) continue;
     if (tag[i] == tag[j]) continue;
     const double sigma = F.radius_of(i) + F.radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
     const double sm = sigma * (1.0 + LINE_MARGIN);
-    const double reach = sm + (pflag[i] ? pathv[i] : path(i)) + (pflag[j] ? pathv[j] : path(j));
+    const double reach = sm + (fi ? pathv[i] : path(i)) + (fj ? pathv[j] : path(j));
     if (r2 > reach * reach) continue;
     const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
     const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
@@ -1567,7 +1565,7 @@ void HSLocalEngine::h2_velocities(bool full)
     Run &r = *run_of(key);
     if (r.a_done && !r.in_sa) sa_change(r, 1.0);
   }
-  F.reverse_columns(dsa, 7, &dsa_rows, true);
+  F.reverse_columns(dsa, 7, &dsa_rows);
   ncollective += 1.0;
   std::vector<int> &rows = scratch_wrows;
   rows.clear();
@@ -2177,7 +2175,7 @@ int HSLocalEngine::step_clusters()
       sb[p][6] += 1.0;
     }
   }
-  F.reverse_columns(sb, 7, &sb_rows, true);
+  F.reverse_columns(sb, 7, &sb_rows);
   ncollective += 1.0;
 
   // the non-members' velocities: w plus the second half's partner kicks

@@ -341,8 +341,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}, {&dsa, 7}}};
   }
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
-  std::vector<char> pflag;      // predict_all(): cols' flag and the path bound per copy
-  std::vector<double> pathv;
+  std::vector<double> pathv;    // predict_all(): the path bound of each flagged copy
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);

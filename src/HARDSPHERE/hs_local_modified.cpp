@@ -128,7 +128,7 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
     }
   }
   red_rows.insert(red_rows.end(), tcopies.begin(), tcopies.end());
-  sys->reverse_columns(red, 6, &red_rows, true);
+  sys->reverse_columns(red, 6, &red_rows);
 }
 
 /* ----------------------------------------------------------------------
@@ -187,7 +187,7 @@ void HSLocalModified::find_terms(HSStepView &eng)
     red[l][6] = 1.0;
     red_rows.push_back(l);
   }
-  sys->reverse_columns(red, 7, &red_rows, true);
+  sys->reverse_columns(red, 7, &red_rows);
 
   const int nlocal = atom->nlocal;
   if (++oepoch == 0) {

@@ -275,7 +275,7 @@ int HSSystem::pack_reverse_comm(int n, int first, double *buf)
     if (n == 0) return 0;    // (nothing is sent or received)
     int m = 1, cnt = 0;
     for (int k = 0; k < n; k++) {
-      if (revlisted_ && !revmark_[first + k]) continue;    // (zero: not listed)
+      if (revlisted_ && !sendmark_[first + k]) continue;    // (zero: not listed)
       const double *row = cols_[first + k];
       bool nz = false;
       for (int c = 0; c < ncols_ && !nz; c++) nz = row[c] != 0.0;
@@ -307,9 +307,9 @@ void HSSystem::unpack_reverse_comm(int n, int *list_, double *buf)
       if (nz && changed_) changed_->push_back(j);
       // a ghost that received (corners, several hops) sends on in an
       // earlier swap: it may be nonzero now
-      if (nz && revlisted_ && j >= atom->nlocal && !revmark_[j]) {
-        revmark_[j] = 1;
-        revmarked_.push_back(j);
+      if (nz && revlisted_ && j >= atom->nlocal && !sendmark_[j]) {
+        sendmark_[j] = 1;
+        marked_.push_back(j);
       }
     }
     return;
@@ -342,26 +342,26 @@ void HSSystem::forward_columns(double **a, int ncol, std::vector<int> *changed, 
   sparse_ = false;
 }
 
-void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed, bool listed)
+void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed)
 {
   if (ncol < 1 || ncol > COMM_COLUMNS)
     error->one(FLERR, "Fix {}: internal error: {} columns to reverse", style_name, ncol);
   cols_ = a;
   ncols_ = ncol;
   changed_ = changed;
-  revlisted_ = listed && changed;
+  revlisted_ = changed != nullptr;
   if (revlisted_) {
     const int nlocal = atom->nlocal;
-    if ((int) revmark_.size() < atom->nmax) revmark_.resize(atom->nmax, 0);
+    if ((int) sendmark_.size() < atom->nmax) sendmark_.resize(atom->nmax, 0);
     for (int i : *changed)
-      if (i >= nlocal && !revmark_[i]) {
-        revmark_[i] = 1;
-        revmarked_.push_back(i);
+      if (i >= nlocal && !sendmark_[i]) {
+        sendmark_[i] = 1;
+        marked_.push_back(i);
       }
   }
   HSCompat::reverse_comm_fix(comm, host);
-  for (int i : revmarked_) revmark_[i] = 0;
-  revmarked_.clear();
+  for (int i : marked_) sendmark_[i] = 0;
+  marked_.clear();
   revlisted_ = false;
   cols_ = nullptr;
   changed_ = nullptr;

@@ -36,11 +36,11 @@ class HSSystem : protected Pointers, public HSTypes {
   // sparse messages: {count, (position in the swap's list, row)...}, always
   // for reverse_columns, for forward_columns when given the rows to send
   bool sparse_ = false;
-  std::vector<char> sendmark_;    // sparse forward: rows to send (owned, and ghosts received)
+  // rows marked for the sparse exchange in progress: forward, the rows to
+  // send (owned, and ghosts received); reverse, the ghost rows that may be
+  // nonzero (listed by the caller, and ghosts received)
+  std::vector<char> sendmark_;
   std::vector<int> marked_;
-  // reverse_columns with listed rows: the ghost rows that may be nonzero
-  std::vector<char> revmark_;
-  std::vector<int> revmarked_;
   bool revlisted_ = false;
 
  public:
@@ -141,10 +141,9 @@ class HSSystem : protected Pointers, public HSTypes {
   static constexpr int COMM_COLUMNS = 7;
   void forward_columns(double **a, int ncol, std::vector<int> *changed = nullptr, int ncmp = 0,
                        const std::vector<int> *send = nullptr);
-  // listed (reverse): changed holds on entry every row that may be nonzero
-  // (the caller's invariant), so the ghosts not in it are not looked at
-  void reverse_columns(double **a, int ncol, std::vector<int> *changed = nullptr,
-                       bool listed = false);
+  // reverse with changed: on entry it lists every row that may be nonzero
+  // (the callers' invariant), so the ghosts not in it are not looked at
+  void reverse_columns(double **a, int ncol, std::vector<int> *changed = nullptr);
 
   // earliest approaching contact within tleft of this rank's candidates
   double predict(double tleft, Event &);
