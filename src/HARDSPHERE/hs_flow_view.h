@@ -42,6 +42,10 @@ class HSFlowView {
   // sub-step's half kick and drift, the potential at its end. The flow's
   // state is left as it was
   virtual Substep trial(const HSTypes::Impulse &imp) = 0;
+  // the contact about to get its impulse: the relative normal acceleration
+  // of its two spheres (or of the sphere towards the wall) under the
+  // flow's forces, positive if they pull them together
+  virtual double approach_accel() const = 0;
 
  protected:
   ~HSFlowView() = default;

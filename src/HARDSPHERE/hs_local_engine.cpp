@@ -1035,6 +1035,8 @@ class FlowView : public HSFlowView {
   std::function<Substep(const HSTypes::Impulse &)> trial_fn;
   const Substep &last_substep() const override { return last; }
   Substep trial(const HSTypes::Impulse &imp) override { return trial_fn(imp); }
+  double gn = 0.0;    // set by the flow before a contact's modify_impulse_in_flow
+  double approach_accel() const override { return gn; }
 };
 }    // namespace
 
@@ -1382,6 +1384,25 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     if (b.bwall >= 0) meth.collide_wall(b.bli, F.walls[b.bwall], imp);
     else meth.collide_pair(b.bli, b.blj, imp);
     t += d;
+    if (imp.apply && energies) {
+      // the contact's normal approach acceleration (HSFlowView::approach_accel)
+      auto acc_of = [&](int i, double *a) {
+        const int k = member_k(i);
+        for (int dd = 0; dd < 3; dd++) a[dd] = (fk[mi[k]][dd] + fc[k][dd]) * im[k];
+      };
+      double ai[3];
+      acc_of(b.bi, ai);
+      if (b.bwall >= 0) {
+        const Wall &W = F.walls[b.bwall];
+        view.gn = (W.side < 0) ? -ai[W.dim] : ai[W.dim];
+      } else {
+        double ao[3];
+        acc_of(b.blj, ao);
+        const double *dq = imp.dq;
+        const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
+        view.gn = -((ai[0] - ao[0]) * dq[0] + (ai[1] - ao[1]) * dq[1] + (ai[2] - ao[2]) * dq[2]) / r;
+      }
+    }
     if (imp.apply) meth.modify_impulse_in_flow(imp, view);
     if (imp.apply) F.add_impulse_virial(imp);
     F.apply_impulse(imp);

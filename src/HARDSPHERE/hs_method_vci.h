@@ -57,8 +57,8 @@ class HSMethodVCI : public HSMethod {
   double pending_target = 0.0;
 
   // counts of the contacts' solves: solved (matched E_d), no root (elastic
-  // fallback: no root or a jump of E_d^+), zero (elastic: the next sub-step
-  // has zero length), evaluations of E_d^+ (trial sub-steps); maxima: most
+  // fallback: no root, a jump of E_d^+, or a held contact), zero (elastic:
+  // the next sub-step has zero length), evaluations of E_d^+ (trial sub-steps); maxima: most
   // evaluations for one contact, largest |E_d(sub-step after) - E_d(before)|
   struct Tally {
     double n[4] = {0.0, 0.0, 0.0, 0.0};
@@ -67,7 +67,7 @@ class HSMethodVCI : public HSMethod {
   Tally all;     // the counters (global, identical on all ranks)
   Tally rank;    // local form: this rank's final flows since the last sum
   Tally flow;    // local form: the current flow's
-  int warned = 0;
+  int warned = 0, warned_held = 0;
 
   std::vector<double> xsave, vsave;
 
@@ -75,9 +75,13 @@ class HSMethodVCI : public HSMethod {
   // E_d^+(s) - E_d^- of a trial sub-step (tau2: its length); stops the run
   // if the root search does not converge, warns once if there is no root
   // (elastic impulse); counts into t
-  void solve(Impulse &imp, double slope,
-             const std::function<double(double, double &, double &)> &eval, Tally &t,
+  // eval(s, scale, tau2): F(s), its scale, the trial sub-step's length
+  using Eval = std::function<double(double, double &, double &)>;
+  void solve(Impulse &imp, double slope, const Eval &eval, bool is_held, Tally &t,
              bool all_ranks);
+  // a held contact (hs_method_vci.cpp, HELD): J2im = (2 v_n)^2, gn its
+  // normal approach acceleration
+  bool held(double J2im, double gn) const;
 
   double kinetic();
   double potential_at_new_x();

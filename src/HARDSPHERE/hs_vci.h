@@ -15,9 +15,11 @@
    when V is flat: roots near 0, the trivial one, and near 1) and may jump
    where the length of the next sub-step (the time to the next contact)
    changes with s. vci_root() finds the nontrivial root in [smin, smax]
-   (smin = 1/2 keeps the contact separating): model steps from s = 1 with
+   (smin > 1/2 keeps the contact separating): model steps from s = 1 with
    the slope a until the sign changes, then a bracketed secant (Illinois)
-   with bisection as safeguard, to round-off.
+   with bisection as safeguard, to round-off. Where no sub-step follows
+   the contact (the next one at the same instant), E_d^+ does not exist:
+   eval returns NaN there and the solve reports no root.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_VCI_H
@@ -31,7 +33,8 @@ namespace HardSphere {
 
 enum VciStatus {
   VCI_CONVERGED = 0,     // |F(s)| within the tolerance
-  VCI_NO_ROOT = 1,       // F keeps its sign from s = 1 to the end of [smin, smax]
+  VCI_NO_ROOT = 1,       // F keeps its sign from s = 1 to the end of [smin, smax],
+                         // or is undefined (NaN) at a point the search reached
   VCI_JUMP = 2,          // the bracket shrank to round-off around a jump of F
   VCI_NOT_CONVERGED = 3  // maxit evaluations without either
 };
@@ -45,7 +48,8 @@ struct VciRoot {
 };
 
 // eval(s, scale) returns F(s) and sets scale, the size of the terms whose
-// difference F is (|F| <= ftol_rel * scale counts as zero). f1 and scale1:
+// difference F is (|F| <= ftol_rel * scale counts as zero); NaN where F is
+// not defined. f1 and scale1:
 // F(1) and its scale, already evaluated by the caller. slope: dF/ds near 1
 // (> 0; |J|^2_{M^-1} / 2 for the quadratic model).
 template <class Eval>
@@ -72,6 +76,12 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     r.evals++;
     r.s = s;
     r.F = fs;
+    if (std::isnan(fs)) {
+      r.lo = r.hi = s;
+      r.s = 1.0;
+      r.status = VCI_NO_ROOT;
+      return r;
+    }
     if (std::fabs(fs) <= ftol_rel * scale) {
       r.lo = r.hi = s;
       r.status = VCI_CONVERGED;
@@ -125,6 +135,14 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     double scale;
     const double fc = eval(c, scale);
     r.evals++;
+    if (std::isnan(fc)) {
+      r.s = 1.0;
+      r.F = fc;
+      r.lo = lo;
+      r.hi = hi;
+      r.status = VCI_NO_ROOT;
+      return r;
+    }
     if (std::fabs(fc) <= ftol_rel * scale) {
       r.s = c;
       r.F = fc;

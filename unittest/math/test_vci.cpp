@@ -122,6 +122,26 @@ TEST(VciRoot, JumpAcrossZeroIsNotARoot)
   EXPECT_LT(calls, 200);
 }
 
+TEST(VciRoot, UndefinedValueIsNoRoot)
+{
+  // F undefined (NaN: no sub-step after the contact) below s = 0.8; the
+  // root of the model, 0.5 + sqrt(0.25 - 0.2) = 0.72, lies there: no root
+  // (not a root at the end of the defined range), whether the search meets
+  // the NaN while bracketing or while refining
+  for (double cut : {0.8, 0.73}) {
+    auto F = [&](double s, double &scale) {
+      scale = 1.0;
+      return s < cut ? std::numeric_limits<double>::quiet_NaN() : (s * s - s) + 0.2;
+    };
+    double sc;
+    const double f1 = F(1.0, sc);
+    const VciRoot r = vci_root(F, f1, sc, 1.0, 0.5, 2.0, 100);
+    EXPECT_EQ(r.status, VCI_NO_ROOT) << cut;
+    EXPECT_EQ(r.s, 1.0) << cut;
+    EXPECT_TRUE(std::isnan(r.F)) << cut;
+  }
+}
+
 TEST(VciRoot, IterationLimitIsReported)
 {
   Quadratic q{1.0, 1e-2};
