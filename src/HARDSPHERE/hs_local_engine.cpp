@@ -1390,18 +1390,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         const int k = member_k(i);
         for (int dd = 0; dd < 3; dd++) a[dd] = (fk[mi[k]][dd] + fc[k][dd]) * im[k];
       };
-      double ai[3];
+      double ai[3], ao[3] = {0.0, 0.0, 0.0};
       acc_of(b.bi, ai);
-      if (b.bwall >= 0) {
-        const Wall &W = F.walls[b.bwall];
-        view.gn = (W.side < 0) ? -ai[W.dim] : ai[W.dim];
-      } else {
-        double ao[3];
-        acc_of(b.blj, ao);
-        const double *dq = imp.dq;
-        const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-        view.gn = -((ai[0] - ao[0]) * dq[0] + (ai[1] - ao[1]) * dq[1] + (ai[2] - ao[2]) * dq[2]) / r;
-      }
+      if (b.bwall < 0) acc_of(b.blj, ao);
+      view.gn = F.approach_accel(imp, ai, ao);
     }
     if (imp.apply) meth.modify_impulse_in_flow(imp, view);
     if (imp.apply) F.add_impulse_virial(imp);

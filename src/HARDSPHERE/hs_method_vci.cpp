@@ -237,17 +237,9 @@ void HSMethodVCI::modify_impulse(Impulse &imp)
   double gloc = 0.0, gn = 0.0;
   const int i = atom->map(imp.itag);
   if (i >= 0 && i < atom->nlocal) {
-    double **a = S.acc;
-    if (imp.type == WALL_EVENT) {
-      const Wall &W = S.walls[imp.wall];
-      gloc = (W.side < 0) ? -a[i][W.dim] : a[i][W.dim];
-    } else {
-      const int j = atom->map(imp.jtag);    // a ghost at least: in contact
-      const double *dq = imp.dq;
-      const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
-      gloc = -((a[i][0] - a[j][0]) * dq[0] + (a[i][1] - a[j][1]) * dq[1] +
-               (a[i][2] - a[j][2]) * dq[2]) / r;
-    }
+    // j: a ghost at least, being in contact
+    const int j = (imp.type == WALL_EVENT) ? i : atom->map(imp.jtag);
+    gloc = S.approach_accel(imp, S.acc[i], S.acc[j]);
   }
   MPI_Allreduce(&gloc, &gn, 1, MPI_DOUBLE, MPI_SUM, world);
 

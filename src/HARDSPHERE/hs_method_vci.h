@@ -58,8 +58,9 @@ class HSMethodVCI : public HSMethod {
 
   // counts of the contacts' solves: solved (matched E_d), no root (elastic
   // fallback: no root, a jump of E_d^+, or a held contact), zero (elastic:
-  // the next sub-step has zero length), evaluations of E_d^+ (trial sub-steps); maxima: most
-  // evaluations for one contact, largest |E_d(sub-step after) - E_d(before)|
+  // the next sub-step has zero length), evaluations of E_d^+ (trial
+  // sub-steps); maxima: most evaluations for one contact, largest
+  // |E_d(sub-step after) - E_d(before)|
   struct Tally {
     double n[4] = {0.0, 0.0, 0.0, 0.0};
     double mx[2] = {0.0, 0.0};

@@ -65,6 +65,17 @@ std::string HSSystem::contact_name(const Impulse &imp) const
 
 // impulse virial, averaged over the step: r (x) J / (dt ftm2v); tallied by
 // the one rank that built the impulse
+double HSSystem::approach_accel(const Impulse &imp, const double *ai, const double *aj) const
+{
+  if (imp.type == WALL_EVENT) {
+    const Wall &W = walls[imp.wall];
+    return (W.side < 0) ? -ai[W.dim] : ai[W.dim];
+  }
+  const double *dq = imp.dq;
+  const double r = sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
+  return -((ai[0] - aj[0]) * dq[0] + (ai[1] - aj[1]) * dq[1] + (ai[2] - aj[2]) * dq[2]) / r;
+}
+
 void HSSystem::add_impulse_virial(const Impulse &imp)
 {
   const double s = 1.0 / (dtv * force->ftm2v);

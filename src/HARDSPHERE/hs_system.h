@@ -172,6 +172,10 @@ class HSSystem : protected Pointers, public HSTypes {
   // an impulse on every copy of its atoms on this rank
   void apply_impulse(const Impulse &);
   void add_impulse_virial(const Impulse &);
+  // the contact's relative normal acceleration, positive if it pulls the
+  // two spheres together (or the sphere onto the wall): ai, aj the
+  // accelerations of imp's spheres (aj unused for a wall)
+  double approach_accel(const Impulse &imp, const double *ai, const double *aj) const;
 
   // errors
   std::string contact_name(const Impulse &) const;

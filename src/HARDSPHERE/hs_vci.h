@@ -15,7 +15,7 @@
    when V is flat: roots near 0, the trivial one, and near 1) and may jump
    where the length of the next sub-step (the time to the next contact)
    changes with s. vci_root() finds the nontrivial root in [smin, smax]
-   (smin > 1/2 keeps the contact separating): model steps from s = 1 with
+   (smin = 1/2 keeps the contact separating): model steps from s = 1 with
    the slope a until the sign changes, then a bracketed secant (Illinois)
    with bisection as safeguard, to round-off. Where no sub-step follows
    the contact (the next one at the same instant), E_d^+ does not exist:

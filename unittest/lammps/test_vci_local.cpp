@@ -159,6 +159,11 @@ TEST(VCILocal, PairHeldAtContactKeepsBouncing)
   const double g = -2.0 * 24.0 * eps * (2.0 * s6 * s6 - s6);
   const double exact = nsteps * dt * g / (2.0 * vn);
   const double kn = 0.5 * 0.5 * vn * vn;    // mu vn^2 / 2, mu = 1/2
+  auto num = [](double x) {
+    char b[32];
+    std::snprintf(b, sizeof(b), "%.17g", x);
+    return std::string(b);
+  };
   for (const char *sub : {"local", "global"}) {
     HSLammps L;
     L.lines(std::string(R"(
@@ -171,18 +176,17 @@ create_atoms 1 single 0 0 0 units box
 create_atoms 1 single 1.0 0 0 units box
 mass 1 1.0
 pair_style lj/cut 2.5
-pair_coeff 1 1 0.01 0.8
+pair_coeff 1 1 )") + num(eps) + " " + num(sig) + R"(
 velocity all set 0 0 0 units box
 group a id 1
-velocity a set 1e-4 0 0 units box
-timestep 0.005
+velocity a set )" + num(vn) + R"( 0 0 units box
+timestep )" + num(dt) + R"(
 thermo_style custom step etotal
 thermo_modify norm no
-fix hs all hardsphere/vci diameter 1.0 substep )") + sub + R"(
+fix hs all hardsphere/vci diameter 1.0 substep )" + sub + R"(
 run 0
 variable e0 equal $(etotal:%.17g)
-run 2000
-)");
+run )" + std::to_string(nsteps) + "\n");
     const double ncoll = L.fix_vector("hs", 0);
     const double dE = L.thermo("etotal") - L.variable("e0");
     std::printf("%s: %g contacts (exact bounce %.1f), E - E0 = %.3e (normal kinetic energy %.3e)\n",
