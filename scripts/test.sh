@@ -17,8 +17,8 @@ bash scripts/setup.sh
 t_setup=$(( $(date +%s) - t0 ))
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 
-# The statistical thermostat runs of mcva (global engine: ~0.1-0.25 s per
-# step on 108 atoms; about a third of the suite's time) check the method's
+# The statistical thermostat runs of mcva (global engine: ~60-80 ms per
+# step on 108 atoms; ~400 of the ~1800 CPU s of build/'s suite) check the method's
 # kernels, which are the same code against either LAMMPS; the LAMMPS side of
 # thermostats (held forces, tallies) is checked against every version by the
 # psa/cva/pcva/vci thermostat cases and the Rule/DeterministicFixes tests.

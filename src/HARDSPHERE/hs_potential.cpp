@@ -68,6 +68,10 @@ struct HSPotential::Impl : protected Pointers {
   int pair_single = 0, bond_single = 0;
   int pair_lj = 0;          // lj/cut: phi'', phi''', phi'''' analytic
   double **lj_eps = nullptr, **lj_sig = nullptr;
+  // lj/smooth/linear (no extract()): phi' = -A r^-13 + B r^-7 + C per type
+  // pair, fitted to single() at init and verified over [lo, cutoff) (fit_lj())
+  int pair_ljfit = 0;
+  std::vector<double> ljA, ljB, ljlo;    // [itype * (ntypes + 1) + jtype]; lo < 0: not fitted
   int bond_harm = 0;        // harmonic: phi'' = 2K, phi''' = phi'''' = 0
   std::vector<double> bond_k;
   NeighList *list = nullptr;
@@ -92,6 +96,7 @@ struct HSPotential::Impl : protected Pointers {
   double **wl = nullptr, **al = nullptr;
   double **fb[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
   double **sa = nullptr, **sb = nullptr;
+  double **s3 = nullptr;    // V'''[w,w] of the single path, ghosts included
   Tally tal[6];
 
   void destroy()
@@ -104,6 +109,7 @@ struct HSPotential::Impl : protected Pointers {
     for (auto &b : fb) memory->destroy(b);
     memory->destroy(sa);
     memory->destroy(sb);
+    memory->destroy(s3);
     nmax = 0;
   }
 
@@ -120,6 +126,7 @@ struct HSPotential::Impl : protected Pointers {
     for (auto &b : fb) memory->create(b, nmax, 3, "hs_potential:fb");
     memory->create(sa, nmax, 3, "hs_potential:sa");
     memory->create(sb, nmax, 3, "hs_potential:sb");
+    memory->create(s3, nmax, 3, "hs_potential:s3");
   }
 
   bool molecular() const { return atom->molecular != Atom::ATOMIC; }
@@ -448,6 +455,18 @@ struct HSPotential::Impl : protected Pointers {
       if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * rinv * rinv * rinv * rinv;
       return;
     }
+    if (pair_ljfit) {
+      const int k = itype * (atom->ntypes + 1) + jtype;
+      if (ljlo[k] >= 0.0 && r >= ljlo[k]) {
+        // the linear term's derivatives vanish: LJ's, as for lj/cut above
+        const double rinv = 1.0 / r, r6 = rinv * rinv * rinv * rinv * rinv * rinv;
+        const double a = fl * ljA[k] * r6 * r6 * rinv, b = fl * ljB[k] * r6 * rinv;
+        phi[2] = (13.0 * a - 7.0 * b) * rinv;
+        if (order >= 3) phi[3] = (-182.0 * a + 56.0 * b) * rinv * rinv;
+        if (order >= 4) phi[4] = (2730.0 * a - 504.0 * b) * rinv * rinv * rinv;
+        return;
+      }
+    }
     auto dphi = [&](double rr) {
       double ff = 0.0;
       pair->single(i, j, itype, jtype, rr * rr, fc, fl, ff);
@@ -456,6 +475,53 @@ struct HSPotential::Impl : protected Pointers {
     // not at or beyond the cutoff, where a style may have no values (table)
     HardSphere::radial_derivs_fd(dphi, r, phi[1], r / 16.0, order, phi,
                                  sqrt(pair->cutsq[itype][jtype]));
+  }
+
+  // lj/smooth/linear: A, B, C of phi'(r) = -A r^-13 + B r^-7 + C (A = 48 eps
+  // sigma^12, B = 24 eps sigma^6, C its force shift) from single() at three
+  // radii, kept only where phi' matches at 64 radii in [0.3, 1) x cutoff to
+  // 1e-9 of its terms' size; elsewhere the differences in r are used.
+  // single() of this style does not use the atom indices.
+  void fit_lj()
+  {
+    Pair *pair = force->pair;
+    const int nt = atom->ntypes;
+    ljA.assign((nt + 1) * (nt + 1), 0.0);
+    ljB = ljA;
+    ljlo.assign((nt + 1) * (nt + 1), -1.0);
+    auto g = [&](int it, int jt, double r) {
+      double ff = 0.0;
+      pair->single(0, 0, it, jt, r * r, 1.0, 1.0, ff);
+      return -ff * r;
+    };
+    int nfit = 0;
+    for (int it = 1; it <= nt; it++)
+      for (int jt = 1; jt <= nt; jt++) {
+        const double rc = sqrt(pair->cutsq[it][jt]);
+        if (!(rc > 0.0)) continue;
+        const double r1 = 0.3 * rc, r2 = 0.55 * rc, r3 = 0.8 * rc;
+        // differences with r3 remove C: a 2 x 2 system in A, B (Cramer)
+        const double u1 = pow(r1, -13) - pow(r3, -13), w1 = pow(r1, -7) - pow(r3, -7);
+        const double u2 = pow(r2, -13) - pow(r3, -13), w2 = pow(r2, -7) - pow(r3, -7);
+        const double d1 = g(it, jt, r1) - g(it, jt, r3), d2 = g(it, jt, r2) - g(it, jt, r3);
+        const double det = -u1 * w2 + u2 * w1;
+        if (det == 0.0) continue;
+        const double A = (d1 * w2 - d2 * w1) / det, B = (-u1 * d2 + u2 * d1) / det;
+        const double C = g(it, jt, r3) + A * pow(r3, -13) - B * pow(r3, -7);
+        bool ok = std::isfinite(A) && std::isfinite(B) && std::isfinite(C);
+        for (int k = 0; ok && k < 64; k++) {
+          const double r = rc * (0.3 + 0.7 * k / 64.0);
+          const double a = A * pow(r, -13), b = B * pow(r, -7);
+          ok = fabs(-a + b + C - g(it, jt, r)) <= 1e-9 * (fabs(a) + fabs(b) + fabs(C));
+        }
+        if (!ok) continue;
+        const int k = it * (nt + 1) + jt;
+        ljA[k] = A;
+        ljB[k] = B;
+        ljlo[k] = 0.3 * rc;
+        nfit++;
+      }
+    pair_ljfit = nfit > 0;
   }
 
   void bond_phi(int type, int i, int j, double rsq, int order, double phi[5])
@@ -581,32 +647,45 @@ struct HSPotential::Impl : protected Pointers {
 
   // SINGLE part of hw (+=) and tw (+=, if tw); wl holds w with ghosts.
   // Fields are accumulated in atom->f (ghosts summed by reverse_comm)
+  // one pass over the terms (each term's phi^(k) once), V''w summed in f
+  // and V'''[w,w] in s3; ghost shares go to their owners through f, one
+  // reverse communication each
   void single_hess_third(double **w, double **hw, double **tw)
   {
-    const int nlocal = atom->nlocal;
-    for (int pass = 0; pass < (tw ? 2 : 1); pass++) {
+    const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+    zero_f_all();
+    double **f = atom->f;
+    if (tw) memset(&s3[0][0], 0, 3 * sizeof(double) * nall);
+    for_each_radial(tw ? 3 : 2,
+                    [&](int i, int j, const double *del, const double *phi, double, bool ui,
+                        bool uj) {
+                      const double wij[3] = {w[i][0] - w[j][0], w[i][1] - w[j][1],
+                                             w[i][2] - w[j][2]};
+                      double out[3];
+                      HardSphere::radial_hess_vec(del, phi[1], phi[2], wij, out);
+                      for (int k = 0; k < 3; k++) {
+                        if (ui) f[i][k] += out[k];
+                        if (uj) f[j][k] -= out[k];
+                      }
+                      if (!tw) return;
+                      HardSphere::radial_third_ww(del, phi[1], phi[2], phi[3], wij, out);
+                      for (int k = 0; k < 3; k++) {
+                        if (ui) s3[i][k] += out[k];
+                        if (uj) s3[j][k] -= out[k];
+                      }
+                    });
+    if (force->newton) comm->reverse_comm();
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 3; k++) hw[i][k] += f[i][k];
+    if (!tw) return;
+    if (force->newton) {
       zero_f_all();
-      double **f = atom->f;
-      for_each_radial(pass ? 3 : 2,
-                      [&](int i, int j, const double *del, const double *phi, double,
-                          bool ui, bool uj) {
-                        const double wij[3] = {w[i][0] - w[j][0], w[i][1] - w[j][1],
-                                               w[i][2] - w[j][2]};
-                        double out[3];
-                        if (pass == 0)
-                          HardSphere::radial_hess_vec(del, phi[1], phi[2], wij, out);
-                        else
-                          HardSphere::radial_third_ww(del, phi[1], phi[2], phi[3], wij, out);
-                        for (int k = 0; k < 3; k++) {
-                          if (ui) f[i][k] += out[k];
-                          if (uj) f[j][k] -= out[k];
-                        }
-                      });
-      if (force->newton) comm->reverse_comm();
-      double **dst = pass ? tw : hw;
-      for (int i = 0; i < nlocal; i++)
-        for (int k = 0; k < 3; k++) dst[i][k] += f[i][k];
-    }
+      memcpy(&f[0][0], &s3[0][0], 3 * sizeof(double) * nall);
+      comm->reverse_comm();
+    } else
+      f = s3;
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 3; k++) tw[i][k] += f[i][k];
   }
 
   // SINGLE part of sum over terms of a scalar g(del, phi, a_ij, b_ij)
@@ -650,7 +729,7 @@ void HSPotential::init(Mode mode)
 {
   Impl &m = *impl;
   m.mode = mode;
-  m.pair_single = m.bond_single = m.pair_lj = m.bond_harm = 0;
+  m.pair_single = m.bond_single = m.pair_lj = m.pair_ljfit = m.bond_harm = 0;
   m.fd_pair = m.fd_bond = m.fd_angle = m.fd_dihedral = m.fd_improper = m.fd_kspace = 0;
   m.efix.clear();
   const bool molecular = atom->molecular != Atom::ATOMIC;
@@ -689,7 +768,8 @@ void HSPotential::init(Mode mode)
         m.lj_eps = (double **) pair->extract("epsilon", dim);
         m.lj_sig = (double **) pair->extract("sigma", dim);
         m.pair_lj = (m.lj_eps && m.lj_sig) ? 1 : 0;
-      }
+      } else if (ps == "lj/smooth/linear" || ps == "lj/smooth/linear/omp")
+        m.fit_lj();
     } else if (mode == SINGLE)
       no_single(std::string("pair style ") + force->pair_style);
     else
@@ -818,7 +898,7 @@ std::string HSPotential::describe() const
   const bool molecular = atom->molecular != Atom::ATOMIC;
   if (force->pair && force->pair->compute_flag)
     add(std::string("pair ") + force->pair_style + ": " +
-        (m.pair_single ? (m.pair_lj ? "single (analytic)" : "single (differences in r)")
+        (m.pair_single ? (m.pair_lj ? "single (analytic)" : m.pair_ljfit ? "single (analytic, LJ form fitted)" : "single (differences in r)")
                        : "fdiff"));
   if (molecular && force->bond)
     add(std::string("bond ") + force->bond_style + ": " +

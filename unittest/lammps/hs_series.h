@@ -81,6 +81,8 @@ struct Molecule {
   double box[3] = {0, 0, 0};    // periodic box lengths (0: not periodic)
   // lj/cut
   double eps = 1.0, sigma = 1.0, rc = 3.0;
+  // lj/smooth/linear: LJ - LJ(rc) - (r - rc) LJ'(rc) (force and energy zero at rc)
+  bool smooth_linear = false;
   double special[4] = {1.0, 0.0, 0.0, 0.0};    // factor by bond distance 0(none),1,2,3
   std::vector<std::vector<int>> hops;    // hops[i][j] = bonds between i and j (0: > 3)
   // harmonic bonds K (r - r0)^2
@@ -142,6 +144,12 @@ struct Molecule {
         if (rsq.c[0] >= rc * rc) continue;
         S r6inv = inv(rsq * rsq * rsq);
         v = v + (4.0 * eps * f) * (s6 * s6 * (r6inv * r6inv) - s6 * r6inv);
+        if (smooth_linear) {
+          const double c6 = s6 / std::pow(rc, 6.0);
+          const double vc = 4.0 * eps * (c6 * c6 - c6);
+          const double dvc = 4.0 * eps * (-12.0 * c6 * c6 + 6.0 * c6) / rc;
+          v = v - f * (cst(vc) + dvc * (sqrt(rsq) - cst(rc)));
+        }
       }
     for (auto &b : bonds) {
       auto d = dist(b[0], b[1], u);

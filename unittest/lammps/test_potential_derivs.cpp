@@ -260,6 +260,15 @@ std::string with_compute(bool angles, const std::string &args)
   s.replace(s.find("thermo_style custom step pe"), 27, "thermo_style custom step pe c_hm[1] c_hm[2] c_hm[3]");
   return s;
 }
+
+// path single with another pair style (and coefficients) for lj/cut's
+std::string with_pair(const std::string &pair_lines)
+{
+  std::string s = with_compute(false, "path single");
+  const std::string lj = "pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0";
+  s.replace(s.find(lj), lj.size(), pair_lines);
+  return s;
+}
 }    // namespace
 
 // pair lj/cut (analytic phi'', phi''', phi'''') and bond harmonic
@@ -289,15 +298,28 @@ TEST(PotentialDerivs, SingleGroupSubset)
   check_all(h, *pot, reference(false), {1, 3, 5}, Tol{1e-12, 1e-12, 1e-12}, "single group");
 }
 
+// lj/smooth/linear, which has no extract(): its LJ form fitted to single()
+// at init gives analytic phi'', phi''', phi'''' (the differences in r of
+// the tolerances below miss the 1e-12 of this check by ~10x to 10^5 x)
+TEST(PotentialDerivs, SingleLJSmoothLinearFitted)
+{
+  HSLammps h;
+  h.lines(with_pair("pair_style lj/smooth/linear 3.0\npair_coeff 1 1 1.0 1.0"));
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  EXPECT_EQ(pot->describe(), "pair lj/smooth/linear: single (analytic, LJ form fitted); bond "
+                             "harmonic: single (analytic)");
+  Molecule m = reference(false);
+  m.smooth_linear = true;
+  check_all(h, *pot, m, {1, 2, 3, 4, 5}, Tol{1e-12, 1e-12, 1e-12}, "single lj/smooth/linear");
+}
+
 // r-differences of single(): the same LJ potential as lj/expand with
 // shift 0 (no analytic derivatives for that style)
 TEST(PotentialDerivs, SingleByRadialDifferences)
 {
   HSLammps h;
-  std::string s = with_compute(false, "path single");
-  s.replace(s.find("pair_style lj/cut 3.0\npair_coeff 1 1 1.0 1.0"), 43,
-            "pair_style lj/expand 3.0\npair_coeff 1 1 1.0 1.0 0.0");
-  h.lines(s);
+  h.lines(with_pair("pair_style lj/expand 3.0\npair_coeff 1 1 1.0 1.0 0.0"));
   HSPotential *pot = compute_potential(h, "hm");
   ASSERT_NE(pot, nullptr);
   EXPECT_EQ(pot->describe(),

@@ -212,15 +212,16 @@ TEST_P(Thermostat, TemperatureAndMaxwellian)
 {
   const std::string method = std::get<0>(GetParam()), thermo = std::get<1>(GetParam());
   // temp/berendsen and temp/rescale hold T close to its target: their error
-  // bar is ~0.03 % after 2000 steps. mcva costs ~120-240 ms per step here
-  // (Newton stage solves on the global engine; ~300 ms with the fixed point):
+  // bar is ~0.03 % after 2000 steps. mcva costs ~60-80 ms per step here
+  // (Newton stage solves on the global engine; ~120-240 ms before
+  // lj/smooth/linear's derivatives were analytic):
   // berendsen and rescale get the 1 % check of the other methods over 1000
   // steps (error bar ~0.05 %, blocks of 50 steps = 2.5 damp); the three langevin
   // cases 800 steps each, checked to three error bars (2-4 %), which tells
   // the old behaviour (a third of the target for cva, a stop on step 10 for
-  // mcva) from the right one. Their 1 % check would need the 18000 steps of
-  // the other methods, ~25 CPU minutes each (a 12000-step run of 32 atoms
-  // with fix langevin: examples/thermostats/README.md).
+  // mcva) from the right one. Their 1 % check needs the 18000 steps of the
+  // other methods, ~20 CPU minutes each: examples/thermostats runs it
+  // (rows "mcva (108 atoms, damp 0.1)" of its results.md).
   const bool rescaling = thermo == "berendsen" || thermo == "rescale";
   const bool mcva = method == "mcva";
   const bool short_run = mcva && !rescaling;
