@@ -26,6 +26,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import wplcommon as W
+from wplcommon import NBLK_E, fmt, mean_se, rows
+
 LOGS, OUT_MD, OUT_PNG = sys.argv[1], sys.argv[2], sys.argv[3]
 HS = ["psa", "cva", "pcva", "vci"]
 SOFT = ["kg", "mie"]
@@ -34,59 +38,13 @@ COLOR = {"psa": "tab:orange", "cva": "tab:blue", "pcva": "tab:green", "vci": "ta
          "kg": "tab:red", "mie": "black"}
 LABEL = {m: m for m in HS}
 LABEL.update({"kg": "nve + WCA (Kremer-Grest)", "mie": "nve + Mie(50,49)"})
-NBLK_E = 10
-
-
-def rows(path):
-    if not os.path.exists(path):
-        return np.zeros((0, 0))
-    r = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
-    return np.array([[float(x) for x in l] for l in r]) if r else np.zeros((0, 0))
 
 
 def read_log(path):
-    txt = open(path, errors="replace").read()
-    name = os.path.basename(path)[4:]                # state.method.dt.tag
-    f = name.split(".")
-    S, m, tag = f[0], f[1], f[-1]
-    dt_s = ".".join(f[2:-1])
-    r = dict(state=S, method=m, tag=tag, dt=float(dt_s), dt_s=dt_s, name=name, ok=False)
-    loops = re.findall(r"^Loop time of (\S+) on (\d+) procs for (\d+) steps", txt, re.M)
-    cpu = re.findall(r"^(\S+)% CPU use", txt, re.M)
-    if loops:
-        r["loop"] = float(loops[-1][0])
-        r["cpu"] = float(cpu[-1]) if cpu else 100.0
-        r["ctime"] = r["loop"] * r["cpu"] / 100.0
-    b = re.search(r"^BENCH (.*)$", txt, re.M)
-    if not b:
-        e = re.findall(r"^ERROR.*$", txt, re.M)
-        r["error"] = e[-1] if e else "no BENCH line (killed or still running)"
+    r = W.read_log(path, LOGS)
+    if "bench" not in r:
         return r
-    d = dict(zip(b.group(1).split()[0::2], b.group(1).split()[1::2]))
-    r.update(ok=True, T=float(d["T"]), steps=int(d["steps"]), atoms=int(d["atoms"]),
-             dE_lmp=float(d["dEmax"]), coll=float(d["collisions"]), fe=float(d["force_evals"]))
-    r["cost"] = r["ctime"] / r["T"]                  # CPU s per unit time
-    E = rows(os.path.join(LOGS, "e." + name))
-    if E.size:
-        t = E[:, 0] * r["dt"]
-        e = E[:, 1]
-        r["dE"] = float(np.max(np.abs(e - e[0])))
-        if len(e) >= 2 * NBLK_E:
-            n = len(e) // NBLK_E
-            tb = t[:n * NBLK_E].reshape(NBLK_E, n).mean(1)
-            eb = e[:n * NBLK_E].reshape(NBLK_E, n).mean(1)
-            A = np.vstack([tb, np.ones_like(tb)]).T
-            coef, *_ = np.linalg.lstsq(A, eb, rcond=None)
-            resid = eb - A @ coef
-            s2 = resid @ resid / (NBLK_E - 2)
-            r["slope"] = float(coef[0])
-            r["slope_se"] = float(math.sqrt(s2 / np.sum((tb - tb.mean()) ** 2)))
-    else:
-        r["dE"] = r["dE_lmp"]
-    if not np.isfinite(r["dE"]):
-        r["ok"] = False
-        r["error"] = "energy not finite"
-    R = rows(os.path.join(LOGS, "r." + name))
+    R = rows(os.path.join(LOGS, "r." + r["name"]))
     if R.size:
         r["R1"] = float(R[0, 1])          # Rg^2, mean over the first window
         r["rblk"] = R[:, 1]
@@ -96,33 +54,11 @@ def read_log(path):
 
 
 runs = [read_log(p) for p in sorted(glob.glob(os.path.join(LOGS, "log.*")))]
-mach = {}
-if os.path.exists(os.path.join(LOGS, "machine.txt")):
-    for line in open(os.path.join(LOGS, "machine.txt")):
-        k, _, v = line.strip().partition(" ")
-        mach.setdefault(k, v)
-        if k in ("load_end", "end"):
-            mach[k] = v
-
-
-def get(S, m, tag, dt=None):
-    for r in runs:
-        if r["ok"] and r["state"] == S and r["method"] == m and r["tag"] == tag and \
-                (dt is None or abs(r["dt"] - dt) < 1e-12):
-            return r
-    return None
-
+mach = W.read_machine(LOGS)
+get = W.finder(runs)
 
 states = sorted({r["state"] for r in runs if r["tag"] == "run"})
 
-
-def mean_se(vals):
-    v = [x for x in vals if x is not None and np.isfinite(x)]
-    if not v:
-        return float("nan"), float("nan"), 0
-    if len(v) == 1:
-        return v[0], float("nan"), 1
-    return float(np.mean(v)), float(np.std(v, ddof=1) / math.sqrt(len(v))), len(v)
 
 
 # ---- model error (langevin runs at kT = 1): Rg^2 over blocks of 0.5, the first block dropped
@@ -164,30 +100,8 @@ R_HS = hs_long["R"] if hs_long else (np.mean([v for (S, m), v in R_REF.items() i
                                     if any(m == "cva" for S, m in R_REF) else float("nan"))
 
 # ---- per (method, dt): combine the states
-points = {}
-for r in runs:
-    if r["tag"] != "run":
-        continue
-    points.setdefault((r["method"], r["dt_s"]), []).append(r)
-
-table = []
-for (m, dt_s), rs in points.items():
-    ok = [r for r in rs if r["ok"]]
-    p = dict(method=m, dt=float(dt_s), dt_s=dt_s, n=len(ok), failed=[r for r in rs if not r["ok"]])
-    if not ok:
-        table.append(p)
-        continue
-    p["cost"], p["cost_se"], _ = mean_se([r["cost"] for r in ok])
-    p["cost_by_state"] = {r["state"]: r["cost"] for r in ok}
-    p["cpu"] = min(r["cpu"] for r in ok)
-    p["coll"] = float(np.mean([r["coll"] / r["T"] for r in ok]))
-    p["dE"], p["dE_se"], _ = mean_se([r["dE"] for r in ok])
-    sl = [(r["slope"], r["slope_se"]) for r in ok if "slope" in r]
-    if sl:
-        w = np.array([1 / s[1] ** 2 if s[1] > 0 else 1.0 for s in sl])
-        v = np.array([s[0] for s in sl])
-        p["slope"] = float((w * v).sum() / w.sum())
-        p["slope_se"] = float(1 / math.sqrt(w.sum()))
+def rg_errors(p, ok):
+    m = p["method"]
     diffs = {}
     for r in ok:
         ref = R_REF.get((r["state"], ownref_m[m]))
@@ -199,52 +113,23 @@ for (m, dt_s), rs in points.items():
         p["dR_own_n"] = nd
         p["dR_diffs"] = diffs
     p["R1"] = float(np.mean([r["R1"] for r in ok if "R1" in r]))
-    table.append(p)
-table.sort(key=lambda p: (ORDER.index(p["method"]) if p["method"] in ORDER else 99, -p["dt"]))
 
-# noise of the Rg^2 differences (see parse.py: the A - B difference is free of the dt error)
-sigma_fit = {}
-for m in ORDER:
-    pts = [(p["dt"], list(p["dR_diffs"].values())) for p in table
-           if p["method"] == m and len(p.get("dR_diffs", {})) >= 2]
-    pts = [(dt, abs(v[0] - v[1]) / math.sqrt(2)) for dt, v in pts]
-    pts = [(dt, x) for dt, x in pts if x > 0]
-    if len(pts) >= 3:
-        X = np.log([q[0] for q in pts])
-        Y = np.log([q[1] for q in pts]) + 0.635
-        b, a = np.polyfit(X, Y, 1)
-        sigma_fit[m] = (a, b, len(pts))
-    elif pts:
-        sigma_fit[m] = (math.log(math.sqrt(np.mean([q[1] ** 2 for q in pts]))), 0.0, len(pts))
+
+table = W.combine(runs, ORDER, rg_errors)
+
+# the noise of the Rg^2 differences (wplcommon.noise_fit)
+sigma_fit = W.noise_fit(table, ORDER, "dR_diffs")
 for p in table:
     if "dR_own" not in p:
         continue
     m = p["method"]
-    se = math.exp(sigma_fit[m][0] + sigma_fit[m][1] * math.log(p["dt"])) / math.sqrt(p["dR_own_n"]) \
-        if m in sigma_fit else float("nan")
+    se = W.noise_se(sigma_fit, m, p["dt"], p["dR_own_n"])
     p["dR_own_se"] = se
     o, ose = offset[m]
     if np.isfinite(o) and np.isfinite(R_HS):
         p["dR_hs"] = p["dR_own"] + o / R_HS
         p["dR_hs_se"] = math.hypot(se if np.isfinite(se) else 0.0, ose / R_HS)
 
-
-def fmt(x, se=None, d=2):
-    if x is None or not np.isfinite(x):
-        return "-"
-    s = f"{x:.{d}e}"
-    if se is not None and np.isfinite(se):
-        s += f" ± {se:.1e}"
-    return s
-
-
-def bound(p, k):
-    """|error| + 2 standard errors; NaN standard errors count as 0."""
-    x = p.get(k)
-    if x is None or not np.isfinite(x):
-        return float("nan")
-    se = p.get(k + "_se", float("nan"))
-    return abs(x) + (2 * se if np.isfinite(se) else 0.0)
 
 
 KINDS = [("dE", "max |E(t) - E(0)| per atom [kT] over T_E"),
@@ -253,18 +138,8 @@ KINDS = [("dE", "max |E(t) - E(0)| per atom [kT] over T_E"),
 if longs:
     KINDS.append(("dR_hs", "Rg^2 error vs the hard-core model (relative;\n2-time-unit runs from shared conformations, not equilibrium)"))
 
-md = []
-md.append("## Run time against error at N = 32000: bead-spring melt (chains of 10, rho 0.85, FENE)\n")
-md.append(f"Machine: {mach.get('cpu', '?')}, nproc {mach.get('nproc', '?')} (shared; every run serial, "
-          f"`nice -n 19`, one at a time); load average (1, 5, 15 min) {mach.get('load_start', '?')} at "
-          f"the start, {mach.get('load_end', '?')} at the end; {mach.get('start', '?')} to "
-          f"{mach.get('end', '?')}; commit {mach.get('commit', '?')}; binary {mach.get('binary', '?')}; "
-          f"{mach.get('mode', '')}. **Cost = CPU seconds per unit of simulated time**: LAMMPS' Loop "
-          f"time x its \"CPU use\" / 100, divided by the run's length T.\n")
-DISC = os.path.join(os.path.dirname(os.path.abspath(OUT_MD)),
-                    "discussion-melt" + ("-short" if "short" in os.path.basename(OUT_MD) else "") + ".md")
-if os.path.exists(DISC):
-    md.append(open(DISC).read().rstrip() + "\n")
+md = W.preamble("## Run time against error at N = 32000: bead-spring melt (chains of 10, rho 0.85, FENE)",
+                mach, OUT_MD, "discussion-melt")
 
 md.append("### Table\n")
 md.append(f"Start states: {', '.join(states)} (each value is the mean over them; ± is the standard "
@@ -371,18 +246,10 @@ md.append("| error | target | winner (CPU s / time unit) | runner-up | best soft
 md.append("|---|---|---|---|---|---|---|")
 for k, desc in KINDS:
     for tgt in TARGETS[k]:
-        best = {}
-        for p in table:
-            if p["n"] == 0 or p["method"] not in ORDER:
-                continue
-            bb = bound(p, k)
-            if np.isfinite(bb) and bb <= tgt:
-                if p["method"] not in best or p["cost"] < best[p["method"]]["cost"]:
-                    best[p["method"]] = p
-        if not best:
+        rank = W.cheapest(table, k, tgt, ORDER)
+        if not rank:
             md.append(f"| {k} | {tgt:g} | none reaches it | | | | |")
             continue
-        rank = sorted(best.values(), key=lambda p: p["cost"])
         w = rank[0]
         ru = rank[1] if len(rank) > 1 else None
         soft = [p for p in rank if p["method"] in SOFT]
@@ -391,11 +258,7 @@ for k, desc in KINDS:
         hc = hard[0] if hard else None
         fac = "-"
         if sc and hc:
-            f = hc["cost"] / sc["cost"]
-            per = [hc["cost_by_state"][S] / sc["cost_by_state"][S] for S in states
-                   if S in sc["cost_by_state"] and S in hc["cost_by_state"]]
-            rng = f" ({min(per):.3g}..{max(per):.3g})" if len(per) > 1 else ""
-            fac = f"{f:.3g}{rng}"
+            fac = W.cost_ratio(hc, sc, states, 3)
         elif sc:
             fac = "no hard-sphere run reaches it"
         elif hc:
@@ -414,35 +277,7 @@ open(OUT_MD, "w").write("\n".join(md) + "\n")
 # ---- figure
 nk = len(KINDS)
 fig, axs = plt.subplots(2, 2, figsize=(12, 9.5))
-for ax, (k, desc) in zip(axs.flat, KINDS):
-    for m in ORDER:
-        ps = [p for p in table if p["method"] == m and p["n"] > 0 and np.isfinite(p.get(k, float("nan")))]
-        if not ps:
-            continue
-        ps.sort(key=lambda p: -p["dt"])
-        x = np.array([p["cost"] for p in ps])
-        y = np.array([abs(p[k]) for p in ps])
-        se = np.array([p.get(k + "_se", float("nan")) for p in ps])
-        se = np.where(np.isfinite(se), se, 0.0)
-        lo = np.maximum(y - 2 * se, y * 1e-3)
-        hollow = y < 2 * se
-        yp = np.where(hollow, y + 2 * se, y)
-        xe = np.array([p.get("cost_se", 0.0) for p in ps])
-        xe = np.where(np.isfinite(xe), xe, 0.0)
-        ax.plot(x, yp, "-", color=COLOR[m], alpha=0.6)
-        ax.errorbar(x[~hollow], y[~hollow], yerr=[(y - lo)[~hollow], (2 * se)[~hollow]],
-                    xerr=xe[~hollow], fmt="o", color=COLOR[m], ms=5, capsize=2, label=LABEL[m])
-        if hollow.any():
-            ax.plot(x[hollow], yp[hollow], "v", mfc="none", color=COLOR[m], ms=7,
-                    label=None if (~hollow).any() else LABEL[m])
-        for xi, yi, p in zip(x, yp, ps):
-            ax.annotate(p["dt_s"], (xi, yi), fontsize=6, color=COLOR[m], xytext=(3, 2),
-                        textcoords="offset points")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("cost: CPU s per unit of simulated time (N = 32000)")
-    ax.set_ylabel(desc, fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
+W.plot_panels(axs.flat, table, KINDS, ORDER, COLOR, LABEL)
 for ax in list(axs.flat)[nk:]:
     ax.axis("off")
 axs.flat[0].legend(fontsize=8)

@@ -45,25 +45,14 @@ else
   SUFFIX=
 fi
 
-mkdir -p "$LOGS"
+mkdir -p "$LOGS" "$SCR/logs"
 cd "$WP"     # pair.fluid is included by its relative path
 
 lmp() { nice -n "$NICE" "$LMP" -screen none "$@"; }
+source "$HERE/wpl-machine.sh"
 
 if [ "$PARSE_ONLY" != 1 ]; then
-  if [ ! -s "$LOGS/machine.txt" ]; then
-    {
-      echo "start $(date -u '+%Y-%m-%d %H:%M UTC')"
-      echo "nproc $(nproc)"
-      echo "cpu $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
-      echo "load_start $(cut -d' ' -f1-3 /proc/loadavg)"
-      echo "commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null)"
-      echo "binary $LMP"
-      echo "mode $MODE T_E $T_E Tw $TW T_long $T_LONG states $STATES"
-    } > "$LOGS/machine.txt"
-  else
-    echo "resumed $(date -u '+%Y-%m-%d %H:%M UTC') load $(cut -d' ' -f1-3 /proc/loadavg)" >> "$LOGS/machine.txt"
-  fi
+  wpl_machine "$LOGS" "$ROOT" "$LMP" "mode $MODE T_E $T_E Tw $TW T_long $T_LONG states $STATES"
 
   # one <state> <method> <dt> <T> <tag> [extra lmp args]
   one() {
