@@ -133,15 +133,26 @@ void HSLocalForces::presence(bool present[4]) const
 }
 
 /* ----------------------------------------------------------------------
-   inverse indices: for every local atom j, where it appears in the pair
-   list (row i, the raw entry with its special bits) and in the bonded
-   lists. O(list size), once per neighbor list build.
+   inverse indices: for every local atom j, where it appears in the bonded
+   lists and (pair true) in the pair list (row i, the raw entry with its
+   special bits). O(list size), at most once per neighbor list build each;
+   rows mode (compute_rows()) takes its pair terms from its own rows and
+   never needs the pair index.
 ------------------------------------------------------------------------- */
 
-void HSLocalForces::build_index()
+void HSLocalForces::build_index(bool pair)
 {
   const int nall = atom->nlocal + atom->nghost;
   NeighList *L = force->pair ? force->pair->list : nullptr;
+  if (neighbor->ncalls != built_ncalls_ || nall != built_nall_ || L != built_list_) {
+    build_bonded_index();
+    built_ncalls_ = neighbor->ncalls;
+    built_nall_ = nall;
+    built_list_ = L;
+    pair_index_ = false;
+  }
+  if (!pair || pair_index_) return;
+  pair_index_ = true;
   if (L) {
     has_row_.assign(nall, 0);
     pinv_off_.assign(nall + 1, 0);
@@ -165,6 +176,11 @@ void HSLocalForces::build_index()
       }
     }
   }
+}
+
+void HSLocalForces::build_bonded_index()
+{
+  const int nall = atom->nlocal + atom->nghost;
   // a list and its count are defined only when the style exists (the
   // count of an absent style is never initialized)
   bool present[4];
@@ -189,9 +205,6 @@ void HSLocalForces::build_index()
     for (int r = 0; r < counts[b]; r++)
       for (int k = 0; k < width[b]; k++) B.rows[pos[lists[b][r][k]]++] = r;
   }
-  built_ncalls_ = neighbor->ncalls;
-  built_nall_ = nall;
-  built_list_ = L;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -308,7 +321,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   if (force->pair && force->pair->compute_flag && !L)
     error->all(FLERR, "{}: pair style {} has no neighbor list to restrict", owner_,
                force->pair_style);
-  if (neighbor->ncalls != built_ncalls_ || nall != built_nall_ || L != built_list_) build_index();
+  build_index(!rows_);
 
   // ---- C and every image of it (all ranks: C's tags are gathered)
   std::vector<int> marked;
@@ -586,8 +599,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
 void HSLocalForces::collect_topology(const std::vector<tagint> &ids, std::vector<double> &out)
 {
   if (atom->molecular == Atom::ATOMIC) return;
-  if (neighbor->ncalls != built_ncalls_ || atom->nlocal + atom->nghost != built_nall_)
-    build_index();
+  build_index(false);
   const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   bool present[4];

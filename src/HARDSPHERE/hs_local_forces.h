@@ -220,7 +220,9 @@ class HSLocalForces : protected Pointers {
     std::vector<uint32_t> stamp;   // row already in sub in this call
     std::vector<int *> sub;        // restricted list: row pointers
   } bonded_[4];                    // bond, angle, dihedral, improper
-  void build_index();
+  bool pair_index_ = false;    // pinv_* and has_row_ built for built_ncalls_
+  void build_index(bool pair);
+  void build_bonded_index();
   void presence(bool present[4]) const;
 
   // restricted pair list storage
