@@ -11,13 +11,13 @@ import numpy as np
 out = sys.argv[1]
 N = 500
 T0 = 1.5
-def expected(th, n):
+def expected(th, n, damp):
     dof = 3 * n / (3 * n - 3)    # langevin (zero no) thermalizes 3N components
     return {
         "langevin": T0 * dof,
         "langevin_zero": T0,
-        # drag adds up, noise is langevin's only: gamma_L = 1/0.5, viscous 1.0
-        "langevin_viscous": T0 * dof * 2.0 / (2.0 + 1.0),
+        # drag adds up, noise is langevin's only: gamma_L = 1/damp, viscous 1.0
+        "langevin_viscous": T0 * dof * (1.0 / damp) / (1.0 / damp + 1.0),
         "berendsen": T0,
         "rescale": T0,
     }[th]
@@ -26,12 +26,14 @@ def expected(th, n):
 rows = []
 for f in sorted(glob.glob(os.path.join(out, "*.out"))):
     txt = open(f).read()
-    r = re.search(r"RESULT method (\S+) thermo (\S+) T_mean (\S+) collisions_per_step (\S+) atoms (\d+)", txt)
+    r = re.search(r"RESULT method (\S+) thermo (\S+) T_mean (\S+) collisions_per_step (\S+) atoms (\d+)"
+                  r"(?: damp (\S+))?", txt)
     if not r:
         m, th = os.path.basename(f)[:-4].split(".")
         rows.append((th, m, None))
         continue
     m, th, n = r.group(1), r.group(2), int(r.group(5))
+    damp = float(r.group(6)) if r.group(6) else 0.5
     # a run of another size is kept under its own name (e.g. mcva108.langevin.out)
     tag = os.path.basename(f)[:-4].split(".")[0]
     blk = os.path.join(out, f"tblocks.{tag}.{th}.txt")
@@ -42,11 +44,14 @@ for f in sorted(glob.glob(os.path.join(out, "*.out"))):
     se = T.std(ddof=1) / np.sqrt(len(T))
     sec = re.search(r"SECONDS (\d+)", txt)
     label = m if n == N else f"{m} ({n} atoms)"
+    if damp != 0.5:
+        label = label[:-1] + f", damp {damp:g})" if label.endswith(")") else f"{m} (damp {damp:g})"
     rows.append((th, label, (T.mean(), se, float(r.group(4)), len(T), sec.group(1) if sec else "?",
-                             expected(th, n))))
+                             expected(th, n, damp))))
 
 order = ["langevin", "langevin_zero", "langevin_viscous", "berendsen", "rescale"]
-mord = ["nve", "psa", "cva", "pcva", "vci", "mcva", "mcva (108 atoms)"]
+mord = ["nve", "psa", "cva", "pcva", "vci", "mcva", "mcva (108 atoms)",
+        "mcva (108 atoms, damp 0.1)"]
 print("# Thermostats beside the hard-sphere methods: measured\n")
 print("`bash examples/thermostats/run.sh` (input `in.lj-thermostat`: 500 atoms, fcc 0.8,")
 print("LJ 2.5 shifted, diameter 1.0, kT 1.5, dt 0.005, damp 0.5; `nve` is fix nve")
