@@ -503,11 +503,12 @@ struct HSPotential::Impl : protected Pointers {
         // differences with r3 remove C: a 2 x 2 system in A, B (Cramer)
         const double u1 = pow(r1, -13) - pow(r3, -13), w1 = pow(r1, -7) - pow(r3, -7);
         const double u2 = pow(r2, -13) - pow(r3, -13), w2 = pow(r2, -7) - pow(r3, -7);
-        const double d1 = g(it, jt, r1) - g(it, jt, r3), d2 = g(it, jt, r2) - g(it, jt, r3);
+        const double g3 = g(it, jt, r3);
+        const double d1 = g(it, jt, r1) - g3, d2 = g(it, jt, r2) - g3;
         const double det = -u1 * w2 + u2 * w1;
         if (det == 0.0) continue;
         const double A = (d1 * w2 - d2 * w1) / det, B = (-u1 * d2 + u2 * d1) / det;
-        const double C = g(it, jt, r3) + A * pow(r3, -13) - B * pow(r3, -7);
+        const double C = g3 + A * pow(r3, -13) - B * pow(r3, -7);
         bool ok = std::isfinite(A) && std::isfinite(B) && std::isfinite(C);
         for (int k = 0; ok && k < 64; k++) {
           const double r = rc * (0.3 + 0.7 * k / 64.0);
@@ -645,10 +646,9 @@ struct HSPotential::Impl : protected Pointers {
   // fill ghost values of a masked field
   void ghosts(double **a) { comm->forward_comm_array(3, a); }
 
-  // SINGLE part of hw (+=) and tw (+=, if tw); wl holds w with ghosts.
-  // Fields are accumulated in atom->f (ghosts summed by reverse_comm)
-  // one pass over the terms (each term's phi^(k) once), V''w summed in f
-  // and V'''[w,w] in s3; ghost shares go to their owners through f, one
+  // SINGLE part of hw (+=) and tw (+=, if tw); w holds w with ghosts. One
+  // pass over the terms (each term's phi^(k) once): V''w summed in atom->f,
+  // V'''[w,w] in s3; ghost shares go to their owners through atom->f, one
   // reverse communication each
   void single_hess_third(double **w, double **hw, double **tw)
   {
@@ -679,7 +679,7 @@ struct HSPotential::Impl : protected Pointers {
       for (int k = 0; k < 3; k++) hw[i][k] += f[i][k];
     if (!tw) return;
     if (force->newton) {
-      zero_f_all();
+      // (every f is overwritten; the torques, if any, are still zero)
       memcpy(&f[0][0], &s3[0][0], 3 * sizeof(double) * nall);
       comm->reverse_comm();
     } else
@@ -898,8 +898,10 @@ std::string HSPotential::describe() const
   const bool molecular = atom->molecular != Atom::ATOMIC;
   if (force->pair && force->pair->compute_flag)
     add(std::string("pair ") + force->pair_style + ": " +
-        (m.pair_single ? (m.pair_lj ? "single (analytic)" : m.pair_ljfit ? "single (analytic, LJ form fitted)" : "single (differences in r)")
-                       : "fdiff"));
+        (!m.pair_single ? "fdiff"
+         : m.pair_lj    ? "single (analytic)"
+         : m.pair_ljfit ? "single (analytic, LJ form fitted)"
+                        : "single (differences in r)"));
   if (molecular && force->bond)
     add(std::string("bond ") + force->bond_style + ": " +
         (m.bond_single ? (m.bond_harm ? "single (analytic)" : "single (differences in r)")

@@ -63,8 +63,6 @@ std::string HSSystem::contact_name(const Impulse &imp) const
   return fmt::format("atoms {} and {}", imp.itag, imp.jtag);
 }
 
-// impulse virial, averaged over the step: r (x) J / (dt ftm2v); tallied by
-// the one rank that built the impulse
 double HSSystem::approach_accel(const Impulse &imp, const double *ai, const double *aj) const
 {
   if (imp.type == WALL_EVENT) {
@@ -76,6 +74,8 @@ double HSSystem::approach_accel(const Impulse &imp, const double *ai, const doub
   return -((ai[0] - aj[0]) * dq[0] + (ai[1] - aj[1]) * dq[1] + (ai[2] - aj[2]) * dq[2]) / r;
 }
 
+// impulse virial, averaged over the step: r (x) J / (dt ftm2v); tallied by
+// the one rank that built the impulse
 void HSSystem::add_impulse_virial(const Impulse &imp)
 {
   const double s = 1.0 / (dtv * force->ftm2v);

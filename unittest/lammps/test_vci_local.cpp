@@ -159,11 +159,6 @@ TEST(VCILocal, PairHeldAtContactKeepsBouncing)
   const double g = -2.0 * 24.0 * eps * (2.0 * s6 * s6 - s6);
   const double exact = nsteps * dt * g / (2.0 * vn);
   const double kn = 0.5 * 0.5 * vn * vn;    // mu vn^2 / 2, mu = 1/2
-  auto num = [](double x) {
-    char b[32];
-    std::snprintf(b, sizeof(b), "%.17g", x);
-    return std::string(b);
-  };
   for (const char *sub : {"local", "global"}) {
     HSLammps L;
     L.lines(std::string(R"(
@@ -176,11 +171,11 @@ create_atoms 1 single 0 0 0 units box
 create_atoms 1 single 1.0 0 0 units box
 mass 1 1.0
 pair_style lj/cut 2.5
-pair_coeff 1 1 )") + num(eps) + " " + num(sig) + R"(
+pair_coeff 1 1 )") + hs_chain::f17(eps) + " " + hs_chain::f17(sig) + R"(
 velocity all set 0 0 0 units box
 group a id 1
-velocity a set )" + num(vn) + R"( 0 0 units box
-timestep )" + num(dt) + R"(
+velocity a set )" + hs_chain::f17(vn) + R"( 0 0 units box
+timestep )" + hs_chain::f17(dt) + R"(
 thermo_style custom step etotal
 thermo_modify norm no
 fix hs all hardsphere/vci diameter 1.0 substep )" + sub + R"(
