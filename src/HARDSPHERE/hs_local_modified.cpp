@@ -57,6 +57,14 @@ void HSLocalModified::grow()
   }
 }
 
+void HSLocalModified::bump_ostamp()
+{
+  if (++oepoch == 0) {
+    std::fill(ostamp.begin(), ostamp.end(), 0u);
+    oepoch = 1;
+  }
+}
+
 void HSLocalModified::zero_red()
 {
   for (int l : red_rows)
@@ -179,9 +187,15 @@ void HSLocalModified::find_terms(HSStepView &eng)
   npair = lf.npair_last();
   terms_ncalls = neighbor->ncalls;
 
-  tcopies = tloc;
-  std::sort(tcopies.begin(), tcopies.end());
-  tcopies.erase(std::unique(tcopies.begin(), tcopies.end()), tcopies.end());
+  // each copy in a term once, by stamp (not a sort of the ~2 x terms
+  // entries: 4.6 % of a pcva step at 32000 atoms); its order only marks rows
+  tcopies.clear();
+  bump_ostamp();
+  for (int l : tloc)
+    if (ostamp[l] != oepoch) {
+      ostamp[l] = oepoch;
+      tcopies.push_back(l);
+    }
   zero_red();
   for (int l : tcopies) {
     red[l][6] = 1.0;
@@ -190,10 +204,7 @@ void HSLocalModified::find_terms(HSStepView &eng)
   sys->reverse_columns(red, 7, &red_rows);
 
   const int nlocal = atom->nlocal;
-  if (++oepoch == 0) {
-    std::fill(ostamp.begin(), ostamp.end(), 0u);
-    oepoch = 1;
-  }
+  bump_ostamp();
   owners.clear();
   is_mem.clear();
   auto add = [&](int i, bool member) {
