@@ -515,16 +515,20 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // with v and a, in one exchange
   sys->forward_vel_acc(cols, 2);
   ncollective += 1.0;
-  // the path bound dt |v| + dt^2/2 |a| of fix nve's step: per flagged
-  // copy once (the pair loop's), else for a pair's unflagged partner
-  auto path = [&](int k) {
+  // the path bound dt |v| + dt^2/2 |a| of fix nve's step and the flag of
+  // every copy, once per copy in two contiguous arrays: the pair loop reads
+  // them for each of its ~5 pairs per atom (the bound per pair of an
+  // unflagged atom, and the flags through cols, cost more)
+  pathv.resize(nall);
+  flagv.resize(nall);
+  for (int k = 0; k < nall; k++) {
     const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
     const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
-    return dt * vv + 0.5 * dt * dt * aa;
-  };
-  pathv.resize(nall);
-  for (int k = 0; k < nall; k++)
-    if (cols[k][1] != 0.0) pathv[k] = path(k);
+    pathv[k] = dt * vv + 0.5 * dt * dt * aa;
+    flagv[k] = cols[k][1] != 0.0;
+  }
+  const double *pv = pathv.data();
+  const char *fv = flagv.data();
   for (int i : act0) {
     const double Di = pathv[i], r = F.radius_of(i);
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
@@ -556,14 +560,13 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const int np = (int) cand.size() / 2;
   for (int p = 0; p < np; p++) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
-    const bool fi = cols[i][1] != 0.0, fj = cols[j][1] != 0.0;
-    if (!fi && !fj) continue;
+    if (!(fv[i] | fv[j])) continue;
     if (tag[i] == tag[j]) continue;
     const double sigma = F.radius_of(i) + F.radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
     const double sm = sigma * (1.0 + LINE_MARGIN);
-    const double reach = sm + (fi ? pathv[i] : path(i)) + (fj ? pathv[j] : path(j));
+    const double reach = sm + pv[i] + pv[j];
     if (r2 > reach * reach) continue;
     const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
     const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};

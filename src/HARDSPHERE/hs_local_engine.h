@@ -341,7 +341,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}, {&dsa, 7}}};
   }
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
-  std::vector<double> pathv;    // predict_all(): the path bound of each flagged copy
+  std::vector<double> pathv;    // predict_all(): the path bound of each copy
+  std::vector<char> flagv;      // predict_all(): 1 if the copy is flagged (cols[k][1])
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);
