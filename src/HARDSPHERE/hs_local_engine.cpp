@@ -265,6 +265,13 @@ void HSLocalEngine::build_adjacency()
     adj[pos[a]++] = p;
     adj[pos[b]++] = p;
   }
+  // the ghost copies in a candidate pair: with the owned atoms, every copy
+  // the first guess looks at (on several ranks the ghost region is some
+  // 40 % of the copies, most of them beyond the contact-list cutoff)
+  cand_ghosts.clear();
+  const int nlocal = atom->nlocal;
+  for (int g = nlocal; g < nall; g++)
+    if (adj_off[g + 1] > adj_off[g]) cand_ghosts.push_back(g);
   pstamp.assign(np, 0u);
   pepoch = 0;
   cand_version = sys->cand_version;
@@ -521,12 +528,14 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // unflagged atom, and the flags through cols, cost more)
   pathv.resize(nall);
   flagv.resize(nall);
-  for (int k = 0; k < nall; k++) {
+  auto bound = [&](int k) {
     const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
     const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
     pathv[k] = dt * vv + 0.5 * dt * dt * aa;
     flagv[k] = cols[k][1] != 0.0;
-  }
+  };
+  for (int k = 0; k < nlocal; k++) bound(k);
+  for (int k : cand_ghosts) bound(k);
   const double *pv = pathv.data();
   const char *fv = flagv.data();
   for (int i : act0) {
@@ -561,7 +570,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   for (int p = 0; p < np; p++) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
     if (!(fv[i] | fv[j])) continue;
-    if (tag[i] == tag[j]) continue;
+    if (tag[i] == tag[j]) continue;    // (two images of one atom: a ghost with no bound)
     const double sigma = F.radius_of(i) + F.radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];

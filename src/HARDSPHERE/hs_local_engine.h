@@ -322,6 +322,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // contact candidates by local copy (pair indices into fix->cand / 2)
   bigint cand_version = -1;
   std::vector<int> adj_off, adj;            // local copy -> candidate pairs
+  std::vector<int> cand_ghosts;             // ghost copies in a candidate pair
   std::vector<uint32_t> pstamp;             // candidate pair seen
   std::vector<int> act0;                    // owned atoms the screen marked active
   std::vector<uint32_t> astamp;             // considered by h2_check
