@@ -10,7 +10,7 @@
 # and leaves each one's results-*.md and figure beside it (README.md).
 #
 #   bash bench/work-precision-large/all.sh                 # full: ~2.6 CPU h (+ ~1.7 h with STABILITY=1)
-#   MODE=short bash bench/work-precision-large/all.sh      # short: ~20 CPU min
+#   MODE=short bash bench/work-precision-large/all.sh      # short: 9.4 min (2026-11-26, fresh worktree, start states included)
 #   PARSE_ONLY=1 [MODE=short] bash bench/work-precision-large/all.sh
 set -uo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
