@@ -30,7 +30,8 @@ import wplcommon as W
 LOGS, OUT_MD = sys.argv[1], sys.argv[2]
 T_SEG, T_EQ = int(sys.argv[3]), int(sys.argv[4])
 T_EQ_CHECK = 5                       # the dt check starts from an equilibrated state
-B_LEN = 50                           # block length (time units) of the error bars
+T_EQ_BIG = 150                       # the size check (N = 32000, Kremer-Grest from state K)
+B_LEN = 100                          # block length (time units) of the error bars
 BLOCKS = [1, 2, 5, 10, 25, 50, 100]  # block lengths of the plateau table
 OBS = ["rg2", "ree2", "bond", "temp"]
 MODEL = {"psa": "hard cores (psa)", "kg": "WCA (Kremer-Grest, nve)", "mie": "Mie(50,49) (nve)"}
@@ -38,13 +39,30 @@ START = {"K": "K (Kremer-Grest state)", "R": "R (straight chains)",
          "Kc": "end of psa's K run"}
 
 
+def blocks(x, b):
+    """The means of the blocks of b samples of x, the last block ending at the run's end."""
+    n = len(x) // b
+    return x[len(x) - n * b:].reshape(n, b).mean(1)
+
+
 def block_se(x, b):
     """Standard error of the mean of x from blocks of b samples (NaN if < 4 blocks)."""
-    n = len(x) // b
-    if n < 4:
-        return float("nan")
-    m = x[len(x) - n * b:].reshape(n, b).mean(1)     # the blocks end at the run's end
-    return float(m.std(ddof=1) / math.sqrt(n))
+    m = blocks(x, b)
+    return float(m.std(ddof=1) / math.sqrt(len(m))) if len(m) >= 4 else float("nan")
+
+
+def tau_acf(x):
+    """Integrated autocorrelation time (in samples) of x, Sokal's window: the
+    smallest W with W >= 5 tau(W), tau(W) = 1/2 + sum_{t=1}^{W} rho(t)."""
+    y = x - x.mean()
+    n = len(y)
+    v = y @ y / n
+    tau = 0.5
+    for t in range(1, n // 4):
+        tau += (y[:n - t] @ y[t:]) / (n - t) / v
+        if t >= 5 * tau:
+            return tau
+    return float("nan")
 
 
 def read_run(run, files):
@@ -72,21 +90,26 @@ def read_run(run, files):
     X = np.vstack(parts)
     r["T"] = len(X)
     r["series"] = {k: X[:, i] for i, k in enumerate(OBS)}
-    r["teq"] = T_EQ_CHECK if start == "Kc" else T_EQ
+    r["teq"] = T_EQ_CHECK if start == "Kc" else T_EQ if sysname == "me4k" else T_EQ_BIG
     r["tprod"] = r["T"] - r["teq"]
     if r["tprod"] < 4:
         return r
+    # blocks of B_LEN, or of the longest length in BLOCKS that gives 4 blocks (short runs)
+    r["blen"] = B_LEN if r["tprod"] >= 4 * B_LEN else max(b for b in BLOCKS if 4 * b <= r["tprod"])
     for k in OBS:
         x = r["series"][k][r["teq"]:]
+        r[k + "_x"] = x
         r[k] = float(x.mean())
-        r[k + "_se"] = block_se(x, B_LEN)
+        r[k + "_se"] = block_se(x, r["blen"])
         r[k + "_se_blocks"] = {b: block_se(x, b) for b in BLOCKS}
         r[k + "_se1"] = r[k + "_se_blocks"][1]
-        # integrated autocorrelation time from the plateau: tau = (se_B / se_1)^2 / 2 time units
-        r[k + "_tau"] = 0.5 * (r[k + "_se"] / r[k + "_se1"]) ** 2
+        # integrated autocorrelation time from the block error: tau = (se_B / se_1)^2 / 2 time units,
+        # and from the autocorrelation function of the 1-time-unit means
+        r[k + "_tau"] = 0.5 * (r[k + "_se"] / r[k + "_se1"]) ** 2 if r["blen"] == B_LEN else float("nan")
+        r[k + "_tau_acf"] = tau_acf(x)
         h = len(x) // 2                              # drift: second half minus first half
         a, b = x[:h], x[h:2 * h]
-        bh = max(1, min(B_LEN, h // 4))
+        bh = max(1, min(r["blen"], h // 4))
         r[k + "_drift"] = float(b.mean() - a.mean())
         r[k + "_drift_se"] = math.hypot(block_se(a, bh), block_se(b, bh))
     return r
@@ -99,6 +122,24 @@ runs = [x for x in (read_run(run, fs) for run, fs in sorted(files.items())) if x
 runs = [r for r in runs if r["tprod"] >= 4]
 mach = W.read_machine(LOGS)
 
+# Short runs (the dt and size checks: fewer than 4 blocks of B_LEN) have too few
+# long blocks for their own error: theirs is the larger of the block error and
+# se_1 sqrt(2 tau_int), tau_int that of the same model and observable in the
+# N = 4000 runs (the chains' dynamics is intensive too).
+tau_pool = {}
+for r in runs:
+    if r["blen"] == B_LEN:
+        for k in OBS:
+            tau_pool.setdefault((r["model"], k), []).append(r[k + "_tau"])
+for r in runs:
+    if r["blen"] < B_LEN:
+        r["tau_used"] = {}
+        for k in OBS:
+            t = float(np.mean(tau_pool.get((r["model"], k), [float("nan")])))
+            r["tau_used"][k] = t
+            if np.isfinite(t):
+                r[k + "_se"] = max(np.nan_to_num(r[k + "_se"]), r[k + "_se1"] * math.sqrt(2 * t))
+
 
 def get(system, model, start):
     for r in runs:
@@ -107,19 +148,15 @@ def get(system, model, start):
     return None
 
 
-def ivmean(vals):
-    """Inverse-variance mean of (value, se) pairs, and its se."""
-    v = [(x, s) for x, s in vals if np.isfinite(x) and np.isfinite(s) and s > 0]
-    if not v:
-        return float("nan"), float("nan")
-    w = np.array([1 / s ** 2 for _, s in v])
-    return float(sum(wi * x for wi, (x, _) in zip(w, v)) / w.sum()), float(1 / math.sqrt(w.sum()))
-
-
 def f(x, se, d=4):
+    """x ± se with d decimals, more if se would show as 0 (two significant digits of se)."""
     if not np.isfinite(x):
         return "-"
-    return f"{x:.{d}f} ± {se:.{d}f}" if np.isfinite(se) else f"{x:.{d}f}"
+    if not np.isfinite(se):
+        return f"{x:.{d}f}"
+    if 0 < se < 0.5 * 10 ** -d:
+        d = int(math.ceil(-math.log10(se))) + 1
+    return f"{x:.{d}f} ± {se:.{d}f}"
 
 
 def pct(x, se, d=2):
@@ -128,7 +165,9 @@ def pct(x, se, d=2):
     return f"{100 * x:+.{d}f} ± {100 * se:.{d}f} %"
 
 
-# ---- per model: K and R combined
+# ---- per model: starts K and R pooled. The blocks of B_LEN of both runs (equal
+# production lengths) give the mean and its standard error; a run's own standard
+# error for the K - R check uses the pooled block variance.
 comb = {}
 for m in ("psa", "kg", "mie"):
     rs = [r for r in (get("me4k", m, "K"), get("me4k", m, "R")) if r]
@@ -136,12 +175,19 @@ for m in ("psa", "kg", "mie"):
         continue
     c = dict(runs=rs)
     for k in OBS:
-        c[k], c[k + "_se"] = ivmean([(r[k], r[k + "_se"]) for r in rs])
-    if len(rs) == 2:
-        for k in OBS:
-            d = rs[0][k] - rs[1][k]
-            dse = math.hypot(rs[0][k + "_se"], rs[1][k + "_se"])
-            c[k + "_KR"] = (d, dse)
+        bl = [blocks(r[k + "_x"], B_LEN) for r in rs]
+        allb = np.concatenate(bl)
+        if len(rs) == 2 and min(len(b) for b in bl) >= 2:
+            # pooled within-run variance of the block means (a K - R offset is not noise)
+            s2 = sum(((b - b.mean()) ** 2).sum() for b in bl) / (len(allb) - 2)
+            c[k] = float(allb.mean())
+            c[k + "_se"] = math.sqrt(s2 / len(allb))
+            c[k + "_nblk"] = len(allb)
+            d = bl[0].mean() - bl[1].mean()
+            c[k + "_KR"] = (float(d), math.sqrt(s2 * (1 / len(bl[0]) + 1 / len(bl[1]))))
+        else:
+            c[k], c[k + "_se"] = rs[0][k], rs[0][k + "_se"]
+            c[k + "_nblk"] = len(bl[0])
     comb[m] = c
 hs = comb.get("psa")
 
@@ -168,18 +214,25 @@ md.append(f"Model: pair.melt (chains of 10, rho 0.85, FENE K 30 R0 1.5 in every 
           f"gyration; <R_ee^2> = mean squared end-to-end distance; b = mean bond length; T = kinetic "
           f"temperature. ± = one standard error from blocks of {B_LEN} time units.\n")
 
+md.append("What it means for the melt benchmark: discussion-melt.md, \"Rg^2 against the hard-core model "
+          "(model error)\"; how it was run: README.md, \"The model error at equilibrium\".\n")
 md.append("## Runs\n")
-md.append("| model | N | start state | dt | equilibration + production | Rg^2 | <R_ee^2> | b | T | "
+md.append("| model | N | start state | dt | equilibration + production | blocks | Rg^2 | <R_ee^2> | b | T | "
           "Rg^2 2nd - 1st half of production | collisions per bead per time unit | CPU s |")
-md.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+md.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for r in runs:
     coll = r["coll"] / r["atoms"] / (r["nseg"] * T_SEG) if r["model"] == "psa" else float("nan")
+    tau_note = f" (tau {r['tau_used']['rg2']:.0f})" if "tau_used" in r else ""
     md.append(f"| {MODEL[r['model']]} | {r['atoms']} | {START.get(r['start'], r['start'])} | {r['dt']} | "
-              f"{r['teq']} + {r['tprod']} | {f(r['rg2'], r['rg2_se'])} | {f(r['ree2'], r['ree2_se'], 3)} | "
+              f"{r['teq']} + {r['tprod']} | {r['tprod'] // r['blen']} x {r['blen']}{tau_note} | {f(r['rg2'], r['rg2_se'])} | {f(r['ree2'], r['ree2_se'], 3)} | "
               f"{f(r['bond'], r['bond_se'], 5)} | {f(r['temp'], r['temp_se'], 4)} | "
               f"{f(r['rg2_drift'], r['rg2_drift_se'])} | {'-' if not np.isfinite(coll) else f'{coll:.1f}'} | "
               f"{r['ctime']:.0f} |")
 md.append("")
+md.append(f"blocks: number x length (time units) of the blocks of the error bars; (tau t): a short run, whose "
+          f"error is the larger of its block error and se_1 sqrt(2 tau_int), tau_int = t time units (Rg^2; "
+          f"each observable its own) from the same model's N = 4000 runs. Rg^2 2nd - 1st half: the drift check "
+          f"(blocks of up to {B_LEN} within each half).\n")
 
 md.append("## Each model (starts K and R combined) against the hard cores\n")
 md.append("| model | Rg^2 | <R_ee^2> | b | T | K - R: Rg^2 (in s.e.) | Rg^2 vs hard cores | "
@@ -203,13 +256,14 @@ md.append("## Block-size plateau of the Rg^2 error\n")
 md.append("Standard error of the production mean of Rg^2 from blocks of b time units (the error bar "
           f"uses b = {B_LEN}); tau_int = (se_{B_LEN} / se_1)^2 / 2 time units, the integrated autocorrelation "
           "time of the 1-time-unit means.\n")
-md.append("| run | " + " | ".join(f"b = {b}" for b in BLOCKS) + " | tau_int (Rg^2) | tau_int (<R_ee^2>) |")
+md.append("| run | " + " | ".join(f"b = {b}" for b in BLOCKS) + " | tau_int Rg^2: blocks, ACF | "
+          "tau_int <R_ee^2>: blocks, ACF |")
 md.append("|---|" + "---|" * (len(BLOCKS) + 2))
 for r in runs:
     row = " | ".join("-" if not np.isfinite(r["rg2_se_blocks"][b]) else f"{r['rg2_se_blocks'][b]:.4f}"
                      for b in BLOCKS)
-    md.append(f"| {r['model']} {r['start']} dt {r['dt']} N {r['atoms']} | {row} | {r['rg2_tau']:.1f} | "
-              f"{r['ree2_tau']:.1f} |")
+    md.append(f"| {r['model']} {r['start']} dt {r['dt']} N {r['atoms']} | {row} | {r['rg2_tau']:.0f}, "
+              f"{r['rg2_tau_acf']:.0f} | {r['ree2_tau']:.0f}, {r['ree2_tau_acf']:.0f} |")
 md.append("")
 
 md.append(f"## Running Rg^2: means over each segment of {T_SEG} time units (equilibration included)\n")

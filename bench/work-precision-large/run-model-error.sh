@@ -20,7 +20,7 @@
 #   bash bench/work-precision-large/run-model-error.sh               # ~55 CPU min
 #   PARSE_ONLY=1 bash bench/work-precision-large/run-model-error.sh
 #   LMP=/path/to/lmp ...        # binary (default .lmp-frozen, else build/lmp)
-#   NSEG_KG=20 NSEG_MIE=14 NSEG_HS=14 ...   # run lengths in segments (more: longer runs, resumed)
+#   NSEG_KG=24 NSEG_MIE=20 NSEG_HS=20 ...   # run lengths in segments (more: longer runs, resumed)
 #
 # Resumable: a segment whose log has a SEGMENT line is not redone (delete the
 # log to redo it); start states, logs and series are kept in scratch/
@@ -37,10 +37,10 @@ PARSE_ONLY=${PARSE_ONLY:-0}
 NICE=${NICE:-19}
 NXYZ=${NXYZ:-"20 20 10"}           # lattice sites: N = 4000 beads, 400 chains
 W_KG=${W_KG:-100}                  # time units of Kremer-Grest making state K
-T_SEG=${T_SEG:-50}; T_EQ=${T_EQ:-200}
-NSEG_KG=${NSEG_KG:-20}; NSEG_MIE=${NSEG_MIE:-14}; NSEG_HS=${NSEG_HS:-14}
+T_SEG=${T_SEG:-50}; T_EQ=${T_EQ:-300}
+NSEG_KG=${NSEG_KG:-20}; NSEG_MIE=${NSEG_MIE:-16}; NSEG_HS=${NSEG_HS:-16}
 DT_KG=0.005; DT_MIE=0.001; DT_HS=0.001; DT_HS2=0.0005
-SIZE_CHECK=${SIZE_CHECK:-1}; NSEG_32K=${NSEG_32K:-6}
+SIZE_CHECK=${SIZE_CHECK:-1}; NSEG_32K=${NSEG_32K:-7}
 
 mkdir -p "$LOGS" "$SCR/logs"
 cd "$HERE"     # pair.melt is included by its relative path
