@@ -8,7 +8,7 @@ A run is <system>.<model>.<start>.<dt>, in segments 1, 2, ... of T_SEG time
 units (log.<run>.<k>, series s.<run>.<k>: one line per time unit with the
 means over it of Rg^2, <R_ee^2>, the bond length and the temperature). The
 first T_EQ time units of a run are dropped (T_EQ_CHECK for the dt check,
-which continues an equilibrated run). Uncertainties: standard errors of the
+which continues an equilibrated run; T_EQ_BIG for the N = 32000 check). Uncertainties: standard errors of the
 mean of blocks of B_LEN time units (block means of the 1-time-unit means),
 B_LEN being several integrated autocorrelation times (the block-size table
 shows the plateau). Starts K and R of a model are combined by their
@@ -209,8 +209,8 @@ md.append(f"Machine: {mach.get('cpu', '?')}, nproc {mach.get('nproc', '?')} (sha
           f"time units (equilibration included).\n")
 md.append(f"Model: pair.melt (chains of 10, rho 0.85, FENE K 30 R0 1.5 in every model); N = 4000 beads "
           f"(400 chains, box 21.1 x 21.1 x 10.6) unless marked 32000; kT = 1 with `fix langevin 1.0 1.0 "
-          f"1.0` beside the integrator. The first {T_EQ} time units of every run are dropped (equilibration), "
-          f"the rest is production. Observables: Rg^2 = mean over the chains of the squared radius of "
+          f"1.0` beside the integrator. The first {T_EQ} time units of every run are dropped (equilibration; "
+          f"{T_EQ_BIG} for the N = 32000 check, {T_EQ_CHECK} for the dt check), the rest is production. Observables: Rg^2 = mean over the chains of the squared radius of "
           f"gyration; <R_ee^2> = mean squared end-to-end distance; b = mean bond length; T = kinetic "
           f"temperature. ± = one standard error from blocks of {B_LEN} time units.\n")
 
