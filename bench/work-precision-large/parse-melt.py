@@ -204,6 +204,9 @@ if longs:
         if np.isfinite(o):
             md.append(f"Model error of {LABEL[m]}: Rg^2 {o:+.4f} ± {ose:.4f} against the hard-core model "
                       f"({o / R_HS:+.2%} ± {ose / R_HS:.2%}).\n")
+    md.append("These 2-time-unit offsets are not equilibrium values (they enter the column \"Rg^2 error vs "
+              "hard cores\" and the dR_hs rows); the equilibrium model error is in results-model-error.md "
+              "(run-model-error.sh).\n")
 
 # ---- the local engine's clusters (in.melt-clusters)
 clu = []

@@ -9,7 +9,8 @@
 #   bash bench/work-precision-large/run-melt.sh               # full run
 #   MODE=short bash bench/work-precision-large/run-melt.sh    # ~10 CPU min
 #   PARSE_ONLY=1 [MODE=short] bash bench/work-precision-large/run-melt.sh
-#   LONG=1 bash bench/work-precision-large/run-melt.sh        # + the model-error runs (state A, 2 time units)
+#   LONG=1 bash bench/work-precision-large/run-melt.sh        # + the 2-time-unit model-error runs (state A; not
+#                                                             #   equilibrium: run-model-error.sh measures that)
 #   CLUSTERS=1 bash bench/work-precision-large/run-melt.sh    # + cva's cluster sizes per dt (in.melt-clusters)
 #   LMP=/path/to/lmp ...                                      # binary (default .lmp-frozen, else build/lmp)
 #
