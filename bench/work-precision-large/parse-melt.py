@@ -13,9 +13,12 @@ difference, i.e. the standard error of a mean of two) where both exist;
 drift: standard error of the slope of a line fitted to 10 block means of
 E(t); Rg^2 against the own limit: the A - B difference of the errors (free
 of the dt error) fitted as a power of dt, as parse.py does for the pressure;
-model error: block standard errors of the langevin runs.
+model error: the equilibrium offsets of results-model-error.json (written by
+parse-model-error.py) if it exists, else block standard errors of the
+2-time-unit langevin runs (LONG=1, not equilibrium).
 """
 import glob
+import json
 import math
 import os
 import re
@@ -98,6 +101,16 @@ for S in states:
             R_REF[(S, m)] = x["R1"]
 R_HS = hs_long["R"] if hs_long else (np.mean([v for (S, m), v in R_REF.items() if m == "cva"])
                                     if any(m == "cva" for S, m in R_REF) else float("nan"))
+# the equilibrium model error (run-model-error.sh: N = 4000, kT = 1, the hard cores by psa),
+# if made, gives the offsets instead of the 2-time-unit langevin runs above
+EQ_JSON = os.path.join(os.path.dirname(os.path.abspath(__file__)), "results-model-error.json")
+eq = json.load(open(EQ_JSON)) if os.path.exists(EQ_JSON) else {}
+eq_used = "psa" in eq and all(m in eq for m in SOFT)
+if eq_used:
+    R_HS = eq["psa"]["rg2"]
+    for m in SOFT:
+        offset[m] = (eq[m]["rg2"] - R_HS, math.hypot(eq[m]["rg2_se"], eq["psa"]["rg2_se"]))
+have_hs = bool(longs) or eq_used
 
 # ---- per (method, dt): combine the states
 def rg_errors(p, ok):
@@ -135,7 +148,9 @@ for p in table:
 KINDS = [("dE", "max |E(t) - E(0)| per atom [kT] over T_E"),
          ("slope", "energy drift |dE/dt| per atom [kT per time unit]"),
          ("dR_own", "Rg^2 error vs own dt -> 0 limit (relative)")]
-if longs:
+if eq_used:
+    KINDS.append(("dR_hs", "Rg^2 error vs the hard-core model (relative;\nequilibrium offsets, results-model-error.md)"))
+elif longs:
     KINDS.append(("dR_hs", "Rg^2 error vs the hard-core model (relative;\n2-time-unit runs from shared conformations, not equilibrium)"))
 
 md = W.preamble("## Run time against error at N = 32000: bead-spring melt (chains of 10, rho 0.85, FENE)",
@@ -158,7 +173,7 @@ elif len(states) == 1:
               "decorrelate over the window; the full mode measures this noise from two states).\n")
 hdr = ("| contender | dt | cost CPU s / time unit | min CPU use | collisions / time unit | "
        "max abs(E-E0) per atom | dE/dt per atom | Rg^2 error vs own limit | Rg^2 error per state |")
-if longs:
+if have_hs:
     hdr += " Rg^2 error vs hard cores |"
 md.append(hdr)
 md.append("|---" * (hdr.count("|") - 1) + "|")
@@ -172,7 +187,7 @@ for p in table:
             f"{p['cpu']:.0f}% | {p['coll']:.3g} | {fmt(p['dE'], p['dE_se'])} | "
             f"{fmt(p.get('slope'), p.get('slope_se'))} | {fmt(p.get('dR_own'), p.get('dR_own_se'))} | "
             f"{', '.join(f'{S} {v:+.1e}' for S, v in sorted(p.get('dR_diffs', {}).items()))} |")
-    if longs:
+    if have_hs:
         line += f" {fmt(p.get('dR_hs'), p.get('dR_hs_se'))} |"
     md.append(line)
 md.append("")
@@ -199,14 +214,23 @@ if longs:
                   f"{L['se']:.4f} | {L['n']} | {', '.join(f'{k} {v:.4f}' for k, v in L['first'].items())} | "
                   f"{L['slope']:+.2e} | {L['bond']:.4f} | {L['T']:.4f} | {L['ctime']:.3g} |")
     md.append("")
-    for m in SOFT:
-        o, ose = offset[m]
-        if np.isfinite(o):
-            md.append(f"Model error of {LABEL[m]}: Rg^2 {o:+.4f} ± {ose:.4f} against the hard-core model "
-                      f"({o / R_HS:+.2%} ± {ose / R_HS:.2%}).\n")
-    md.append("These 2-time-unit offsets are not equilibrium values (they enter the column \"Rg^2 error vs "
-              "hard cores\" and the dR_hs rows); the equilibrium model error is in results-model-error.md "
-              "(run-model-error.sh).\n")
+    if not eq_used:
+        for m in SOFT:
+            o, ose = offset[m]
+            if np.isfinite(o):
+                md.append(f"Model error of {LABEL[m]}: Rg^2 {o:+.4f} ± {ose:.4f} against the hard-core model "
+                          f"({o / R_HS:+.2%} ± {ose / R_HS:.2%}).\n")
+        md.append("These 2-time-unit offsets are not equilibrium values (they enter the column \"Rg^2 error vs "
+                  "hard cores\" and the dR_hs rows); the equilibrium model error is in results-model-error.md "
+                  "(run-model-error.sh).\n")
+    else:
+        md.append("These 2-time-unit runs are not at equilibrium and are not used; the offsets below are.\n")
+if eq_used:
+    md.append("Model error (the column \"Rg^2 error vs hard cores\" and the dR_hs rows add it to each run's "
+              "error against its own limit): the equilibrium offsets of results-model-error.md "
+              "(run-model-error.sh; N = 4000, kT = 1, fix langevin 1 1 1, the hard cores by psa): " +
+              "; ".join(f"{LABEL[m]} Rg^2 {offset[m][0]:+.4f} ± {offset[m][1]:.4f} "
+                        f"({offset[m][0] / R_HS:+.2%} ± {offset[m][1] / R_HS:.2%})" for m in SOFT) + ".\n")
 
 # ---- the local engine's clusters (in.melt-clusters)
 clu = []
@@ -271,8 +295,9 @@ for k, desc in KINDS:
 md.append("")
 md.append("Error kinds: dE = max |E(t) - E(0)| per atom over the run (T_E); slope = |dE/dt| per atom; "
           "dR_own = Rg^2 over the first window against the same model at a tiny dt from the same start "
-          "state" + ("; dR_hs = the same plus the model's Rg^2 offset from the hard-core model (langevin runs)"
-                     if longs else "") + ".\n")
+          "state" + ("; dR_hs = the same plus the model's Rg^2 offset from the hard-core model ("
+                     + ("equilibrium, results-model-error.md" if eq_used else "2-time-unit langevin runs") + ")"
+                     if have_hs else "") + ".\n")
 md.append("Figure: `" + os.path.basename(OUT_PNG) + "` (error against cost, log-log; error bars: "
           "± 2 standard errors where known).\n")
 open(OUT_MD, "w").write("\n".join(md) + "\n")

@@ -17,6 +17,7 @@ Cost: CPU seconds = LAMMPS' Loop time x its "CPU use" / 100, summed over the
 segments.
 """
 import glob
+import json
 import math
 import os
 import re
@@ -300,4 +301,8 @@ if big and "kg" in comb:
 md.append(f"\nTotal: {sum(r['ctime'] for r in runs) / 60:.1f} CPU min in the runs above (start states not "
           "included).\n")
 open(OUT_MD, "w").write("\n".join(md) + "\n")
-print(f"wrote {OUT_MD}: {len(runs)} runs")
+# the pooled values per model, for parse-melt.py's offsets against the hard cores
+out_json = os.path.splitext(OUT_MD)[0] + ".json"
+json.dump({m: {k: c[k] for k in ("rg2", "rg2_se", "bond", "bond_se", "temp", "temp_se")}
+           for m, c in comb.items()}, open(out_json, "w"), indent=1)
+print(f"wrote {OUT_MD} and {out_json}: {len(runs)} runs")
