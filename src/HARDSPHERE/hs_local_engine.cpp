@@ -42,6 +42,7 @@
 #include <functional>
 
 using namespace LAMMPS_NS;
+using HardSphere::bump_epoch;
 using HardSphere::Contact;
 
 // Phi_H2's lines of atoms near a cluster deviate from fix nve's by the V_C
@@ -215,14 +216,6 @@ void HSLocalEngine::grow_arrays()
     dstamp_sa.resize(nmax, 0);
     in_used.resize(nmax, 0);
     dstamp.resize(nmax, 0);
-  }
-}
-
-void HSLocalEngine::bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp)
-{
-  if (++e == 0) {
-    std::fill(stamp.begin(), stamp.end(), 0u);
-    e = 1;
   }
 }
 
@@ -1888,10 +1881,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   ddirty.clear();
   hdirty.clear();
   moved.clear();
-  if (++heldepoch == 0) {
-    std::fill(hstampv.begin(), hstampv.end(), 0u);
-    heldepoch = 1;
-  }
+  bump_epoch(heldepoch, hstampv);
   drifted = false;
   bool checked = false;    // Phi_H2 checked in full once
   bool b_ran = false;      // a second half ran (its results may need redoing)

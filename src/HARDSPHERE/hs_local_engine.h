@@ -99,6 +99,7 @@
 #include "hs_cluster.h"
 #include "hs_contact.h"
 #include "hs_local_forces.h"
+#include "hs_stamp.h"
 #include "hs_step_engine.h"
 #include "hs_step_view.h"
 #include "hs_types.h"
@@ -429,7 +430,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   const int *crow(int a, int &n);
   HardSphere::CellRows<int> crows;
   bigint crows_version = -1;
-  void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp);
 };
 
 }    // namespace LAMMPS_NS

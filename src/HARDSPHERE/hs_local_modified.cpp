@@ -9,6 +9,7 @@
 #include "hs_mpi.h"
 #include "hs_potential.h"
 #include "hs_step_view.h"
+#include "hs_stamp.h"
 #include "hs_system.h"
 
 #include "atom.h"
@@ -54,14 +55,6 @@ void HSLocalModified::grow()
     cstamp.resize(nmax, 0u);
     fcons_.resize(nmax);
     vcons_.resize(nmax);
-  }
-}
-
-void HSLocalModified::bump_ostamp()
-{
-  if (++oepoch == 0) {
-    std::fill(ostamp.begin(), ostamp.end(), 0u);
-    oepoch = 1;
   }
 }
 
@@ -190,7 +183,7 @@ void HSLocalModified::find_terms(HSStepView &eng)
   // each copy in a term once, by stamp (not a sort of the ~2 x terms
   // entries: 4.6 % of a pcva step at 32000 atoms); its order only marks rows
   tcopies.clear();
-  bump_ostamp();
+  HardSphere::bump_epoch(oepoch, ostamp);
   for (int l : tloc)
     if (ostamp[l] != oepoch) {
       ostamp[l] = oepoch;
@@ -204,7 +197,7 @@ void HSLocalModified::find_terms(HSStepView &eng)
   sys->reverse_columns(red, 7, &red_rows);
 
   const int nlocal = atom->nlocal;
-  bump_ostamp();
+  HardSphere::bump_epoch(oepoch, ostamp);
   owners.clear();
   is_mem.clear();
   auto add = [&](int i, bool member) {
@@ -311,10 +304,7 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
   grow();
-  if (++cepoch == 0) {
-    std::fill(cstamp.begin(), cstamp.end(), 0u);
-    cepoch = 1;
-  }
+  HardSphere::bump_epoch(cepoch, cstamp);
   std::vector<int> atoms;
   auto note = [&](int i) {
     if (cstamp[i] == cepoch) return;

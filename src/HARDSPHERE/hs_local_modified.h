@@ -115,7 +115,6 @@ class HSLocalModified : protected Pointers {
   std::vector<int> red_rows;
   void grow();
   void zero_red();
-  void bump_ostamp();    // a new epoch of ostamp (one set of marks)
 
   void find_terms(HSStepView &);
   void forward_state(bool with_rel);
