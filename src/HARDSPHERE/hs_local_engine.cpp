@@ -2244,19 +2244,29 @@ void HSLocalEngine::final_kick()
   if ((int) kstamp.size() < atom->nmax) kstamp.resize(atom->nmax, 0u);
   grow_arrays();
   if (remapped) {
+    // a partner still owned here keeps its end force; only those of atoms
+    // that changed rank travel (each atom is listed on one rank)
+    bump_epoch(eepoch, estamp);
+    auto take = [&](int i, const double *fc) {
+      estamp[i] = eepoch;
+      sb_rows.push_back(i);
+      for (int d = 0; d < 3; d++) sb[i][d] = fc[d];
+    };
     sendbuf.clear();
     for (size_t k = 0; k < end_ptags.size(); k++) {
+      const int i = atom->map(end_ptags[k]);
+      if (i >= 0 && i < nlocal) {
+        take(i, end_pfc[k].data());
+        continue;
+      }
       sendbuf.push_back((double) end_ptags[k]);
       for (int d = 0; d < 3; d++) sendbuf.push_back(end_pfc[k][d]);
     }
     allgather(recvbuf);
-    bump_epoch(eepoch, estamp);
     for (size_t m = 0; m + 3 < recvbuf.size(); m += 4) {
       const int i = atom->map((tagint) recvbuf[m]);
       if (i < 0 || i >= nlocal) continue;
-      estamp[i] = eepoch;
-      sb_rows.push_back(i);
-      for (int d = 0; d < 3; d++) sb[i][d] = recvbuf[m + 1 + d];
+      take(i, &recvbuf[m + 1]);
     }
   }
   bump_epoch(kepoch, kstamp);

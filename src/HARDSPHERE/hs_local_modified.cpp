@@ -258,7 +258,16 @@ void HSLocalModified::begin(HSStepView &eng)
   // every pair within cutoff + skin: every atom that can share a term with
   // a member during the step has a copy here
   conservative_state(eng, true);
-  forward_state(false);
+  if (sys->nheld)
+    forward_state(false);
+  else
+    // the conservative map starts from v0 itself, which every copy has
+    // (the engine forwards v at the step's start): no exchange
+    for (int l : tcopies)
+      for (int d = 0; d < 3; d++) {
+        fwd[l][d] = eng.start_v(l)[d];
+        fwd[l][3 + d] = 0.0;
+      }
   double E, Q, Qbb;
   terms_eval([&](int l) { return eng.start_x(l); }, E, Q, Qbb);
   double T = 0.0;
@@ -358,43 +367,57 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
 /* ----------------------------------------------------------------------
    after a list rebuild between begin() and end() (atoms sorted, or moved
    to other ranks): the members (ID, cluster) and the start's partners (ID,
-   start data) this rank owns now, by ID from every rank
+   start data) this rank owns now. An entry whose atom is still owned here
+   stays; only the others travel, by ID to every rank (a list rebuild moves
+   few atoms across a face: gathering every entry cost 3 % of a 2-rank pcva
+   step at 256000 atoms, most of it in page faults of the large buffers)
 ------------------------------------------------------------------------- */
 
 void HSLocalModified::remap()
 {
   const int nlocal = atom->nlocal;
-  std::vector<double> mine, all;
+  const int me = comm->me;
+  auto here = [&](tagint t) {
+    const int i = atom->map(t);
+    return i >= 0 && i < nlocal;
+  };
+  // members keep begin()'s order: cluster, then the rank and position
+  // where begin() listed them (the order of a gather of every entry)
+  std::vector<RemapMember> &ms = remap_ms;
+  std::vector<std::pair<tagint, Start>> &ps = remap_ps;
+  std::vector<double> &out = remap_out, &all = remap_all;
+  ms.clear();
+  ps.clear();
+  out.clear();
   for (size_t k = 0; k < mtag.size(); k++) {
-    mine.push_back(0.0);
-    mine.push_back((double) mtag[k]);
-    mine.push_back((double) cid[k]);
+    if (here(mtag[k])) {
+      ms.push_back({cid[k], me, (int) k, mtag[k]});
+      continue;
+    }
+    for (double d : {0.0, (double) mtag[k], (double) cid[k], (double) me, (double) k})
+      out.push_back(d);
   }
   for (size_t k = 0; k < ptag.size(); k++) {
-    mine.push_back(1.0);
-    mine.push_back((double) ptag[k]);
+    if (here(ptag[k])) {
+      ps.emplace_back(ptag[k], pstart[k]);
+      continue;
+    }
+    out.push_back(1.0);
+    out.push_back((double) ptag[k]);
     const Start &st = pstart[k];
     for (const Vec *a : {&st.v0, &st.d1, &st.d2, &st.fr0})
-      for (int d = 0; d < 3; d++) mine.push_back((*a)[d]);
+      for (int d = 0; d < 3; d++) out.push_back((*a)[d]);
   }
-  HardSphere::allgatherv(world, MPI_DOUBLE, mine, all);
-  mtag.clear();
-  cid.clear();
-  ptag.clear();
-  pstart.clear();
-  std::vector<std::pair<tagint, int>> ms;
-  std::vector<std::pair<tagint, Start>> ps;
+  HardSphere::allgatherv(world, MPI_DOUBLE, out, all);
   for (size_t p = 0; p < all.size();) {
     const bool partner = all[p] > 0.5;
     const tagint t = (tagint) all[p + 1];
-    const int i = atom->map(t);
-    const bool here = i >= 0 && i < nlocal;
     if (!partner) {
-      if (here) ms.emplace_back(t, (int) all[p + 2]);
-      p += 3;
+      if (here(t)) ms.push_back({(int) all[p + 2], (int) all[p + 3], (int) all[p + 4], t});
+      p += 5;
       continue;
     }
-    if (here) {
+    if (here(t)) {
       Start st;
       int q = (int) p + 2;
       for (Vec *a : {&st.v0, &st.d1, &st.d2, &st.fr0})
@@ -403,19 +426,23 @@ void HSLocalModified::remap()
     }
     p += 14;
   }
-  // (members in cluster order as begin() had them; partners by ID)
-  std::stable_sort(ms.begin(), ms.end(), [](const std::pair<tagint, int> &a,
-                                            const std::pair<tagint, int> &b) {
-    return a.second < b.second;
+  std::sort(ms.begin(), ms.end(), [](const RemapMember &a, const RemapMember &b) {
+    if (a.cid != b.cid) return a.cid < b.cid;
+    return a.rank != b.rank ? a.rank < b.rank : a.seq < b.seq;
   });
-  for (auto &m : ms) {
-    mtag.push_back(m.first);
-    cid.push_back(m.second);
+  mtag.clear();
+  cid.clear();
+  for (const RemapMember &m : ms) {
+    mtag.push_back(m.tag);
+    cid.push_back(m.cid);
   }
+  // (partners by ID)
   std::sort(ps.begin(), ps.end(), [](const std::pair<tagint, Start> &a,
                                      const std::pair<tagint, Start> &b) {
     return a.first < b.first;
   });
+  ptag.clear();
+  pstart.clear();
   for (auto &p : ps) {
     ptag.push_back(p.first);
     pstart.push_back(p.second);

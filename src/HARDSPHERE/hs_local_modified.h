@@ -94,6 +94,15 @@ class HSLocalModified : protected Pointers {
   };
   std::vector<tagint> ptag;           // the start's partners owned here (and their data)
   std::vector<Start> pstart;
+  // remap()'s buffers (kept between steps: rebuilt each step they cost
+  // page faults)
+  struct RemapMember {
+    int cid, rank, seq;    // cluster; rank and position in begin()'s list
+    tagint tag;
+  };
+  std::vector<RemapMember> remap_ms;
+  std::vector<std::pair<tagint, Start>> remap_ps;
+  std::vector<double> remap_out, remap_all;
   std::vector<int> pidx;              // end(): their local indices now
   double L0 = 0.0;                    // this rank's part of L at the start
 
