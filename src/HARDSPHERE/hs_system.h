@@ -41,6 +41,7 @@ class HSSystem : protected Pointers, public HSTypes {
   // nonzero (listed by the caller, and ghosts received)
   std::vector<char> sendmark_;
   std::vector<int> marked_;
+  std::vector<int> packsel_;    // pack_reverse_comm(): the listed rows of one swap
   bool revlisted_ = false;
 
  public:
