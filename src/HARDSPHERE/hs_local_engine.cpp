@@ -305,7 +305,7 @@ void HSLocalEngine::set_v(int i, const double *vn)
    MPI_Allgather of the sizes and one MPI_Allgatherv), and a maximum
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::allgather(std::vector<double> &out)
+void HSLocalEngine::allgather(HardSphere::GatherBuffer<double> &out)
 {
   ncollective += 1.0;
   HardSphere::allgatherv(world, MPI_DOUBLE, sendbuf, out);
@@ -368,7 +368,7 @@ void HSLocalEngine::pack_run(const Run &r, bool first_half)
 void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arrived)
 {
   hits.clear();
-  const std::vector<double> &b = recvbuf;
+  const HardSphere::GatherBuffer<double> &b = recvbuf;
   size_t m = 0;
   const size_t n = b.size();
   while (m < n) {
@@ -630,7 +630,7 @@ void HSLocalEngine::gather_topology(const std::vector<int> &newids)
   std::sort(ids.begin(), ids.end());
   sendbuf.clear();
   locf->collect_topology(ids, sendbuf);
-  std::vector<double> all;
+  HardSphere::GatherBuffer<double> all;
   allgather(all);
   auto is_new = [&ids](tagint t) { return std::binary_search(ids.begin(), ids.end(), t); };
   std::vector<int> fresh;    // the terms of this gather, once each

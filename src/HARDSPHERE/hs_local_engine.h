@@ -99,6 +99,7 @@
 #include "hs_cluster.h"
 #include "hs_contact.h"
 #include "hs_local_forces.h"
+#include "hs_mpi.h"
 #include "hs_stamp.h"
 #include "hs_step_engine.h"
 #include "hs_step_view.h"
@@ -393,8 +394,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
 
   // ---- the replicated registry: packets of each half, shared by one
   // collective per phase
-  std::vector<double> sendbuf, recvbuf;
-  void allgather(std::vector<double> &out);    // sendbuf of every rank, in rank order
+  std::vector<double> sendbuf;
+  HardSphere::GatherBuffer<double> recvbuf;
+  void allgather(HardSphere::GatherBuffer<double> &out);    // sendbuf of every rank, in rank order
   void gather_hits(std::vector<Hit> &hits);
   size_t npk_pos = 0;    // where sendbuf counts its packets
   void start_packets(const std::vector<Hit> &hits);

@@ -388,7 +388,8 @@ void HSLocalModified::remap()
   // where begin() listed them (the order of a gather of every entry)
   std::vector<RemapMember> &ms = remap_ms;
   std::vector<std::pair<tagint, Start>> &ps = remap_ps;
-  std::vector<double> &out = remap_out, &all = remap_all;
+  std::vector<double> &out = remap_out;
+  HardSphere::GatherBuffer<double> &all = remap_all;
   ms.clear();
   ps.clear();
   out.clear();

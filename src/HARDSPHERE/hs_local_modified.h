@@ -47,6 +47,7 @@
 #ifndef LMP_HS_LOCAL_MODIFIED_H
 #define LMP_HS_LOCAL_MODIFIED_H
 
+#include "hs_mpi.h"
 #include "lmptype.h"
 #include "pointers.h"
 
@@ -102,7 +103,8 @@ class HSLocalModified : protected Pointers {
   };
   std::vector<RemapMember> remap_ms;
   std::vector<std::pair<tagint, Start>> remap_ps;
-  std::vector<double> remap_out, remap_all;
+  std::vector<double> remap_out;
+  HardSphere::GatherBuffer<double> remap_all;
   std::vector<int> pidx;              // end(): their local indices now
   double L0 = 0.0;                    // this rank's part of L at the start
 
