@@ -484,6 +484,16 @@ int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
     return m;
   }
   if (cols_) {
+    if (ncols_ == 4) {    // (Phi_H2's velocities: a fixed width the compiler unrolls)
+      for (int k = 0; k < n; k++, m += 4) {
+        const double *row = cols_[list_[k]];
+        buf[m] = row[0];
+        buf[m + 1] = row[1];
+        buf[m + 2] = row[2];
+        buf[m + 3] = row[3];
+      }
+      return m;
+    }
     for (int k = 0; k < n; k++)
       for (int c = 0; c < ncols_; c++) buf[m++] = cols_[list_[k]][c];
     return m;
@@ -497,7 +507,11 @@ int HSSystem::pack_forward_comm(int n, int *list_, double *buf)
     buf[m++] = acc[j][1];
     buf[m++] = acc[j][2];
     buf[m++] = active[j];
-    for (int c = 0; c < nextra_; c++) buf[m++] = extra_[j][c];
+    if (nextra_ == 2) {    // (the local engine's first guess)
+      buf[m++] = extra_[j][0];
+      buf[m++] = extra_[j][1];
+    } else
+      for (int c = 0; c < nextra_; c++) buf[m++] = extra_[j][c];
   }
   return m;
 }
@@ -526,6 +540,18 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
     return;
   }
   if (cols_) {
+    if (ncols_ == 4 && ncmp_ == 3) {    // (Phi_H2's velocities, unrolled)
+      for (int i = first; i < last; i++, m += 4) {
+        double *row = cols_[i];
+        const double *b = buf + m;
+        if ((row[0] != b[0]) | (row[1] != b[1]) | (row[2] != b[2])) changed_->push_back(i);
+        row[0] = b[0];
+        row[1] = b[1];
+        row[2] = b[2];
+        row[3] = b[3];
+      }
+      return;
+    }
     for (int i = first; i < last; i++) {
       double *row = cols_[i];
       bool ch = false;
@@ -543,7 +569,11 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
     acc[i][1] = buf[m++];
     acc[i][2] = buf[m++];
     active[i] = buf[m++];
-    for (int c = 0; c < nextra_; c++) extra_[i][c] = buf[m++];
+    if (nextra_ == 2) {
+      extra_[i][0] = buf[m++];
+      extra_[i][1] = buf[m++];
+    } else
+      for (int c = 0; c < nextra_; c++) extra_[i][c] = buf[m++];
   }
 }
 
