@@ -73,7 +73,7 @@ void HSLocalModified::zero_red()
    reversed into the owners (red)
 ------------------------------------------------------------------------- */
 
-template <bool WITH_B, class X>
+template <class X>
 void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
 {
   const int *type = atom->type, *mask = atom->mask;
@@ -116,14 +116,11 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
     for (int d = 0; d < 3; d++) kvij[d] = phi[2] * e[d] * ev + pr * (vij[d] - e[d] * ev);
     E += w * phi[0];
     Q += w * (phi[2] * ev * ev + pr * (vv - ev * ev));
-    if (WITH_B) {
-      const double *bi = (mask[i] & gb) ? fwd[i] + 3 : zero,
-                   *bj = (mask[j] & gb) ? fwd[j] + 3 : zero;
-      const double bij[3] = {bi[0] - bj[0], bi[1] - bj[1], bi[2] - bj[2]};
-      const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
-      const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
-      Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
-    }
+    const double *bi = (mask[i] & gb) ? fwd[i] + 3 : zero, *bj = (mask[j] & gb) ? fwd[j] + 3 : zero;
+    const double bij[3] = {bi[0] - bj[0], bi[1] - bj[1], bi[2] - bj[2]};
+    const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
+    const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
+    Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
     for (int d = 0; d < 3; d++) {
       red[i][d] -= w * phi[1] * e[d];
       red[j][d] += w * phi[1] * e[d];
@@ -272,7 +269,7 @@ void HSLocalModified::begin(HSStepView &eng)
         fwd[l][3 + d] = 0.0;
       }
   double E, Q, Qbb;
-  terms_eval<false>([&](int l) { return eng.start_x(l); }, E, Q, Qbb);
+  terms_eval([&](int l) { return eng.start_x(l); }, E, Q, Qbb);
   double T = 0.0;
   for (int m : mem)
     if (mask[m] & gb) {
@@ -477,7 +474,7 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
   relative();
   forward_state(true);
   double E, Q, Qbb;
-  terms_eval<true>([&](int l) { return x[l]; }, E, Q, Qbb);
+  terms_eval([&](int l) { return x[l]; }, E, Q, Qbb);
   const double mvv2e = force->mvv2e, dt = sys->dtv;
   double T = 0.0;
   for (int m : mem)

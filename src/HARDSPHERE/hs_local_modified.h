@@ -132,8 +132,7 @@ class HSLocalModified : protected Pointers {
   void remap();
   // this rank's E = V_CX, Q = sum v^T V_t'' v and Qbb = sum b^T V_t'' b
   // over its terms at positions xpos(copy); red reversed into the owners
-  // (Qbb only WITH_B: end(); at begin() b is zero)
-  template <bool WITH_B, class X> void terms_eval(X xpos, double &E, double &Q, double &Qbb);
+  template <class X> void terms_eval(X xpos, double &E, double &Q, double &Qbb);
   double local_L(double E, double Q, double T);
   // conservative forces and velocities (held forces taken out), per local index
   std::vector<Vec> fcons_, vcons_;
