@@ -74,7 +74,7 @@ void HSLocalModified::zero_red()
 ------------------------------------------------------------------------- */
 
 template <class X>
-void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
+void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool flags)
 {
   const int *type = atom->type, *mask = atom->mask;
   const int gb = sys->groupbit;
@@ -129,7 +129,9 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb)
     }
   }
   red_rows.insert(red_rows.end(), tcopies.begin(), tcopies.end());
-  sys->reverse_columns(red, 6, &red_rows);
+  if (flags)
+    for (int l : tcopies) red[l][6] = 1.0;
+  sys->reverse_columns(red, flags ? 7 : 6, &red_rows);
 }
 
 /* ----------------------------------------------------------------------
@@ -168,7 +170,7 @@ double HSLocalModified::local_L(double E, double Q, double T)
    rank (a flag reversed into the owners): members first, then partners
 ------------------------------------------------------------------------- */
 
-void HSLocalModified::find_terms(HSStepView &eng)
+void HSLocalModified::list_terms(HSStepView &eng)
 {
   grow();
   HSLocalForces &lf = eng.local_forces();
@@ -189,29 +191,50 @@ void HSLocalModified::find_terms(HSStepView &eng)
       ostamp[l] = oepoch;
       tcopies.push_back(l);
     }
+}
+
+// the owners from the flags (red column 6) reversed into them: members in
+// mem's order, then partners in increasing local index (marked, then one
+// scan of the marked range: a sort of ~10 partners per member cost 0.9 % of
+// a pcva step)
+void HSLocalModified::owners_from_flags()
+{
+  const int nlocal = atom->nlocal;
+  HardSphere::bump_epoch(oepoch, ostamp);
+  owners.clear();
+  is_mem.clear();
+  for (int m : mem)
+    if (ostamp[m] != oepoch) {
+      ostamp[m] = oepoch;
+      owners.push_back(m);
+      is_mem.push_back(1);
+    }
+  if ((int) pmark.size() < nlocal) pmark.resize(nlocal, 0);
+  int lo = nlocal, hi = -1;
+  for (int l : red_rows)
+    if (l < nlocal && red[l][6] > 0.0 && ostamp[l] != oepoch) {
+      pmark[l] = 1;
+      lo = std::min(lo, l);
+      hi = std::max(hi, l);
+    }
+  for (int p = lo; p <= hi; p++)
+    if (pmark[p]) {
+      pmark[p] = 0;
+      owners.push_back(p);
+      is_mem.push_back(0);
+    }
+}
+
+void HSLocalModified::find_terms(HSStepView &eng)
+{
+  list_terms(eng);
   zero_red();
   for (int l : tcopies) {
     red[l][6] = 1.0;
     red_rows.push_back(l);
   }
   sys->reverse_columns(red, 7, &red_rows);
-
-  const int nlocal = atom->nlocal;
-  HardSphere::bump_epoch(oepoch, ostamp);
-  owners.clear();
-  is_mem.clear();
-  auto add = [&](int i, bool member) {
-    if (ostamp[i] == oepoch) return;
-    ostamp[i] = oepoch;
-    owners.push_back(i);
-    is_mem.push_back(member ? 1 : 0);
-  };
-  for (int m : mem) add(m, true);
-  std::vector<int> part;
-  for (int l : red_rows)
-    if (l < nlocal && red[l][6] > 0.0) part.push_back(l);
-  std::sort(part.begin(), part.end());
-  for (int p : part) add(p, false);
+  owners_from_flags();
   zero_red();
 }
 
@@ -251,25 +274,32 @@ void HSLocalModified::begin(HSStepView &eng)
       mtag.push_back(tag[m]);
     }
   ncl = eng.nclusters();
-  find_terms(eng);
 
   // the step's start: x0 and the conservative map's start velocities
   // (held forces: after their first half kick) and forces. The lists hold
   // every pair within cutoff + skin: every atom that can share a term with
   // a member during the step has a copy here
-  conservative_state(eng, true);
-  if (sys->nheld)
+  double E, Q, Qbb;
+  auto xstart = [&](int l) { return eng.start_x(l); };
+  if (sys->nheld) {
+    find_terms(eng);
+    conservative_state(eng, true);
     forward_state(false);
-  else
+    terms_eval(xstart, E, Q, Qbb, false);
+  } else {
     // the conservative map starts from v0 itself, which every copy has
-    // (the engine forwards v at the step's start): no exchange
+    // (the engine forwards v at the step's start): no forward, and the
+    // owners' flags travel with the terms' sums (one reverse)
+    list_terms(eng);
     for (int l : tcopies)
       for (int d = 0; d < 3; d++) {
         fwd[l][d] = eng.start_v(l)[d];
         fwd[l][3 + d] = 0.0;
       }
-  double E, Q, Qbb;
-  terms_eval([&](int l) { return eng.start_x(l); }, E, Q, Qbb);
+    terms_eval(xstart, E, Q, Qbb, true);
+    owners_from_flags();
+    conservative_state(eng, true);
+  }
   double T = 0.0;
   for (int m : mem)
     if (mask[m] & gb) {
@@ -384,7 +414,7 @@ void HSLocalModified::remap()
   // members keep begin()'s order: cluster, then the rank and position
   // where begin() listed them (the order of a gather of every entry)
   std::vector<RemapMember> &ms = remap_ms;
-  std::vector<std::pair<tagint, Start>> &ps = remap_ps;
+  std::vector<std::pair<tagint, int>> &ps = remap_ps;
   std::vector<double> &out = remap_out;
   HardSphere::GatherBuffer<double> &all = remap_all;
   ms.clear();
@@ -400,7 +430,7 @@ void HSLocalModified::remap()
   }
   for (size_t k = 0; k < ptag.size(); k++) {
     if (here(ptag[k])) {
-      ps.emplace_back(ptag[k], pstart[k]);
+      ps.emplace_back(ptag[k], (int) k);
       continue;
     }
     out.push_back(1.0);
@@ -418,13 +448,7 @@ void HSLocalModified::remap()
       p += 5;
       continue;
     }
-    if (here(t)) {
-      Start st;
-      int q = (int) p + 2;
-      for (Vec *a : {&st.v0, &st.d1, &st.d2, &st.fr0})
-        for (int d = 0; d < 3; d++) (*a)[d] = all[q++];
-      ps.emplace_back(t, st);
-    }
+    if (here(t)) ps.emplace_back(t, -1 - (int) (p + 2));    // (its data in all)
     p += 14;
   }
   std::sort(ms.begin(), ms.end(), [](const RemapMember &a, const RemapMember &b) {
@@ -437,17 +461,24 @@ void HSLocalModified::remap()
     mtag.push_back(m.tag);
     cid.push_back(m.cid);
   }
-  // (partners by ID)
-  std::sort(ps.begin(), ps.end(), [](const std::pair<tagint, Start> &a,
-                                     const std::pair<tagint, Start> &b) {
-    return a.first < b.first;
-  });
+  // (partners by ID: (ID, where its data is) sorted, the data then copied
+  // once in that order)
+  std::sort(ps.begin(), ps.end());
+  std::vector<Start> &st = remap_st;
+  st.resize(ps.size());
   ptag.clear();
-  pstart.clear();
-  for (auto &p : ps) {
-    ptag.push_back(p.first);
-    pstart.push_back(p.second);
+  for (size_t k = 0; k < ps.size(); k++) {
+    ptag.push_back(ps[k].first);
+    const int w = ps[k].second;
+    if (w >= 0) {
+      st[k] = pstart[w];
+      continue;
+    }
+    int q = -1 - w;
+    for (Vec *a : {&st[k].v0, &st[k].d1, &st[k].d2, &st[k].fr0})
+      for (int d = 0; d < 3; d++) (*a)[d] = all[q++];
   }
+  pstart.swap(st);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -474,7 +505,7 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
   relative();
   forward_state(true);
   double E, Q, Qbb;
-  terms_eval([&](int l) { return x[l]; }, E, Q, Qbb);
+  terms_eval([&](int l) { return x[l]; }, E, Q, Qbb, false);
   const double mvv2e = force->mvv2e, dt = sys->dtv;
   double T = 0.0;
   for (int m : mem)

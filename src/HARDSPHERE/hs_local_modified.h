@@ -102,7 +102,8 @@ class HSLocalModified : protected Pointers {
     tagint tag;
   };
   std::vector<RemapMember> remap_ms;
-  std::vector<std::pair<tagint, Start>> remap_ps;
+  std::vector<std::pair<tagint, int>> remap_ps;    // ID, index in pstart or -1 - offset in remap_all
+  std::vector<Start> remap_st;
   std::vector<double> remap_out;
   HardSphere::GatherBuffer<double> remap_all;
   std::vector<int> pidx;              // end(): their local indices now
@@ -127,12 +128,16 @@ class HSLocalModified : protected Pointers {
   void grow();
   void zero_red();
 
-  void find_terms(HSStepView &);
+  std::vector<char> pmark;            // owners_from_flags(): partners marked
+  void list_terms(HSStepView &);
+  void owners_from_flags();
+  void find_terms(HSStepView &);    // list_terms(), flags reversed, owners_from_flags()
   void forward_state(bool with_rel);
   void remap();
   // this rank's E = V_CX, Q = sum v^T V_t'' v and Qbb = sum b^T V_t'' b
   // over its terms at positions xpos(copy); red reversed into the owners
-  template <class X> void terms_eval(X xpos, double &E, double &Q, double &Qbb);
+  // (flags: with the term copies' flags of find_terms() in column 6)
+  template <class X> void terms_eval(X xpos, double &E, double &Q, double &Qbb, bool flags);
   double local_L(double E, double Q, double T);
   // conservative forces and velocities (held forces taken out), per local index
   std::vector<Vec> fcons_, vcons_;
