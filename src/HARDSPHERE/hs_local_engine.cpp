@@ -1608,23 +1608,8 @@ void HSLocalEngine::h2_velocities(bool full)
   bump_epoch(dsepoch, dstamp_sa);
   dsa_rows.clear();
   wchanged.clear();
-  if (full) {
-    rows.resize(nlocal);
-    for (int i = 0; i < nlocal; i++) rows[i] = i;
-  } else
-    rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
-  std::vector<int> &send = scratch_wsend;
-  send.clear();
-  // each owned row once (a new member may also have had its sums changed)
-  bump_epoch(wepoch, wstamp);
-  for (int i : rows) {
-    if (i >= nlocal || wstamp[i] == wepoch) continue;
-    wstamp[i] = wepoch;
-    double *wi = wq[i];
-    const double flag = (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
-    bool ch = flag != wi[3];
-    wi[3] = flag;
-    double wn[3];
+  // owned row i of w: velocity and "may touch" flag
+  auto w_row = [&](int i, double *wn) {
     if (!(mask[i] & F.groupbit) || is_member(i))
       wn[0] = wn[1] = wn[2] = 0.0;
     else {
@@ -1634,6 +1619,32 @@ void HSLocalEngine::h2_velocities(bool full)
       else
         for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * f[i][d];
     }
+    return (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
+  };
+  if (full) {
+    // every owned row, every ghost row forwarded: nothing to compare (the
+    // changes a later call lists are relative to this one)
+    for (int i = 0; i < nlocal; i++) {
+      double *wi = wq[i];
+      wi[3] = w_row(i, wi);
+    }
+    F.forward_columns(wq, 4);
+    ncollective += 1.0;
+    return;
+  }
+  rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
+  std::vector<int> &send = scratch_wsend;
+  send.clear();
+  // each owned row once (a new member may also have had its sums changed)
+  bump_epoch(wepoch, wstamp);
+  for (int i : rows) {
+    if (i >= nlocal || wstamp[i] == wepoch) continue;
+    wstamp[i] = wepoch;
+    double *wi = wq[i];
+    double wn[3];
+    const double flag = w_row(i, wn);
+    bool ch = flag != wi[3];
+    wi[3] = flag;
     if (wn[0] != wi[0] || wn[1] != wi[1] || wn[2] != wi[2]) {
       wchanged.push_back(i);
       ch = true;
@@ -1646,7 +1657,7 @@ void HSLocalEngine::h2_velocities(bool full)
   // (the ghosts whose w changed join wchanged). After the step's first
   // (full) forward, only the owners' rows that changed travel: the other
   // ghosts' rows are still those of that forward
-  F.forward_columns(wq, 4, &wchanged, 3, full ? nullptr : &send);
+  F.forward_columns(wq, 4, &wchanged, 3, &send);
   ncollective += 1.0;
 }
 

@@ -540,6 +540,16 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
     return;
   }
   if (cols_) {
+    if (ncols_ == 4 && !changed_) {    // (Phi_H2's velocities, the step's first: unrolled)
+      for (int i = first; i < last; i++, m += 4) {
+        double *row = cols_[i];
+        row[0] = buf[m];
+        row[1] = buf[m + 1];
+        row[2] = buf[m + 2];
+        row[3] = buf[m + 3];
+      }
+      return;
+    }
     if (ncols_ == 4 && ncmp_ == 3) {    // (Phi_H2's velocities, unrolled)
       for (int i = first; i < last; i++, m += 4) {
         double *row = cols_[i];
