@@ -493,41 +493,56 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   near_walls.clear();
   const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
   const double t2 = dt * dt, h4 = 0.25 * t2 * t2;
-  for (int i = 0; i < nlocal; i++) {
-    cols[i][0] = gap[i];
-    cols[i][1] = 0.0;
-    if (!(mask[i] & F.groupbit)) continue;
-    if (active[i] == 0.0) {
-      // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
-      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
-                   dz = x[i][2] - xref[i][2];
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-      const double a2 =
-          h4 * (acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);
-      const double g = gap[i] - mhalf;
-      if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) continue;
-      if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) continue;
-    }
-    act0.push_back(i);
-    cols[i][1] = 1.0;
-  }
-  // with v and a, in one exchange
-  sys->forward_vel_acc(cols, 2);
-  ncollective += 1.0;
+  const double ftm2v = force->ftm2v;
+  double **f = atom->f;
+  pathv.resize(nall);
+  flagv.resize(nall);
   // the path bound dt |v| + dt^2/2 |a| of fix nve's step and the flag of
   // every copy, once per copy in two contiguous arrays: the pair loop reads
   // them for each of its ~5 pairs per atom (the bound per pair of an
   // unflagged atom, and the flags through cols, cost more)
-  pathv.resize(nall);
-  flagv.resize(nall);
   auto bound = [&](int k) {
     const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
     const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
     pathv[k] = dt * vv + 0.5 * dt * dt * aa;
     flagv[k] = cols[k][1] != 0.0;
   };
-  for (int k = 0; k < nlocal; k++) bound(k);
+  // one pass over the owned atoms (each array read once, as fix nve's
+  // kick reads it: the passes are bound by memory, not arithmetic): the
+  // acceleration (HSSystem::set_acc()), the start state (x0, v0: used if
+  // anything is hit, which on a dense fluid is nearly every step), the
+  // flag and the path bound
+  auto flagged = [&](int i) {
+    if (!(mask[i] & F.groupbit)) return false;
+    if (active[i] != 0.0) return true;
+    // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
+    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
+                 dz = x[i][2] - xref[i][2];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    const double a2 =
+        h4 * (acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);
+    const double g = gap[i] - mhalf;
+    if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) return false;
+    if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) return false;
+    return true;
+  };
+  for (int i = 0; i < nlocal; i++) {
+    const double im = ftm2v / F.mass_of(i);
+    for (int d = 0; d < 3; d++) {
+      acc[i][d] = f[i][d] * im;
+      x0[i][d] = x[i][d];
+      v0[i][d] = v[i][d];
+    }
+    cols[i][0] = gap[i];
+    const bool fl = flagged(i);
+    cols[i][1] = fl ? 1.0 : 0.0;
+    if (fl) act0.push_back(i);
+    bound(i);
+  }
+  // with v and a, in one exchange
+  sys->forward_vel_acc(cols, 2);
+  ncollective += 1.0;
   for (int k : cand_ghosts) bound(k);
   const double *pv = pathv.data();
   const char *fv = flagv.data();
@@ -2127,7 +2142,8 @@ int HSLocalEngine::step_clusters()
   grow_arrays();
   build_adjacency();
   if ((int) hstampv.size() < nmax) hstampv.resize(nmax, 0u);
-  F.set_acc();    // (the ghosts' v, a go with the first guess's flags)
+  // (the owned atoms' a, x0 and v0 are set by predict_all(); the ghosts'
+  // v, a go with the first guess's flags)
   const double ncoll0 = ncollective;
   std::vector<Hit> hits;
   predict_all(hits);
@@ -2141,7 +2157,7 @@ int HSLocalEngine::step_clusters()
   double **x = atom->x, **v = atom->v;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
-  for (int l = 0; l < nall; l++)
+  for (int l = nlocal; l < nall; l++)    // (the owned ones in predict_all())
     for (int d = 0; d < 3; d++) {
       x0[l][d] = x[l][d];
       v0[l][d] = v[l][d];
