@@ -1764,7 +1764,9 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
   bool lists = false;
   if (full) {
     double dev = 0.0;
-    for (int p = 0; p < nlocal; p++) {
+    // (the owned rows with partner sums are all in sa_used: no pass over
+    // every row of the 7-column sa)
+    for (int p : sa_used) {
       if (sa[p][6] == 0.0 || is_member(p) || !(mask[p] & F.groupbit)) continue;
       const double dtfm = F.dtf / F.mass_of(p);
       double d2 = 0.0;
@@ -2225,9 +2227,13 @@ int HSLocalEngine::step_clusters()
   const tagint *tag = atom->tag;
   end_ptags.clear();
   end_pfc.clear();
+  // the owners with second-half sums are in sb_rows (listed, or received
+  // by the reverse): marked there, so the pass below reads a stamp per atom
+  // and not a row of the 7-column sb
+  for (int l : sb_rows)
+    if (l < nlocal && sb[l][6] > 0.0 && !is_member(l)) estamp[l] = eepoch;
   for (int i = 0; i < nlocal; i++) {
-    if (sb[i][6] > 0.0 && !is_member(i)) {
-      estamp[i] = eepoch;
+    if (estamp[i] == eepoch) {
       end_ptags.push_back(tag[i]);
       end_pfc.push_back({sb[i][0], sb[i][1], sb[i][2]});
     }
