@@ -1623,18 +1623,20 @@ void HSLocalEngine::h2_velocities(bool full)
   bump_epoch(dsepoch, dstamp_sa);
   dsa_rows.clear();
   wchanged.clear();
-  // owned row i of w: velocity and "may touch" flag
+  // owned row i of w: velocity and "may touch" flag (a row with partner
+  // sums is in sa_used: in_used first, so a full pass reads sa only there)
   auto w_row = [&](int i, double *wn) {
+    const bool sums = in_used[i] && sa[i][6] > 0.0;
     if (!(mask[i] & F.groupbit) || is_member(i))
       wn[0] = wn[1] = wn[2] = 0.0;
     else {
       const double dtfm = F.dtf / F.mass_of(i);
-      if (sa[i][6] > 0.0)
+      if (sums)
         for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * (f[i][d] - sa[i][d]) + sa[i][3 + d];
       else
         for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * f[i][d];
     }
-    return (cols[i][1] != 0.0 || sa[i][6] > 0.0 || is_member(i)) ? 1.0 : 0.0;
+    return (cols[i][1] != 0.0 || sums || is_member(i)) ? 1.0 : 0.0;
   };
   if (full) {
     // every owned row, every ghost row forwarded: nothing to compare (the
