@@ -2086,11 +2086,12 @@ bool HSLocalEngine::step()
     local_step = 1;
     if (F.step_collided) F.ncoll_steps += 1.0;
     meth.cluster_step_begun(*this);
+    F.request_rebuild(end_moved);
   } else {    // no contact after all: fix nve's step
     F.nve_initial();
     F.dtf_last = F.dtf;
+    F.request_rebuild();
   }
-  F.request_rebuild();
   return true;
 }
 
@@ -2234,12 +2235,20 @@ int HSLocalEngine::step_clusters()
   // and not a row of the 7-column sb
   for (int l : sb_rows)
     if (l < nlocal && sb[l][6] > 0.0 && !is_member(l)) estamp[l] = eepoch;
+  // (with HSSystem::moved_half_skin()'s test of the final positions, read
+  // here rather than in a pass of their own)
+  double **xref = F.xref;
+  const double trigger = 0.25 * F.skin * F.skin;
+  end_moved = 0;
   for (int i = 0; i < nlocal; i++) {
     if (estamp[i] == eepoch) {
       end_ptags.push_back(tag[i]);
       end_pfc.push_back({sb[i][0], sb[i][1], sb[i][2]});
     }
-    if (!(mask[i] & F.groupbit) || is_member(i)) continue;
+    if (!(mask[i] & F.groupbit)) continue;
+    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
+    if (dx * dx + dy * dy + dz * dz > trigger) end_moved = 1;
+    if (is_member(i)) continue;
     if (estamp[i] == eepoch)
       for (int d = 0; d < 3; d++) v[i][d] = wq[i][d] + sb[i][3 + d];
     else

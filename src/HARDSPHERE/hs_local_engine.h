@@ -301,6 +301,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // rows of sb that may be nonzero (zeroed before the next sums: no pass
   // over all copies per round); copies whose w changed in this round
   std::vector<int> sb_rows, wchanged;
+  int end_moved = 0;    // step_clusters(): an owned atom moved half a skin (HSSystem::moved_half_skin())
   std::vector<int> scratch_paths;
   // member copies placed anew since the last check (new members, new mid
   // positions): with wchanged, the copies whose Phi_H2 path changed

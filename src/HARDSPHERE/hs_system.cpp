@@ -714,9 +714,10 @@ int HSSystem::moved_half_skin()
   return 0;
 }
 
-void HSSystem::request_rebuild()
+void HSSystem::request_rebuild(int moved)
 {
-  int moved = moved_half_skin(), any;
+  if (moved < 0) moved = moved_half_skin();
+  int any;
   MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, world);
   if (any) host->next_reneighbor = update->ntimestep;
 }

@@ -168,7 +168,8 @@ class HSSystem : protected Pointers, public HSTypes {
   // step in the same pass unless end_of_step fixes may change v before it
   void closing_kick();
   int moved_half_skin();
-  void request_rebuild();
+  // moved: this rank's moved_half_skin() if the caller has it (else computed)
+  void request_rebuild(int moved = -1);
 
   // an impulse on every copy of its atoms on this rank
   void apply_impulse(const Impulse &);
