@@ -494,7 +494,6 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
   const double t2 = dt * dt, h4 = 0.25 * t2 * t2;
   const double ftm2v = force->ftm2v;
-  double **f = atom->f;
   pathv.resize(nall);
   flagv.resize(nall);
   // the path bound dt |v| + dt^2/2 |a| of fix nve's step and the flag of
@@ -528,9 +527,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     return true;
   };
   for (int i = 0; i < nlocal; i++) {
-    const double im = ftm2v / F.mass_of(i);
+    F.set_acc_row(i, ftm2v);
     for (int d = 0; d < 3; d++) {
-      acc[i][d] = f[i][d] * im;
       x0[i][d] = x[i][d];
       v0[i][d] = v[i][d];
     }
@@ -2237,8 +2235,6 @@ int HSLocalEngine::step_clusters()
     if (l < nlocal && sb[l][6] > 0.0 && !is_member(l)) estamp[l] = eepoch;
   // (with HSSystem::moved_half_skin()'s test of the final positions, read
   // here rather than in a pass of their own)
-  double **xref = F.xref;
-  const double trigger = 0.25 * F.skin * F.skin;
   end_moved = 0;
   for (int i = 0; i < nlocal; i++) {
     if (estamp[i] == eepoch) {
@@ -2246,8 +2242,7 @@ int HSLocalEngine::step_clusters()
       end_pfc.push_back({sb[i][0], sb[i][1], sb[i][2]});
     }
     if (!(mask[i] & F.groupbit)) continue;
-    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1], dz = x[i][2] - xref[i][2];
-    if (dx * dx + dy * dy + dz * dz > trigger) end_moved = 1;
+    if (F.moved_half(i)) end_moved = 1;
     if (is_member(i)) continue;
     if (estamp[i] == eepoch)
       for (int d = 0; d < 3; d++) v[i][d] = wq[i][d] + sb[i][3 + d];

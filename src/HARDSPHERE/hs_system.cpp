@@ -441,15 +441,9 @@ void HSSystem::comm_vel_acc()
 
 void HSSystem::set_acc()
 {
-  double **f = atom->f;
   const int nlocal = atom->nlocal;
   const double ftm2v = force->ftm2v;
-  for (int i = 0; i < nlocal; i++) {
-    const double im = ftm2v / mass_of(i);
-    acc[i][0] = f[i][0] * im;
-    acc[i][1] = f[i][1] * im;
-    acc[i][2] = f[i][2] * im;
-  }
+  for (int i = 0; i < nlocal; i++) set_acc_row(i, ftm2v);
 }
 
 void HSSystem::forward_vel_acc(double **extra, int nextra)
@@ -540,21 +534,12 @@ void HSSystem::unpack_forward_comm(int n, int first, double *buf)
     return;
   }
   if (cols_) {
-    if (ncols_ == 4 && !changed_) {    // (Phi_H2's velocities, the step's first: unrolled)
-      for (int i = first; i < last; i++, m += 4) {
-        double *row = cols_[i];
-        row[0] = buf[m];
-        row[1] = buf[m + 1];
-        row[2] = buf[m + 2];
-        row[3] = buf[m + 3];
-      }
-      return;
-    }
-    if (ncols_ == 4 && ncmp_ == 3) {    // (Phi_H2's velocities, unrolled)
+    if (ncols_ == 4 && (!changed_ || ncmp_ == 3)) {    // (Phi_H2's velocities, unrolled)
       for (int i = first; i < last; i++, m += 4) {
         double *row = cols_[i];
         const double *b = buf + m;
-        if ((row[0] != b[0]) | (row[1] != b[1]) | (row[2] != b[2])) changed_->push_back(i);
+        if (changed_ && ((row[0] != b[0]) | (row[1] != b[1]) | (row[2] != b[2])))
+          changed_->push_back(i);
         row[0] = b[0];
         row[1] = b[1];
         row[2] = b[2];
@@ -701,16 +686,10 @@ void HSSystem::nve_initial()
 
 int HSSystem::moved_half_skin()
 {
-  double **x = atom->x;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const double trigger = 0.25 * skin * skin;
   for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) {
-      const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
-                   dz = x[i][2] - xref[i][2];
-      if (dx * dx + dy * dy + dz * dz > trigger) return 1;
-    }
+    if ((mask[i] & groupbit) && moved_half(i)) return 1;
   return 0;
 }
 

@@ -66,6 +66,25 @@ class HSSystem : protected Pointers, public HSTypes {
   // inline: called per candidate pair in the list-build and prediction loops
   double radius_of(int i) const { return diameter_flag ? 0.5 * diameter : atom->radius[i]; }
   double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
+  // acc[i] = f[i] / m in velocity units (ftm2v = force->ftm2v): set_acc()'s
+  // row, also for the local engine's fused first-guess pass
+  void set_acc_row(int i, double ftm2v)
+  {
+    const double im = ftm2v / mass_of(i);
+    const double *fi = atom->f[i];
+    acc[i][0] = fi[0] * im;
+    acc[i][1] = fi[1] * im;
+    acc[i][2] = fi[2] * im;
+  }
+  // moved more than half the skin since the list build (LAMMPS' rebuild
+  // trigger): moved_half_skin()'s test, also made in the local engine's
+  // closing-velocities pass
+  bool moved_half(int i) const
+  {
+    const double dx = atom->x[i][0] - xref[i][0], dy = atom->x[i][1] - xref[i][1],
+                 dz = atom->x[i][2] - xref[i][2];
+    return dx * dx + dy * dy + dz * dz > 0.25 * skin * skin;
+  }
   double wall_gap(const Wall &, const double *x, double r) const;
   void wall_name(const Wall &, std::string &) const;
   void update_walls();
