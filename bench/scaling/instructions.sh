@@ -12,6 +12,11 @@
 #   bash bench/scaling/instructions.sh                       # build/lmp, N=32000, STEPS=10
 #   LMP=/path/to/old/lmp bash bench/scaling/instructions.sh  # another build
 #   N=256000 NP=2 bash bench/scaling/instructions.sh         # 2 ranks (issue 20)
+#   N=256000 CACHE=1 bash bench/scaling/instructions.sh      # + last-level cache misses
+# CACHE=1 adds callgrind's cache simulation with a 16 MB, 16-way last-level
+# cache (this VM reports a 256 MB L3, in which every array fits) and reports
+# its read and write misses: the memory traffic of the passes over all atoms,
+# which instruction counts do not see (about 2x slower).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -19,6 +24,9 @@ LMP=${LMP:-$ROOT/build/lmp}
 N=${N:-32000}
 STEPS=${STEPS:-10}
 NP=${NP:-1}
+CACHE=${CACHE:-0}
+CACHEOPTS=()
+[ "$CACHE" = 1 ] && CACHEOPTS=(--cache-sim=yes --LL=16777216,16,64)
 DATA=$HERE/scratch/fluid.$N.data
 [ -f "$DATA" ] || { echo "no $DATA: run SIZES=$N REPEATS=1 bash bench/scaling/run.sh first"; exit 1; }
 OUT=$HERE/scratch/callgrind
@@ -28,7 +36,7 @@ for c in "nve:fix hs all nve" "cva-local:fix hs all hardsphere/cva diameter 1.0"
          "pcva-local:fix hs all hardsphere/pcva diameter 1.0"; do
   name=${c%%:*}; fix=${c#*:}
   rm -f "$OUT/cg.$name".*
-  mpirun -np "$NP" --oversubscribe valgrind --tool=callgrind \
+  mpirun -np "$NP" --oversubscribe valgrind --tool=callgrind "${CACHEOPTS[@]}" \
     --callgrind-out-file="$OUT/cg.$name.np$NP.%q{OMPI_COMM_WORLD_RANK}" --collect-atstart=no \
     --toggle-collect='LAMMPS_NS::Verlet::run(int)' "$LMP" -screen none -log "$OUT/log.$name" \
     -in "$HERE/in.run" -var data "$DATA" -var fixcmd "$fix" -var steps "$STEPS" \
@@ -38,8 +46,16 @@ for c in "nve:fix hs all nve" "cva-local:fix hs all hardsphere/cva diameter 1.0"
 import re, subprocess, sys
 name, n, steps, np_ = sys.argv[1:5]
 total = mpi = 0
+llr = llw = 0
 for f in sys.argv[5:]:
-    out = subprocess.run(['callgrind_annotate', '--threshold=100', '--inclusive=no', f],
+    # last-level misses, if the run simulated the cache
+    tot = subprocess.run(['callgrind_annotate', '--threshold=100', '--show=DLmr,DLmw', f],
+                         capture_output=True, text=True).stdout
+    m = re.search(r'^\s*([\d,]+) \([^)]*\)\s+([\d,]+) \([^)]*\)\s+PROGRAM TOTALS', tot, re.M)
+    if m:
+        llr += int(m.group(1).replace(',', ''))
+        llw += int(m.group(2).replace(',', ''))
+    out = subprocess.run(['callgrind_annotate', '--threshold=100', '--inclusive=no', '--show=Ir', f],
                          capture_output=True, text=True, check=True).stdout
     for line in out.splitlines():
         m = re.match(r'\s*([\d,]+) \(\s*[\d.]+%\)\s+(\S.*)', line)
@@ -53,6 +69,7 @@ for f in sys.argv[5:]:
                      m.group(2)):
             mpi += k
 print(f"{name} {total} instructions ({steps} steps, N {n}, {np_} rank(s); "
-      f"outside MPI {total - mpi}, MPI {mpi})")
+      f"outside MPI {total - mpi}, MPI {mpi})"
+      + (f"; last-level misses read {llr}, write {llw}" if llr + llw else ""))
 EOF
 done
