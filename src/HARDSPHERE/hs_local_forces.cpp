@@ -410,7 +410,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       cells_ncalls_ = neighbor->ncalls;
     }
     std::vector<int> starts;
-    for (const auto &ta : ctag) {
+    for (size_t q = 0; q < ctag.size(); q++) {
+      const auto &ta = ctag[q];
       const int a = ta.second;
       int len;
       const std::pair<tagint, int> *row =
@@ -418,11 +419,18 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
             build_row(a, out);
           });
       const int n0 = (int) neigh_.size();
+      // a pair with another atom of C is taken from the lower tag's row:
+      // the row and ctag both ascend in tag, so one walk over ctag[0..q)
+      // finds them (by tag, as inC() by copy: no per-atom array read at a
+      // random place for every entry)
+      size_t p = 0;
       for (int k = 0; k < len; k++) {
         const tagint tj = row[k].first;
         const int raw = row[k].second;
-        // (every copy of C's atoms is marked: inC by index, no search by tag)
-        if (tj < ta.first && inC(raw & NEIGHMASK)) continue;    // from tj's row
+        if (tj < ta.first) {
+          while (p < q && ctag[p].first < tj) p++;
+          if (p < q && ctag[p].first == tj) continue;    // from tj's row
+        }
         if (cross(a, raw & NEIGHMASK) != only_cross) continue;
         neigh_.push_back(raw);
         const int pr[2] = {a, raw & NEIGHMASK};
