@@ -1600,24 +1600,33 @@ void HSLocalEngine::h2_velocities(bool full)
   ncollective += 1.0;
   std::vector<int> &rows = scratch_wrows;
   rows.clear();
-  bump_epoch(wepoch, wstamp);
+  // the owned rows with changes, in index order: dsa_rows lists the runs'
+  // members and partners cluster by cluster, all over memory (~100000 rows
+  // per rank and step at 256000 atoms); in index order the reads of dsa,
+  // sa and in_used go forward through memory (RowSet sorts and dedupes)
+  rowset.reset(nlocal);
   for (int l : dsa_rows) {
-    if (l < nlocal && wstamp[l] != wepoch) {
-      wstamp[l] = wepoch;
-      double *a = sa[l];
-      for (int d = 0; d < 7; d++) a[d] += dsa[l][d];
-      // no cluster left on it: exactly fix nve's kick again (no round-off
-      // of sums that cancel)
-      if (a[6] == 0.0)
-        for (int d = 0; d < 6; d++) a[d] = 0.0;
-      if (!in_used[l]) {
-        in_used[l] = 1;
-        sa_used.push_back(l);
-      }
-      rows.push_back(l);
-    }
-    for (int d = 0; d < 7; d++) dsa[l][d] = 0.0;
+    if (l < nlocal)
+      rowset.add(l);
+    else    // (a ghost's changes went to its owner)
+      for (int d = 0; d < 7; d++) dsa[l][d] = 0.0;
   }
+  rowset.for_each([&](int l) {
+    double *a = sa[l];
+    for (int d = 0; d < 7; d++) {
+      a[d] += dsa[l][d];
+      dsa[l][d] = 0.0;
+    }
+    // no cluster left on it: exactly fix nve's kick again (no round-off
+    // of sums that cancel)
+    if (a[6] == 0.0)
+      for (int d = 0; d < 6; d++) a[d] = 0.0;
+    if (!in_used[l]) {
+      in_used[l] = 1;
+      sa_used.push_back(l);
+    }
+    rows.push_back(l);
+  });
   bump_epoch(dsepoch, dstamp_sa);
   dsa_rows.clear();
   wchanged.clear();
@@ -2185,8 +2194,12 @@ int HSLocalEngine::step_clusters()
   // (every rank counts all), impulse virial (the runner's), and on the
   // touched copies V_C's end forces and the partners' second-half kicks,
   // reversed into the owners
-  for (int l : sb_rows)
+  // (the last step's rows, in index order: RowSet)
+  rowset.reset(nmax);
+  for (int l : sb_rows) rowset.add(l);
+  rowset.for_each([&](int l) {
     for (int d = 0; d < 7; d++) sb[l][d] = 0.0;
+  });
   sb_rows.clear();
   view_members.assign(cs.nclusters(), {});
   for (int c = 0; c < cs.nclusters(); c++) {
@@ -2229,22 +2242,25 @@ int HSLocalEngine::step_clusters()
   end_ptags.clear();
   end_pfc.clear();
   // the owners with second-half sums are in sb_rows (listed, or received
-  // by the reverse): marked there, so the pass below reads a stamp per atom
-  // and not a row of the 7-column sb
+  // by the reverse): a RowSet of them, so the pass below reads a bit per
+  // atom and a row of the 7-column sb only there, in index order
+  rowset.reset(nlocal);
   for (int l : sb_rows)
-    if (l < nlocal && sb[l][6] > 0.0 && !is_member(l)) estamp[l] = eepoch;
+    if (l < nlocal) rowset.add(l);
   // (with HSSystem::moved_half_skin()'s test of the final positions, read
   // here rather than in a pass of their own)
   end_moved = 0;
   for (int i = 0; i < nlocal; i++) {
-    if (estamp[i] == eepoch) {
+    const bool ends = rowset.has(i) && sb[i][6] > 0.0 && !is_member(i);
+    if (ends) {
+      estamp[i] = eepoch;
       end_ptags.push_back(tag[i]);
       end_pfc.push_back({sb[i][0], sb[i][1], sb[i][2]});
     }
     if (!(mask[i] & F.groupbit)) continue;
     if (F.moved_half(i)) end_moved = 1;
     if (is_member(i)) continue;
-    if (estamp[i] == eepoch)
+    if (ends)
       for (int d = 0; d < 3; d++) v[i][d] = wq[i][d] + sb[i][3 + d];
     else
       for (int d = 0; d < 3; d++) v[i][d] = wq[i][d];

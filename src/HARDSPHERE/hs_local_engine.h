@@ -359,6 +359,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // full: every owned atom's w; else only where the sums or membership changed
   void h2_velocities(bool full);
   std::vector<int> scratch_wrows, scratch_wsend;
+  HardSphere::RowSet rowset;    // listed rows in index order (h2_velocities(), step_clusters())
   std::vector<uint32_t> wstamp;    // rows done by this h2_velocities()
   uint32_t wepoch = 0;
   void update_paths(bool full);

@@ -1,7 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    HARDSPHERE package: epoch stamps. A pass marks items by writing the
    current epoch into their stamp, so "seen in this pass" needs no clearing
-   between passes; the stamps are cleared only when the counter wraps.
+   between passes; the stamps are cleared only when the counter wraps. And
+   RowSet, a bitmap that reads listed rows back in index order.
    LAMMPS-free.
 ------------------------------------------------------------------------- */
 
@@ -22,6 +23,34 @@ inline void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp)
     e = 1;
   }
 }
+
+// row indices collected in any order, with repeats, and read back once
+// each in increasing order: a bitmap of n bits (n / 8 bytes, in cache
+// where the per-atom rows are not). The local engine lists the rows its
+// clusters touch cluster by cluster, all over memory; read in index order,
+// the rows' own arrays are read forward through memory
+class RowSet {
+ public:
+  // empty, for indices 0 <= i < n
+  void reset(int n)
+  {
+    n_ = n;
+    bits_.assign(((size_t) n + 63) >> 6, 0);
+  }
+  void add(int i) { bits_[(size_t) i >> 6] |= uint64_t(1) << (i & 63); }
+  bool has(int i) const { return (bits_[(size_t) i >> 6] >> (i & 63)) & 1; }
+  int size() const { return n_; }
+  // fn(i) for every index added, in increasing order
+  template <class F> void for_each(F fn) const
+  {
+    for (size_t w = 0; w < bits_.size(); w++)
+      for (uint64_t b = bits_[w]; b; b &= b - 1) fn((int) ((w << 6) + __builtin_ctzll(b)));
+  }
+
+ private:
+  int n_ = 0;
+  std::vector<uint64_t> bits_;
+};
 
 }    // namespace HardSphere
 
