@@ -1558,7 +1558,9 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
 void HSLocalEngine::sa_change(Run &r, double sign)
 {
   const int *mask = atom->mask;
-  for (size_t k = 0; k < r.touched.size(); k++) {
+  const size_t nt = r.touched.size();
+  for (size_t k = 0; k < nt; k++) {
+    if (k + PREFETCH_AHEAD < nt) prefetch_row(dsa, 7, r.touched[k + PREFETCH_AHEAD]);
     const int p = r.touched[k];
     if (dstamp_sa[p] != dsepoch) {
       dstamp_sa[p] = dsepoch;
@@ -2223,7 +2225,9 @@ int HSLocalEngine::step_clusters()
       }
     }
     if (!r.mine) continue;
-    for (size_t k = 0; k < r.touched.size(); k++) {
+    const size_t nt = r.touched.size();
+    for (size_t k = 0; k < nt; k++) {
+      if (k + PREFETCH_AHEAD < nt) prefetch_row(sb, 7, r.touched[k + PREFETCH_AHEAD]);
       const int p = r.touched[k];
       sb_rows.push_back(p);
       for (int d = 0; d < 3; d++) {
