@@ -424,7 +424,20 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       // finds them (by tag, as inC() by copy: no per-atom array read at a
       // random place for every entry)
       size_t p = 0;
+      // the entries' atoms are all over memory: their label, stamp, force
+      // and position rows (read here and by the styles' compute()) are
+      // asked for 8 entries ahead, so the misses overlap (the 2-d arrays
+      // are contiguous: memory->create())
+      const double *x0p = atom->x[0];
+      double *f0p = fl_[0];
       for (int k = 0; k < len; k++) {
+        if (k + 8 < len) {
+          const int jn = row[k + 8].second & NEIGHMASK;
+          if (label_) __builtin_prefetch(label_ + jn);
+          __builtin_prefetch(&zeroed_[jn]);
+          __builtin_prefetch(x0p + 3 * (size_t) jn);
+          __builtin_prefetch(f0p + 3 * (size_t) jn, 1);
+        }
         const tagint tj = row[k].first;
         const int raw = row[k].second;
         if (tj < ta.first) {
