@@ -1095,13 +1095,17 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       for (int e = 0; e < nc; e++)
         if (!is_member(cr[e])) r.env.push_back(cr[e]);
     }
-    // one copy per atom (set_x() moves all of an atom's copies together)
+    // one copy per atom (set_x() moves all of an atom's copies together),
+    // in (ID, index) order: sorted as pairs, each tag read once rather than
+    // at every comparison
     const tagint *tg = atom->tag;
-    std::sort(r.env.begin(), r.env.end(),
-              [tg](int p, int q) { return tg[p] != tg[q] ? tg[p] < tg[q] : p < q; });
-    r.env.erase(std::unique(r.env.begin(), r.env.end(),
-                            [tg](int p, int q) { return tg[p] == tg[q]; }),
-                r.env.end());
+    auto &te = scratch_te;
+    te.clear();
+    for (int e : r.env) te.emplace_back(tg[e], e);
+    std::sort(te.begin(), te.end());
+    r.env.clear();
+    for (size_t k = 0; k < te.size(); k++)
+      if (k == 0 || te[k].first != te[k - 1].first) r.env.push_back(te[k].second);
     // after the drift of Phi_H2 (a later growth round) they wait at x0 for
     // this flow, and go back to their end positions after it
     if (drifted) {

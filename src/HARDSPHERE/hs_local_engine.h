@@ -384,6 +384,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc;
   std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
   std::vector<int> scratch_mi;
+  std::vector<std::pair<tagint, int>> scratch_te;    // flow(): the environment by (ID, index)
   std::vector<double> scratch_im;
   bool settle(std::vector<Hit> &hits);
   // cluster labels (the key's dense id) on every local copy of the members
