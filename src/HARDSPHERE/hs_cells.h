@@ -105,35 +105,31 @@ class CellGrid {
     const int b0 = std::max(0, c[1] - s), b1 = std::min(nc_[1] - 1, c[1] + s);
     const int e0 = std::max(0, c[2] - s), e1 = std::min(nc_[2] - 1, c[2] + s);
     // cells (a, b, e0..e1) are consecutive: one stretch of points each.
-    // The stretches are listed and their first lines prefetched before any
-    // is read: a query's cells are cold (the local engine asks for rows of
-    // spheres all over the box), and asking for all of them at once lets
-    // their cache misses overlap instead of waiting for each in turn
-    constexpr int MAXS = 81;    // (2 sub + 1)^2 for sub <= 4
+    // The stretches are listed (in batches, in (a, b) order) and their
+    // first lines prefetched before any is read: a query's cells are cold
+    // (the local engine asks for rows of spheres all over the box), and
+    // asking for them at once lets their cache misses overlap instead of
+    // waiting for each in turn
+    constexpr int MAXS = 81;    // (2 sub + 1)^2 for sub <= 4: one batch
     int ks[MAXS], ke[MAXS];
     int ns = 0;
-    if ((a1 - a0 + 1) * (b1 - b0 + 1) <= MAXS) {
-      for (int a = a0; a <= a1; a++)
-        for (int b = b0; b <= b1; b++) {
-          const size_t first = ((size_t) a * nc_[1] + b) * nc_[2];
-          ks[ns] = start_[first + e0];
-          ke[ns] = start_[first + e1 + 1];
-          if (ks[ns] < ke[ns]) {
-            __builtin_prefetch(&pos_[3 * (size_t) ks[ns]]);
-            __builtin_prefetch(&idx_[ks[ns]]);
-          }
-          ns++;
-        }
+    auto read_batch = [&]() {
       for (int q = 0; q < ns; q++)
         for (int k = ks[q]; k < ke[q]; k++) fn(idx_[k], &pos_[3 * (size_t) k]);
-      return;
-    }
+      ns = 0;
+    };
     for (int a = a0; a <= a1; a++)
       for (int b = b0; b <= b1; b++) {
         const size_t first = ((size_t) a * nc_[1] + b) * nc_[2];
-        for (int k = start_[first + e0], e = start_[first + e1 + 1]; k < e; k++)
-          fn(idx_[k], &pos_[3 * (size_t) k]);
+        ks[ns] = start_[first + e0];
+        ke[ns] = start_[first + e1 + 1];
+        if (ks[ns] < ke[ns]) {
+          __builtin_prefetch(&pos_[3 * (size_t) ks[ns]]);
+          __builtin_prefetch(&idx_[ks[ns]]);
+        }
+        if (++ns == MAXS) read_batch();
       }
+    read_batch();
   }
 
  private:

@@ -1563,8 +1563,10 @@ void HSLocalEngine::sa_change(Run &r, double sign)
 {
   const int *mask = atom->mask;
   const size_t nt = r.touched.size();
+  // (rows all over memory, added in key order: HardSphere::prefetch_row())
   for (size_t k = 0; k < nt; k++) {
-    if (k + PREFETCH_AHEAD < nt) prefetch_row(dsa, 7, r.touched[k + PREFETCH_AHEAD]);
+    if (k + HardSphere::PREFETCH_AHEAD < nt)
+      HardSphere::prefetch_row(dsa[0], 7, r.touched[k + HardSphere::PREFETCH_AHEAD], true);
     const int p = r.touched[k];
     if (dstamp_sa[p] != dsepoch) {
       dstamp_sa[p] = dsepoch;
@@ -1607,8 +1609,8 @@ void HSLocalEngine::h2_velocities(bool full)
   std::vector<int> &rows = scratch_wrows;
   rows.clear();
   // the owned rows with changes, in index order: dsa_rows lists the runs'
-  // members and partners cluster by cluster, all over memory (~100000 rows
-  // per rank and step at 256000 atoms); in index order the reads of dsa,
+  // members and partners cluster by cluster, all over memory (~140000 rows
+  // per step at 256000 atoms on one rank); in index order the reads of dsa,
   // sa and in_used go forward through memory (RowSet sorts and dedupes)
   rowset.reset(nlocal);
   for (int l : dsa_rows) {
@@ -2230,8 +2232,10 @@ int HSLocalEngine::step_clusters()
     }
     if (!r.mine) continue;
     const size_t nt = r.touched.size();
+    // (rows all over memory, added in key order: HardSphere::prefetch_row())
     for (size_t k = 0; k < nt; k++) {
-      if (k + PREFETCH_AHEAD < nt) prefetch_row(sb, 7, r.touched[k + PREFETCH_AHEAD]);
+      if (k + HardSphere::PREFETCH_AHEAD < nt)
+        HardSphere::prefetch_row(sb[0], 7, r.touched[k + HardSphere::PREFETCH_AHEAD], true);
       const int p = r.touched[k];
       sb_rows.push_back(p);
       for (int d = 0; d < 3; d++) {

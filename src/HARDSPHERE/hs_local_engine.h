@@ -345,16 +345,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}, {&dsa, 7}}};
   }
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
-  // a run's touched copies are all over memory: loops over them ask for
-  // the row PREFETCH_AHEAD entries on while they work on this one, so the
-  // misses overlap (the columns are contiguous: memory->create())
-  static constexpr size_t PREFETCH_AHEAD = 8;
-  static void prefetch_row(double **a, int ncol, int i)
-  {
-    const double *row = a[0] + (size_t) ncol * i;
-    __builtin_prefetch(row, 1);
-    __builtin_prefetch(row + ncol - 1, 1);
-  }
   std::vector<double> pathv;    // predict_all(): the path bound of each copy
   std::vector<char> flagv;      // predict_all(): 1 if the copy is flagged (cols[k][1])
   void set_x(int i, const double *xn);

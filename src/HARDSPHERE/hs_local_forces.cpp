@@ -5,6 +5,7 @@
 
 #include "hs_local_forces.h"
 #include "hs_mpi.h"
+#include "hs_stamp.h"
 
 #include "angle.h"
 #include "atom.h"
@@ -426,17 +427,15 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       size_t p = 0;
       // the entries' atoms are all over memory: their label, stamp, force
       // and position rows (read here and by the styles' compute()) are
-      // asked for 8 entries ahead, so the misses overlap (the 2-d arrays
-      // are contiguous: memory->create())
-      const double *x0p = atom->x[0];
-      double *f0p = fl_[0];
+      // asked for ahead, so the misses overlap (HardSphere::prefetch_row())
+      constexpr int AHEAD = HardSphere::PREFETCH_AHEAD;
       for (int k = 0; k < len; k++) {
-        if (k + 8 < len) {
-          const int jn = row[k + 8].second & NEIGHMASK;
+        if (k + AHEAD < len) {
+          const int jn = row[k + AHEAD].second & NEIGHMASK;
           if (label_) __builtin_prefetch(label_ + jn);
           __builtin_prefetch(&zeroed_[jn]);
-          __builtin_prefetch(x0p + 3 * (size_t) jn);
-          __builtin_prefetch(f0p + 3 * (size_t) jn, 1);
+          HardSphere::prefetch_row(atom->x[0], 3, jn);
+          HardSphere::prefetch_row(fl_[0], 3, jn, true);
         }
         const tagint tj = row[k].first;
         const int raw = row[k].second;

@@ -2,8 +2,9 @@
    HARDSPHERE package: epoch stamps. A pass marks items by writing the
    current epoch into their stamp, so "seen in this pass" needs no clearing
    between passes; the stamps are cleared only when the counter wraps. And
-   RowSet, a bitmap that reads listed rows back in index order.
-   LAMMPS-free.
+   the memory-order helpers of the local engine: RowSet, a bitmap that
+   reads listed rows back in index order, and prefetch_row() for loops
+   whose order is fixed. LAMMPS-free.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_STAMP_H
@@ -51,6 +52,24 @@ class RowSet {
   int n_ = 0;
   std::vector<uint64_t> bits_;
 };
+
+// loops over rows listed cluster by cluster (all over memory) whose order
+// is fixed (sums in key or tag order) ask for the row this many entries
+// on while they work on the current one, so the misses overlap
+constexpr int PREFETCH_AHEAD = 8;
+// row i of a contiguous ncol-column array (LAMMPS' memory->create(): row i
+// at base + ncol i); both ends, for a row that straddles two cache lines
+inline void prefetch_row(const double *base, int ncol, int i, bool write = false)
+{
+  const double *row = base + (size_t) ncol * i;
+  if (write) {
+    __builtin_prefetch(row, 1);
+    __builtin_prefetch(row + ncol - 1, 1);
+  } else {
+    __builtin_prefetch(row);
+    __builtin_prefetch(row + ncol - 1);
+  }
+}
 
 }    // namespace HardSphere
 

@@ -59,8 +59,8 @@ TEST(CellGrid, FindsEveryPointWithinCutAfterMoves)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < 3; d++) built[i][d] = L[d] * U(rng) - 3.0;
     CellGrid g;
-    // (sub up to 6: the stretches of sub <= 4 are prefetched first, larger
-    // ones read as they come)
+    // (sub up to 6: the stretches of sub <= 4 are one prefetched batch,
+    // larger ones several)
     g.build(built, n, cut + slack, 1 + trial % 6);
     built_ = built;
     ASSERT_EQ(g.size(), n);
