@@ -111,5 +111,68 @@ TEST_P(TwoBodyCollision, AcrossPeriodicBoundaryPerAtomRadius)
   check_two_body(method(), a, b, 0.01, 100, true, true, 10.0);
 }
 
+// Two bonded spheres whose pair every neighbor list leaves out (bond_style
+// zero, special_bonds lj 0: no force, and the pair excluded): the fix adds
+// such pairs itself, each from its lower ID with the partner's image
+// nearest it. Across the periodic x face atom->map()'s copy of the partner
+// is a box length away and the nearest image is a ghost; in the box's
+// middle it is the owned copy. Either way one collision, as free spheres.
+static void check_bonded_pair(const std::string &method, Body a, Body b, double L)
+{
+  HSLammps h;
+  std::string s = R"(units lj
+atom_style bond
+boundary p p p
+atom_modify map array
+region box block 0 )" + f17(L) + " 0 " + f17(L) + " 0 " + f17(L) + R"( units box
+create_box 2 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 1
+)";
+  s += "create_atoms 1 single " + vec(a.x) + " units box\n";
+  s += "create_atoms 2 single " + vec(b.x) + " units box\n";
+  s += "mass 1 " + f17(a.m) + "\nmass 2 " + f17(b.m) + "\n";
+  s += R"(bond_style zero
+bond_coeff 1
+special_bonds lj 0.0 1.0 1.0
+create_bonds single/bond 1 1 2
+group g1 id 1
+group g2 id 2
+)";
+  s += "velocity g1 set " + vec(a.v) + " units box\n";
+  s += "velocity g2 set " + vec(b.v) + " units box\n";
+  s += "comm_modify cutoff 3.0\ntimestep 0.01\n";
+  s += "fix hs all hardsphere/" + method + " diameter " + f17(2 * a.r) + "\n";
+  s += "thermo_style custom step ke\nthermo_modify norm no\nrun 100\n";
+  h.lines(s);
+  double tc = 0.0;
+  const Vec period{L, L, L};
+  exact_two_body(a, b, 1.0, period, tc);
+  if (::testing::Test::HasFatalFailure()) return;
+  std::vector<double> x(6), v(6);
+  lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());
+  lammps_gather_atoms(h.lmp, (char *) "v", 1, 3, v.data());
+  for (int k = 0; k < 3; k++) {
+    double d1 = x[k] - a.x[k], d2 = x[3 + k] - b.x[k];
+    d1 -= L * std::round(d1 / L);
+    d2 -= L * std::round(d2 / L);
+    EXPECT_NEAR(d1, 0.0, 1e-12) << "x1[" << k << "] tc=" << tc;
+    EXPECT_NEAR(d2, 0.0, 1e-12) << "x2[" << k << "]";
+    EXPECT_NEAR(v[k], a.v[k], 1e-12) << "v1[" << k << "]";
+    EXPECT_NEAR(v[3 + k], b.v[k], 1e-12) << "v2[" << k << "]";
+  }
+  EXPECT_EQ(h.fix_vector("hs", 1), 1.0);    // one sphere-sphere collision
+}
+
+TEST_P(TwoBodyCollision, BondedPairOutOfTheListsInTheMiddle)
+{
+  check_bonded_pair(method(), Body{{4.0, 5.0, 5.0}, {1.0, 0.0, 0.0}, 1.0, 0.5},
+                    Body{{5.6, 5.2, 4.9}, {-0.5, 0.0, 0.1}, 2.0, 0.5}, 10.0);
+}
+
+TEST_P(TwoBodyCollision, BondedPairOutOfTheListsAcrossPeriodicBoundary)
+{
+  check_bonded_pair(method(), Body{{0.6, 5.0, 5.0}, {-1.0, 0.0, 0.0}, 1.0, 0.5},
+                    Body{{9.4, 5.3, 5.0}, {0.5, 0.0, 0.0}, 2.0, 0.5}, 10.0);
+}
+
 INSTANTIATE_TEST_SUITE_P(PSA, TwoBodyCollision, ::testing::Values("psa"), case_name);
 INSTANTIATE_TEST_SUITE_P(CVA, TwoBodyCollision, ::testing::Values("cva"), case_name);
