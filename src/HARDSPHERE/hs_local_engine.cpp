@@ -477,14 +477,10 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
 {
   HSSystem &F = *sys;
   double **x = atom->x, **v = atom->v, **acc = F.acc;
-  const double *active = F.active;
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   const int *mask = atom->mask;
   const tagint *tag = atom->tag;
-  double **xref = F.xref;
-  const double *gap = F.gap;
   const double dt = F.dtv;
-  double c[5];
   // the screen's active spheres, and those within LINE_MARGIN / 2 of being
   // active (Phi_H2's lines may deviate that much from fix nve's, below);
   // flags and free gaps go to the ghosts (cols: gap, flag)
@@ -501,9 +497,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // them for each of its ~5 pairs per atom (the bound per pair of an
   // unflagged atom, and the flags through cols, cost more)
   auto bound = [&](int k) {
-    const double vv = sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
-    const double aa = sqrt(acc[k][0] * acc[k][0] + acc[k][1] * acc[k][1] + acc[k][2] * acc[k][2]);
-    pathv[k] = dt * vv + 0.5 * dt * dt * aa;
+    pathv[k] = path_bound(v[k], acc[k], dt);
     flagv[k] = cols[k][1] != 0.0;
   };
   // one pass over the owned atoms (each array read once, as fix nve's
@@ -512,19 +506,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // anything is hit, which on a dense fluid is nearly every step), the
   // flag and the path bound
   auto flagged = [&](int i) {
-    if (!(mask[i] & F.groupbit)) return false;
-    if (active[i] != 0.0) return true;
-    // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
-    const double dx = x[i][0] - xref[i][0], dy = x[i][1] - xref[i][1],
-                 dz = x[i][2] - xref[i][2];
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-    const double a2 =
-        h4 * (acc[i][0] * acc[i][0] + acc[i][1] * acc[i][1] + acc[i][2] * acc[i][2]);
-    const double g = gap[i] - mhalf;
-    if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) return false;
-    if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) return false;
-    return true;
+    return (mask[i] & F.groupbit) && flagged_atom(i, acc[i], t2, h4, mhalf);
   };
   for (int i = 0; i < nlocal; i++) {
     F.set_acc_row(i, ftm2v);
@@ -532,7 +514,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
       x0[i][d] = x[i][d];
       v0[i][d] = v[i][d];
     }
-    cols[i][0] = gap[i];
+    cols[i][0] = F.gap[i];
     const bool fl = flagged(i);
     cols[i][1] = fl ? 1.0 : 0.0;
     if (fl) act0.push_back(i);
@@ -544,32 +526,12 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   for (int k : cand_ghosts) bound(k);
   const double *pv = pathv.data();
   const char *fv = flagv.data();
-  for (int i : act0) {
-    const double Di = pathv[i], r = F.radius_of(i);
+  for (int i : act0)
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
-      const Wall &W = F.walls[wl];
-      const double g = F.wall_gap(W, x[i], r);
-      if (g > Di) continue;
-      const double s = (W.side < 0) ? 1.0 : -1.0;
-      const Contact ct = wall_contact(i, wl, g, v[i][W.dim], acc[i][W.dim], dt);
-      if (ct.status != HardSphere::NO_CONTACT) {
-        hits.push_back({tag[i], -1 - (tagint) wl});
-        continue;
-      }
-      // fix nve's straight line (Phi_H2's, up to the V_C kicks): a contact
-      // joins the guess, a near miss is listed for Phi_H2's check
-      const double m = LINE_MARGIN * 2.0 * r;
-      const double wn = s * (v[i][W.dim] + 0.5 * dt * acc[i][W.dim]);
-      HardSphere::wall_gap_poly(g - m, wn, 0.0, c);
-      if (HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r).status ==
-          HardSphere::NO_CONTACT)
-        continue;
-      HardSphere::wall_gap_poly(g, wn, 0.0, c);
-      const Contact cl = HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r);
-      if (cl.status != HardSphere::NO_CONTACT) hits.push_back({tag[i], -1 - (tagint) wl});
-      else near_walls.push_back(i);
+      const int g = guess_wall(i, wl, v[i], acc[i], pathv[i]);
+      if (g == GUESS_HIT) hits.push_back({tag[i], -1 - (tagint) wl});
+      else if (g == GUESS_NEAR) near_walls.push_back(i);
     }
-  }
   // candidate pairs with an active sphere (each listed on one rank)
   const std::vector<int> &cand = F.cand;
   const int np = (int) cand.size() / 2;
@@ -583,30 +545,220 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     const double sm = sigma * (1.0 + LINE_MARGIN);
     const double reach = sm + pv[i] + pv[j];
     if (r2 > reach * reach) continue;
-    const double dv[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
-    const double da[3] = {acc[i][0] - acc[j][0], acc[i][1] - acc[j][1], acc[i][2] - acc[j][2]};
-    const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt);
-    if (ct.status != HardSphere::NO_CONTACT) {
-      hits.push_back({tag[i], tag[j]});
-      continue;
-    }
-    // fix nve's straight lines (Phi_H2's, up to the V_C kicks of the
-    // partners): a contact joins the guess, a near miss within the margin
-    // is listed for Phi_H2's check
-    const double dw[3] = {dv[0] + 0.5 * dt * da[0], dv[1] + 0.5 * dt * da[1],
-                          dv[2] + 0.5 * dt * da[2]};
-    const double zero[3] = {0.0, 0.0, 0.0};
-    if (r2 >= sm * sm) {
-      HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
-      if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm).status ==
-          HardSphere::NO_CONTACT)
-        continue;
-    }
-    HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
-    const Contact cl = HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma);
-    if (cl.status != HardSphere::NO_CONTACT) hits.push_back({tag[i], tag[j]});
-    else near_pairs.push_back(p);
+    const int g = guess_pair(i, j, dq, r2, sigma, v[i], v[j], acc[i], acc[j]);
+    if (g == GUESS_HIT) hits.push_back({tag[i], tag[j]});
+    else if (g == GUESS_NEAR) near_pairs.push_back(p);
   }
+}
+
+// the first guess's test of a pair within reach of each other's paths (dq,
+// r2: the copies' separation; v, a: their velocities and accelerations): a
+// contact on the Verlet paths, or on fix nve's straight lines (Phi_H2's,
+// up to the V_C kicks of the partners), is a hit; a near miss within the
+// margin on the lines is listed for Phi_H2's check
+int HSLocalEngine::guess_pair(int i, int j, const double *dq, double r2, double sigma,
+                              const double *vi, const double *vj, const double *ai,
+                              const double *aj)
+{
+  const double dt = sys->dtv;
+  double c[5];
+  const double sm = sigma * (1.0 + LINE_MARGIN);
+  const double dv[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
+  const double da[3] = {ai[0] - aj[0], ai[1] - aj[1], ai[2] - aj[2]};
+  const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt);
+  if (ct.status != HardSphere::NO_CONTACT) return GUESS_HIT;
+  const double dw[3] = {dv[0] + 0.5 * dt * da[0], dv[1] + 0.5 * dt * da[1],
+                        dv[2] + 0.5 * dt * da[2]};
+  const double zero[3] = {0.0, 0.0, 0.0};
+  if (r2 >= sm * sm) {
+    HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
+    if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm).status ==
+        HardSphere::NO_CONTACT)
+      return GUESS_NONE;
+  }
+  HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
+  const Contact cl = HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma);
+  return cl.status != HardSphere::NO_CONTACT ? GUESS_HIT : GUESS_NEAR;
+}
+
+// the same for wall wl and owned atom i whose path bound is Di
+int HSLocalEngine::guess_wall(int i, int wl, const double *vi, const double *ai, double Di)
+{
+  HSSystem &F = *sys;
+  const double dt = F.dtv, r = F.radius_of(i);
+  double c[5];
+  const Wall &W = F.walls[wl];
+  const double g = F.wall_gap(W, atom->x[i], r);
+  if (g > Di) return GUESS_NONE;
+  const double s = (W.side < 0) ? 1.0 : -1.0;
+  const Contact ct = wall_contact(i, wl, g, vi[W.dim], ai[W.dim], dt);
+  if (ct.status != HardSphere::NO_CONTACT) return GUESS_HIT;
+  const double m = LINE_MARGIN * 2.0 * r;
+  const double wn = s * (vi[W.dim] + 0.5 * dt * ai[W.dim]);
+  HardSphere::wall_gap_poly(g - m, wn, 0.0, c);
+  if (HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r).status == HardSphere::NO_CONTACT)
+    return GUESS_NONE;
+  HardSphere::wall_gap_poly(g, wn, 0.0, c);
+  const Contact cl = HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r);
+  return cl.status != HardSphere::NO_CONTACT ? GUESS_HIT : GUESS_NEAR;
+}
+
+// fix nve's path bound over the step, dt |v| + dt^2/2 |a|
+double HSLocalEngine::path_bound(const double *v, const double *a, double dt)
+{
+  const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  const double aa = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  return dt * vv + 0.5 * dt * dt * aa;
+}
+
+// may owned atom i (in the group, acceleration a) touch something in the
+// step? The screen's flag, or within mhalf of its free gap: Phi_H2's lines
+// may deviate that much from fix nve's
+bool HSLocalEngine::flagged_atom(int i, const double *a, double t2, double h4,
+                                 double mhalf) const
+{
+  if (sys->active[i] != 0.0) return true;
+  const double *xi = atom->x[i], *xr = sys->xref[i], *vi = atom->v[i];
+  // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
+  const double dx = xi[0] - xr[0], dy = xi[1] - xr[1], dz = xi[2] - xr[2];
+  const double d2 = dx * dx + dy * dy + dz * dz;
+  const double v2 = t2 * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
+  const double a2 = h4 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double g = sys->gap[i] - mhalf;
+  if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) return false;
+  if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) return false;
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   the first guess of a step whose flagged spheres are few (a collision-
+   free melt flags a handful of 32000 at a time; predict_all() would make
+   its passes over every copy and forward 9 columns to every ghost for
+   them): only the pairs and walls of the flagged spheres, with
+   predict_all()'s own tests. True when every rank finds none that can
+   touch; then the step is fix nve's, as after an empty first guess. A
+   partner's velocity and acceleration are its owner's (an image on this
+   rank), the forwarded ones of a flagged atom of another rank, or for an
+   unflagged atom of another rank only its path bound, dt |v| + dt^2/2 |a|
+   <= its free gap - the margin - its distance from the list build's
+   position (the owner's flag test; this copy's gap, from the pairs listed
+   here, is no smaller than the owner's). A pair that bound cannot clear
+   leaves the step undecided: predict_all() then decides it
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::quick_clear()
+{
+  HSSystem &F = *sys;
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **xref = F.xref;
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask, *sametag = atom->sametag;
+  const tagint *tag = atom->tag;
+  const double dt = F.dtv, ftm2v = force->ftm2v;
+  const double mhalf = 0.5 * LINE_MARGIN * 2.0 * F.rmax;
+  const double t2 = dt * dt, h4 = 0.25 * t2 * t2;
+  // the flagged owned atoms: rows (stamp, v, a) marked with this call's stamp
+  qstamp_now += 1.0;
+  qlist.clear();
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & F.groupbit)) continue;
+    double *q = qrow[i];
+    const double im = ftm2v / F.mass_of(i);    // (as HSSystem::set_acc_row())
+    const double a[3] = {f[i][0] * im, f[i][1] * im, f[i][2] * im};
+    if (!flagged_atom(i, a, t2, h4, mhalf)) continue;
+    q[0] = qstamp_now;
+    for (int d = 0; d < 3; d++) {
+      q[1 + d] = v[i][d];
+      q[4 + d] = a[d];
+    }
+    qlist.push_back(i);
+  }
+  // theirs to their ghost copies (this rank's flagged remote atoms: qrecv)
+  qrecv.clear();
+  if (nprocs > 1) {
+    F.forward_columns(qrow, 7, &qrecv, 1, &qlist);
+    ncollective += 1.0;
+  }
+  // a copy's velocity, acceleration and path bound: 1 flagged, 0 not, -1
+  // only a bound (pv) of an unflagged atom of another rank
+  double scratch[2][6];
+  auto state = [&](int k, int s, const double *&vk, const double *&ak, double &pv) {
+    int o = k;
+    if (k >= nlocal) {
+      const int m = atom->map(tag[k]);
+      if (m >= 0 && m < nlocal) o = m;
+    }
+    if (o < nlocal) {    // owned, or an image of an owned atom
+      const double *q = qrow[o];
+      if (q[0] == qstamp_now) {
+        vk = q + 1;
+        ak = q + 4;
+        pv = path_bound(vk, ak, dt);
+        return 1;
+      }
+      const double im = ftm2v / F.mass_of(o);
+      for (int d = 0; d < 3; d++) {
+        scratch[s][d] = v[o][d];
+        scratch[s][3 + d] = f[o][d] * im;
+      }
+      vk = scratch[s];
+      ak = scratch[s] + 3;
+      pv = path_bound(vk, ak, dt);
+      return 0;
+    }
+    const double *q = qrow[k];
+    if (q[0] == qstamp_now) {
+      vk = q + 1;
+      ak = q + 4;
+      pv = path_bound(vk, ak, dt);
+      return 1;
+    }
+    const double dx = x[k][0] - xref[k][0], dy = x[k][1] - xref[k][1], dz = x[k][2] - xref[k][2];
+    const double eps = 1.0e-9 * (F.skin + fabs(x[k][0]) + fabs(x[k][1]) + fabs(x[k][2]));
+    pv = std::max(0.0, F.gap[k] - mhalf - sqrt(dx * dx + dy * dy + dz * dz)) + eps;
+    return -1;
+  };
+  bool clear = true;
+  bump_epoch(pepoch, pstamp);
+  const std::vector<int> &cand = F.cand;
+  auto pairs_of = [&](int c) {
+    for (int e = adj_off[c]; e < adj_off[c + 1] && clear; e++) {
+      const int p = adj[e];
+      if (pstamp[p] == pepoch) continue;
+      pstamp[p] = pepoch;
+      const int i = cand[2 * p], j = cand[2 * p + 1];
+      if (tag[i] == tag[j]) continue;
+      const double *vi, *vj, *ai, *aj;
+      double pvi, pvj;
+      const int si = state(i, 0, vi, ai, pvi), sj = state(j, 1, vj, aj, pvj);
+      if (si <= 0 && sj <= 0) continue;    // (neither flagged: not in the guess)
+      const double sigma = F.radius_of(i) + F.radius_of(j);
+      const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+      const double r2 = dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2];
+      const double reach = sigma * (1.0 + LINE_MARGIN) + pvi + pvj;
+      if (r2 > reach * reach) continue;
+      if (si < 0 || sj < 0 || guess_pair(i, j, dq, r2, sigma, vi, vj, ai, aj) == GUESS_HIT)
+        clear = false;
+    }
+  };
+  for (int i : qlist) {
+    for (int wl = 0; wl < (int) F.walls.size() && clear; wl++)
+      if (guess_wall(i, wl, qrow[i] + 1, qrow[i] + 4, path_bound(qrow[i] + 1, qrow[i] + 4, dt)) ==
+          GUESS_HIT)
+        clear = false;
+    for (int c = atom->map(tag[i]); c >= 0 && clear; c = sametag[c]) pairs_of(c);
+    if (!clear) break;
+  }
+  for (int g : qrecv) {
+    if (!clear) break;
+    pairs_of(g);
+  }
+  int mine = clear ? 1 : 0, all = mine;
+  if (nprocs > 1) {
+    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, world);
+    ncollective += 1.0;
+  }
+  return all == 1;
 }
 
 /* ----------------------------------------------------------------------
@@ -2124,7 +2276,7 @@ bool HSLocalEngine::finish()
 }
 
 // clusters, mean and largest members, growth rounds, fall-backs, restricted
-// evaluations, collectives per step taken by clusters
+// evaluations, collectives per step taken by clusters, quick-cleared steps
 double HSLocalEngine::counter(int k)
 {
   if (k == 4) return sys->nfallback;
@@ -2142,6 +2294,8 @@ double HSLocalEngine::counter(int k)
       return ncompute;
     case 6:
       return ncoll_steps > 0.0 ? ncollective / ncoll_steps : 0.0;
+    case 7:
+      return nquick;
   }
   return 0.0;
 }
@@ -2165,9 +2319,17 @@ int HSLocalEngine::step_clusters()
   // (the owned atoms' a, x0 and v0 are set by predict_all(); the ghosts'
   // v, a go with the first guess's flags)
   const double ncoll0 = ncollective;
+  // after a step whose first guess was empty, the flagged spheres alone
+  // first (quick_clear(); the same decision, made on every rank)
+  if (quick_next && quick_clear()) {
+    ncollective = ncoll0;
+    nquick += 1.0;
+    return 0;
+  }
   std::vector<Hit> hits;
   predict_all(hits);
   gather_hits(hits);
+  quick_next = hits.empty();
   if (hits.empty()) {
     ncollective = ncoll0;    // (counted for steps taken by clusters only)
     return 0;

@@ -168,6 +168,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   double ncompute_here = 0.0;    // this rank's, since the last sum
   double ncollective = 0.0;      // collective communications in collisional steps
   double ncoll_steps = 0.0;      // collisional steps taken by clusters
+  double nquick = 0.0;           // steps quick_clear() found free of contacts
 
   // ---- the step's clusters, the same on every rank: a ClusterSet over
   // dense ids of the members' atom IDs, ordered by ID (keys: lowest ID)
@@ -340,9 +341,17 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   };
   void grow_arrays();
   // the per-atom arrays, allocated together (columns)
-  std::array<std::pair<double ***, int>, 8> peratom()
+  std::array<std::pair<double ***, int>, 9> peratom()
   {
-    return {{{&x0, 3}, {&v0, 3}, {&held0, 3}, {&wq, 4}, {&sa, 7}, {&sb, 7}, {&cols, 2}, {&dsa, 7}}};
+    return {{{&x0, 3},
+             {&v0, 3},
+             {&held0, 3},
+             {&wq, 4},
+             {&sa, 7},
+             {&sb, 7},
+             {&cols, 2},
+             {&dsa, 7},
+             {&qrow, 7}}};
   }
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
   std::vector<double> pathv;    // predict_all(): the path bound of each copy
@@ -350,6 +359,19 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);
+  // the first guess's tests of one pair within reach, or of a wall
+  enum { GUESS_NONE = 0, GUESS_NEAR = 1, GUESS_HIT = 2 };
+  int guess_pair(int i, int j, const double *dq, double r2, double sigma, const double *vi,
+                 const double *vj, const double *ai, const double *aj);
+  int guess_wall(int i, int wl, const double *vi, const double *ai, double Di);
+  static double path_bound(const double *v, const double *a, double dt);
+  bool flagged_atom(int i, const double *a, double t2, double h4, double mhalf) const;
+  // the first guess of the flagged spheres only, after an empty one
+  bool quick_clear();
+  bool quick_next = false;
+  double **qrow = nullptr;    // quick_clear(): stamp, v, a of the flagged copies
+  double qstamp_now = 0.0;
+  std::vector<int> qlist, qrecv;
   void grow_clusters(std::vector<Hit> &hits);
   void add_members(const std::vector<int> &newids);
   bool flow(Run &r, double h, bool first_half, std::vector<Hit> &hits);

@@ -45,8 +45,9 @@ class HSStepEngine : protected Pointers {
   // the engine's output entries (fix output vector, after the method's):
   // clusters, mean and largest members per cluster, growth rounds, steps
   // that fell back to the global engine, restricted force evaluations,
-  // collective communications per step taken by clusters
-  static constexpr int NCOUNTERS = 7;
+  // collective communications per step taken by clusters, steps whose
+  // flagged spheres alone cleared the first guess
+  static constexpr int NCOUNTERS = 8;
   virtual double counter(int k) = 0;
 };
 

@@ -73,6 +73,34 @@ TEST_P(NoCollision, BondedChainBitwiseFixNVE)
   EXPECT_EQ(hs.x[1], 0.0);
 }
 
+// Spheres the screen flags on most steps (diameter 0.8 in the LJ fluid: free
+// gaps of a few hundredths) that never touch (LJ is ~50 epsilon at r = 0.8):
+// the local engine's steps with flagged spheres. After a first guess that
+// found nothing it tests the flagged spheres' pairs and walls alone
+// (quick_clear(), counted in the engine's entry 8); the run must still be
+// fix nve's bit for bit, and that path must have been taken
+class NoCollisionFlagged : public ::testing::TestWithParam<std::pair<const char *, int>> {};
+
+TEST_P(NoCollisionFlagged, LJFluidBitwiseFixNVE)
+{
+  const std::string setup = hs_state::lj_fluid(5);
+  const std::string tail = "run 300\n";
+  const int quick = GetParam().second;    // 0-based entry of the quick-cleared steps
+  State nve = hs_state::run_case(setup, "fix int all nve", tail);
+  State hs = hs_state::run_case(
+      setup, std::string("fix int all hardsphere/") + GetParam().first + " diameter 0.8", tail,
+      quick + 1);
+  EXPECT_EQ(hs.ncoll, 0.0);
+  EXPECT_GT(hs.counters.at(quick), 50.0) << "steps the flagged spheres' pairs cleared";
+  hs_state::expect_identical(nve, hs);
+}
+
+INSTANTIATE_TEST_SUITE_P(Local, NoCollisionFlagged,
+                         ::testing::Values(std::make_pair("cva", 12), std::make_pair("pcva", 15)),
+                         [](const ::testing::TestParamInfo<std::pair<const char *, int>> &info) {
+                           return std::string(info.param.first);
+                         });
+
 // entry [6] of pcva is the number of projections, entry [7] of mcva the
 // number of Gauss sub-steps
 INSTANTIATE_TEST_SUITE_P(PSA, NoCollision, ::testing::Values(NoCollisionCase{"psa", 5, 300, -1}),
