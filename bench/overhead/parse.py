@@ -63,10 +63,15 @@ for spec in sys.argv[2:]:
     mn = statistics.median(r[1]["tps"] for r in rows) * 1e3
     mc = statistics.median(r[2]["tps"] for r in rows) * 1e3
     lines.append("")
+    # the fix's own time: Modify (cva less nve), per step, against nve's step
+    dmod = statistics.median((b['sec'].get('Modify', 0) - a['sec'].get('Modify', 0)) /
+                             a['t'] for _, a, b in rows)
     lines.append(f"Median time per step: nve {mn:.3f} ms, cva {mc:.3f} ms. "
-                 f"**Median ratio cva/nve = {med:.3f}** (target <= 1.05: "
-                 f"{'met' if med <= 1.05 else 'NOT met'}); pair ratios "
-                 + ", ".join(f"{r:.3f}" for r in ratios) + ".")
+                 f"**Median ratio cva/nve = {med:.3f}** (target <= 1.02, issue 22: "
+                 f"{'met' if med <= 1.02 else 'NOT met'}); pair ratios "
+                 + ", ".join(f"{r:.3f}" for r in ratios) + ". "
+                 f"The fix's own time (Modify, cva less nve) is {100 * dmod:.1f} % of fix nve's step "
+                 "(median over pairs; less exposed to the host's noise than the whole step).")
     colls = {r[2]["coll"] for r in rows}
     lines.append(f"Collisions counted by cva (f_1[1]): {', '.join(f'{c:g}' for c in sorted(colls))} (must be 0). "
                  f"Dangerous builds: nve {sum(r[1]['dang'] for r in rows)}, cva {sum(r[2]['dang'] for r in rows)}.")
