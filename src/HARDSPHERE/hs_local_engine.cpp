@@ -201,6 +201,9 @@ void HSLocalEngine::grow_arrays()
     // sb_rows
     for (int l = 0; l < nmax; l++)
       for (int d = 0; d < 7; d++) sa[l][d] = sb[l][d] = dsa[l][d] = 0.0;
+    // quick_clear()'s stamps start below any call's (a fresh block may hold
+    // another array's old values, e.g. a 1.0 that would pass for a stamp)
+    for (int l = 0; l < nmax; l++) qrow[l][0] = 0.0;
     sa_used.clear();
     std::fill(in_used.begin(), in_used.end(), 0);
     dsa_rows.clear();
