@@ -82,6 +82,10 @@
    checks' hits. Each rank detects the copies whose Phi_H2 path changed
    itself (no dirty lists are sent). The closing kick finds members and
    partners' end forces by ID after a list rebuild (sort or migration).
+   After a step whose first guess was empty, the next first tests the
+   flagged spheres' pairs and walls alone (quick_clear(): one sparse
+   forward and one reduction), the full first guess only if that finds a
+   contact or cannot decide.
 
    Restrictions (FixHardSphere::choose_engine() falls back to the global
    engine, or errors when `substep local` was given): an atom map; pair,
