@@ -652,7 +652,7 @@ bool HSLocalEngine::flagged_atom(int i, const double *a, double t2, double h4,
 bool HSLocalEngine::quick_clear()
 {
   HSSystem &F = *sys;
-  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **x = atom->x, **v = atom->v;
   double **xref = F.xref;
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask, *sametag = atom->sametag;
@@ -666,8 +666,8 @@ bool HSLocalEngine::quick_clear()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & F.groupbit)) continue;
     double *q = qrow[i];
-    const double im = ftm2v / F.mass_of(i);    // (as HSSystem::set_acc_row())
-    const double a[3] = {f[i][0] * im, f[i][1] * im, f[i][2] * im};
+    double a[3];
+    F.acc_of(i, ftm2v, a);
     if (!flagged_atom(i, a, t2, h4, mhalf)) continue;
     q[0] = qstamp_now;
     for (int d = 0; d < 3; d++) {
@@ -691,30 +691,22 @@ bool HSLocalEngine::quick_clear()
       const int m = atom->map(tag[k]);
       if (m >= 0 && m < nlocal) o = m;
     }
-    if (o < nlocal) {    // owned, or an image of an owned atom
-      const double *q = qrow[o];
-      if (q[0] == qstamp_now) {
-        vk = q + 1;
-        ak = q + 4;
-        pv = path_bound(vk, ak, dt);
-        return 1;
-      }
-      const double im = ftm2v / F.mass_of(o);
-      for (int d = 0; d < 3; d++) {
-        scratch[s][d] = v[o][d];
-        scratch[s][3 + d] = f[o][d] * im;
-      }
-      vk = scratch[s];
-      ak = scratch[s] + 3;
-      pv = path_bound(vk, ak, dt);
-      return 0;
-    }
-    const double *q = qrow[k];
+    // flagged: on this rank (owned, or an image of an owned atom), or on
+    // another, whose row the forward brought
+    const double *q = qrow[o];
     if (q[0] == qstamp_now) {
       vk = q + 1;
       ak = q + 4;
       pv = path_bound(vk, ak, dt);
       return 1;
+    }
+    if (o < nlocal) {
+      for (int d = 0; d < 3; d++) scratch[s][d] = v[o][d];
+      F.acc_of(o, ftm2v, scratch[s] + 3);
+      vk = scratch[s];
+      ak = scratch[s] + 3;
+      pv = path_bound(vk, ak, dt);
+      return 0;
     }
     const double dx = x[k][0] - xref[k][0], dy = x[k][1] - xref[k][1], dz = x[k][2] - xref[k][2];
     const double eps = 1.0e-9 * (F.skin + fabs(x[k][0]) + fabs(x[k][1]) + fabs(x[k][2]));

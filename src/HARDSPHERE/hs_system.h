@@ -68,13 +68,15 @@ class HSSystem : protected Pointers, public HSTypes {
   double mass_of(int i) const { return atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]]; }
   // acc[i] = f[i] / m in velocity units (ftm2v = force->ftm2v): set_acc()'s
   // row, also for the local engine's fused first-guess pass
-  void set_acc_row(int i, double ftm2v)
+  void set_acc_row(int i, double ftm2v) { acc_of(i, ftm2v, acc[i]); }
+  // owned atom i's acceleration as acc holds it, into a[0..2]
+  void acc_of(int i, double ftm2v, double *a) const
   {
     const double im = ftm2v / mass_of(i);
     const double *fi = atom->f[i];
-    acc[i][0] = fi[0] * im;
-    acc[i][1] = fi[1] * im;
-    acc[i][2] = fi[2] * im;
+    a[0] = fi[0] * im;
+    a[1] = fi[1] * im;
+    a[2] = fi[2] * im;
   }
   // moved more than half the skin since the list build (LAMMPS' rebuild
   // trigger): moved_half_skin()'s test, also made in the local engine's
