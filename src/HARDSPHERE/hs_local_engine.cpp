@@ -1719,10 +1719,13 @@ void HSLocalEngine::sa_change(Run &r, double sign)
       dstamp_sa[p] = dsepoch;
       dsa_rows.push_back(p);
     }
-    for (int d = 0; d < 3; d++) dsa[p][d] += sign * r.fk0[k][d];
+    // (the row by its offset in the contiguous block: dsa[p] would load a
+    // row pointer from another random place first)
+    double *row = dsa[0] + 7 * (size_t) p;
+    for (int d = 0; d < 3; d++) row[d] += sign * r.fk0[k][d];
     if (mask[p] & sys->groupbit)
-      for (int d = 0; d < 3; d++) dsa[p][3 + d] += sign * r.dvA[k][d];
-    dsa[p][6] += sign;
+      for (int d = 0; d < 3; d++) row[3 + d] += sign * r.dvA[k][d];
+    row[6] += sign;
   }
   r.in_sa = sign > 0.0;
 }
@@ -2395,11 +2398,12 @@ int HSLocalEngine::step_clusters()
         HardSphere::prefetch_row(sb[0], 7, r.touched[k + HardSphere::PREFETCH_AHEAD], true);
       const int p = r.touched[k];
       sb_rows.push_back(p);
+      double *row = sb[0] + 7 * (size_t) p;    // (as in sa_change())
       for (int d = 0; d < 3; d++) {
-        sb[p][d] += r.fend[k][d];
-        sb[p][3 + d] += r.dvB[k][d];
+        row[d] += r.fend[k][d];
+        row[3 + d] += r.dvB[k][d];
       }
-      sb[p][6] += 1.0;
+      row[6] += 1.0;
     }
   }
   F.reverse_columns(sb, 7, &sb_rows);

@@ -91,6 +91,10 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
   // 32000-bead melt the rows outgrow the caches: this loop's cost per
   // collision was 1.5x that at 4000 beads)
   const int ahead = HardSphere::PREFETCH_AHEAD;
+  // (rows by their offsets in the contiguous blocks: fwd[i] would first
+  // load a row pointer from another random place)
+  const double *fwdb = fwd[0];
+  double *redb = red[0];
   for (int t = 0; t < nterm; t++) {
     if (t + ahead < nterm) {
       const int o = toff[t + ahead];
@@ -120,7 +124,8 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     }
     const double r = sqrt(rsq);
     const double e[3] = {del[0] / r, del[1] / r, del[2] / r};
-    const double *vi = (mask[i] & gb) ? fwd[i] : zero, *vj = (mask[j] & gb) ? fwd[j] : zero;
+    const double *fi = fwdb + 7 * (size_t) i, *fj = fwdb + 7 * (size_t) j;
+    const double *vi = (mask[i] & gb) ? fi : zero, *vj = (mask[j] & gb) ? fj : zero;
     const double vij[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
     const double ev = e[0] * vij[0] + e[1] * vij[1] + e[2] * vij[2];
     const double vv = vij[0] * vij[0] + vij[1] * vij[1] + vij[2] * vij[2];
@@ -130,16 +135,17 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     for (int d = 0; d < 3; d++) kvij[d] = phi[2] * e[d] * ev + pr * (vij[d] - e[d] * ev);
     E += w * phi[0];
     Q += w * (phi[2] * ev * ev + pr * (vv - ev * ev));
-    const double *bi = (mask[i] & gb) ? fwd[i] + 3 : zero, *bj = (mask[j] & gb) ? fwd[j] + 3 : zero;
+    const double *bi = (mask[i] & gb) ? fi + 3 : zero, *bj = (mask[j] & gb) ? fj + 3 : zero;
     const double bij[3] = {bi[0] - bj[0], bi[1] - bj[1], bi[2] - bj[2]};
     const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
     const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
     Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
+    double *ri = redb + 7 * (size_t) i, *rj = redb + 7 * (size_t) j;
     for (int d = 0; d < 3; d++) {
-      red[i][d] -= w * phi[1] * e[d];
-      red[j][d] += w * phi[1] * e[d];
-      red[i][3 + d] += w * kvij[d];
-      red[j][3 + d] -= w * kvij[d];
+      ri[d] -= w * phi[1] * e[d];
+      rj[d] += w * phi[1] * e[d];
+      ri[3 + d] += w * kvij[d];
+      rj[3 + d] -= w * kvij[d];
     }
   }
   red_rows.insert(red_rows.end(), tcopies.begin(), tcopies.end());
