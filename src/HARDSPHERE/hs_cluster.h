@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace HardSphere {
@@ -127,8 +128,7 @@ class ClusterSet {
     }
     touched_.clear();
     new_members_.clear();
-    members_.clear();
-    atoms_.clear();
+    nc_ = 0;    // (the per-cluster vectors keep their storage: see build())
     built_ = false;
     ++count_.steps;
   }
@@ -213,8 +213,14 @@ class ClusterSet {
     // every touched atom is a member or shares a term with one, so every
     // set of touched atoms is a cluster
     if (order_) {
+      // (by (order, i) pairs: a comparison that reads order[] at two random
+      // places cost twice as much; the orders are distinct, so the result
+      // is the same)
       const std::vector<int64_t> &o = *order_;
-      std::sort(touched_.begin(), touched_.end(), [&o](int a, int b) { return o[a] < o[b]; });
+      keyed_.clear();
+      for (int i : touched_) keyed_.emplace_back(o[i], i);
+      std::sort(keyed_.begin(), keyed_.end());
+      for (size_t k = 0; k < keyed_.size(); ++k) touched_[k] = keyed_[k].second;
     } else
       std::sort(touched_.begin(), touched_.end());
     int nc = 0;
@@ -225,8 +231,18 @@ class ClusterSet {
         root_id_[r] = nc++;
       }
     }
-    members_.assign(nc, {});
-    atoms_.assign(nc, {});
+    // the per-cluster vectors are reused from build to build and step to
+    // step (thousands of clusters per step on a large system: new vectors
+    // each time cost as much as the rest of build())
+    if ((int) atoms_.size() < nc) {
+      atoms_.resize(nc);
+      members_.resize(nc);
+    }
+    for (int c = 0; c < nc; ++c) {
+      atoms_[c].clear();
+      members_[c].clear();
+    }
+    nc_ = nc;
     for (int i : touched_) {
       const int c = root_id_[uf_.find(i)];
       atoms_[c].push_back(i);
@@ -239,7 +255,7 @@ class ClusterSet {
     counted_ = false;
   }
 
-  int nclusters() const { return (int) atoms_.size(); }
+  int nclusters() const { return nc_; }
   const std::vector<int> &members(int c) const { return members_[c]; }
   const std::vector<int> &atoms(int c) const { return atoms_[c]; }
   // the cluster of atom i after build(), -1 if i moves in none (it takes a
@@ -344,7 +360,9 @@ class ClusterSet {
   std::vector<uint32_t> mstamp_, rstamp_, clstamp_, oldstamp_;
   std::vector<int> root_id_, cl_, old_;
   std::vector<int> touched_, new_members_;
-  std::vector<std::vector<int>> members_, atoms_;
+  std::vector<std::vector<int>> members_, atoms_;    // [0, nc_) are the clusters
+  int nc_ = 0;
+  std::vector<std::pair<int64_t, int>> keyed_;
   bool built_ = false, counted_ = false;
   bool partners_join_ = true;
   const std::vector<int64_t> *order_ = nullptr;
