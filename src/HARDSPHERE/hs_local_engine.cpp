@@ -388,8 +388,36 @@ void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arr
       Run &r = mine ? *rp : runs[key];
       const double np = b[m + 3], nw = b[m + 4];
       m += 5;
+      // a run none of whose members has a copy here (on many ranks, most
+      // of the other ranks' runs): its IDs and counts only. Its segments
+      // are read through a member's copy (cross_check()), its positions and
+      // velocities put on the members' copies (place_members(),
+      // step_clusters()): never, on this rank
       if (!mine) {
         r.mtags.resize(nm);
+        bool here = false;
+        size_t q = m;
+        for (int k = 0; k < nm; k++) {
+          r.mtags[k] = (tagint) b[q];
+          here = here || atom->map(r.mtags[k]) >= 0;
+          q += 8 + SEG_DOUBLES * (size_t) b[q + 7];
+        }
+        if (!here) {
+          r.npair[h] = np;
+          r.nwall[h] = nw;
+          (h == 0 ? r.dxm : r.dxe).clear();
+          (h == 0 ? r.vm : r.ve).clear();
+          for (auto &sg : (h == 0 ? r.segsA : r.segsB)) sg.clear();
+          if (h == 0) {
+            r.a_done = true;
+            r.b_done = false;
+          } else
+            r.b_done = true;
+          m = q;
+          continue;
+        }
+      }
+      if (!mine) {
         std::vector<Vec> &dx = h == 0 ? r.dxm : r.dxe;
         std::vector<Vec> &vv = h == 0 ? r.vm : r.ve;
         std::vector<std::vector<Seg>> &segs = h == 0 ? r.segsA : r.segsB;
