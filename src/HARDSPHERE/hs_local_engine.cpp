@@ -691,19 +691,30 @@ bool HSLocalEngine::quick_clear()
   // the flagged owned atoms: rows (stamp, v, a) marked with this call's stamp
   qstamp_now += 1.0;
   qlist.clear();
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & F.groupbit)) continue;
+  auto flag_row = [&](int i) {
+    if (!(mask[i] & F.groupbit)) return;
     double *q = qrow[i];
     double a[3];
     F.acc_of(i, ftm2v, a);
-    if (!flagged_atom(i, a, t2, h4, mhalf)) continue;
+    if (!flagged_atom(i, a, t2, h4, mhalf)) return;
     q[0] = qstamp_now;
     for (int d = 0; d < 3; d++) {
       q[1 + d] = v[i][d];
       q[4 + d] = a[d];
     }
     qlist.push_back(i);
-  }
+  };
+  // the candidates the closing kick listed (HSSystem::near_atoms: every
+  // atom it did not clear with the free gap less mhalf, in index order),
+  // if it screened for this step with this margin; else every owned atom.
+  // The next closing kick lists them from now on.
+  const bool listed = F.near_step == update->ntimestep &&
+      update->ntimestep > update->firststep + 1 && F.near_used_margin == mhalf;
+  F.near_margin = mhalf;
+  if (listed)
+    for (int i : F.near_atoms) flag_row(i);
+  else
+    for (int i = 0; i < nlocal; i++) flag_row(i);
   // theirs to their ghost copies (this rank's flagged remote atoms: qrecv)
   qrecv.clear();
   if (nprocs > 1) {

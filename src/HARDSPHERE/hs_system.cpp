@@ -399,7 +399,7 @@ void HSSystem::reverse_columns(double **a, int ncol, std::vector<int> *changed)
   changed_ = nullptr;
 }
 
-inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
+template <bool LIST> inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
 {
   double **x = atom->x;
   double **v = atom->v;
@@ -410,9 +410,17 @@ inline int HSSystem::screen_atom(int i, double t2, double h4, double im)
   const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
   // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
   const double g = MIN(gap[i], 0.5 * skin);
-  if (3.0 * (d2 + v2 + a2) <= g * g) return 0;
+  const double s3 = 3.0 * (d2 + v2 + a2);
+  if (s3 <= g * g) {
+    if (!LIST) return 0;
+    // cleared with the smaller gap too? (a relative 1e-12 more than the
+    // round-off between this a^2 and one from HSSystem::acc_of())
+    const double gm = gap[i] - near_margin;
+    return (gm > 0.0 && s3 * (1.0 + 1.0e-12) <= gm * gm) ? 0 : NEAR;
+  }
+  const int listed = LIST ? NEAR : 0;
   const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
-  int flags = (w > 0.5 * skin) ? FAR : 0;
+  int flags = ((w > 0.5 * skin) ? FAR : 0) | listed;
   if (w <= gap[i]) return flags;
   if (w > skin)
     error->one(FLERR,
@@ -843,7 +851,21 @@ void HSSystem::closing_kick()
     kick_dtf(dtf_last);
     return;
   }
+  const double t2 = dtv * dtv, h4 = 0.25 * t2 * t2;
+  // with the local engine, the atoms its quick first guess must look at
+  // (near_atoms: it then makes no pass of its own over every atom)
+  const bool listing = near_margin >= 0.0;
+  near_atoms.clear();
+  const int flags = listing ? kick_and_screen<true>(t2, h4) : kick_and_screen<false>(t2, h4);
+  screened_flags = flags;
+  screened_step = update->ntimestep + 1;
+  near_used_margin = near_margin;
+  near_step = listing ? update->ntimestep + 1 : -1;
+}
 
+// the kick is kick_dtf()'s (fix nve's) arithmetic
+template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
+{
   double **v = atom->v;
   double **f = atom->f;
   const double *rmass = atom->rmass;
@@ -851,22 +873,20 @@ void HSSystem::closing_kick()
   const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const double t2 = dtv * dtv, h4 = 0.25 * t2 * t2;
   int flags = 0;
-  double dtfm;
-
-  // the kick is kick_dtf()'s (fix nve's) arithmetic
   for (int i = 0; i < nlocal; i++) {
     active[i] = 0.0;
     if (!(mask[i] & groupbit)) continue;
-    dtfm = rmass ? dtf_last / rmass[i] : dtf_last / mass[type[i]];
+    const double dtfm = rmass ? dtf_last / rmass[i] : dtf_last / mass[type[i]];
     v[i][0] += dtfm * f[i][0];
     v[i][1] += dtfm * f[i][1];
     v[i][2] += dtfm * f[i][2];
-    flags |= screen_atom(i, t2, h4, rmass ? force->ftm2v / rmass[i] : ftm2v_mass[type[i]]);
+    const int fl =
+        screen_atom<LIST>(i, t2, h4, rmass ? force->ftm2v / rmass[i] : ftm2v_mass[type[i]]);
+    if (LIST && (fl & NEAR)) near_atoms.push_back(i);
+    flags |= fl & ~NEAR;
   }
-  screened_flags = flags;
-  screened_step = update->ntimestep + 1;
+  return flags;
 }
 
 double HSSystem::memory_usage() const

@@ -131,7 +131,16 @@ class HSSystem : protected Pointers, public HSTypes {
   bigint screened_step = -1;
   int screened_flags = 0;
   int screen(double tleft);
-  int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
+  // LIST: also the NEAR bit for near_atoms (closing_kick())
+  static constexpr int NEAR = 4;
+  template <bool LIST = false> int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
+  // the closing kick's list of the owned atoms that the local engine's
+  // quick first guess may find flagged at step near_step: every atom the
+  // screen does not clear with its free gap less near_margin (set by the
+  // engine; < 0: no list). Ascending local index.
+  double near_margin = -1.0, near_used_margin = -1.0;
+  bigint near_step = -1;
+  std::vector<int> near_atoms;
 
   // at each list build: reference positions, candidates, gaps; overlaps
   // are errors (at_setup: the input's, else a missed collision)
@@ -188,6 +197,7 @@ class HSSystem : protected Pointers, public HSTypes {
   // the closing half kick of a step without sub-steps, screening the next
   // step in the same pass unless end_of_step fixes may change v before it
   void closing_kick();
+  template <bool LIST> int kick_and_screen(double t2, double h4);
   int moved_half_skin();
   // moved: this rank's moved_half_skin() if the caller has it (else computed)
   void request_rebuild(int moved = -1);
