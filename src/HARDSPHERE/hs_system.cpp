@@ -891,5 +891,6 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
 
 double HSSystem::memory_usage() const
 {
-  return (double) nmax_hs * 8 * sizeof(double) + (double) cand.capacity() * sizeof(int);
+  return (double) nmax_hs * 8 * sizeof(double) +
+      (double) (cand.capacity() + near_atoms.capacity()) * sizeof(int);
 }
