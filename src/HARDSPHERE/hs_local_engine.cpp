@@ -388,46 +388,41 @@ void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arr
       Run &r = mine ? *rp : runs[key];
       const double np = b[m + 3], nw = b[m + 4];
       m += 5;
-      // a run none of whose members has a copy here (on many ranks, most
-      // of the other ranks' runs): its IDs and counts only. Its segments
-      // are read through a member's copy (cross_check()), its positions and
-      // velocities put on the members' copies (place_members(),
-      // step_clusters()): never, on this rank
-      if (!mine) {
-        r.mtags.resize(nm);
-        bool here = false;
-        size_t q = m;
-        for (int k = 0; k < nm; k++) {
-          r.mtags[k] = (tagint) b[q];
+      // one walk over the members: where the packet ends, and (another
+      // rank's run) the members' IDs and whether any has a copy here. A
+      // run with none (on many ranks, most of the other ranks' runs) keeps
+      // its IDs and counts only: its segments are read through a member's
+      // copy (cross_check()), its positions and velocities put on the
+      // members' copies (place_members(), step_clusters()): never, here
+      if (!mine) r.mtags.resize(nm);
+      bool here = false;
+      size_t end = m;
+      for (int k = 0; k < nm; k++) {
+        if (!mine) {
+          r.mtags[k] = (tagint) b[end];
           here = here || atom->map(r.mtags[k]) >= 0;
-          q += 8 + SEG_DOUBLES * (size_t) b[q + 7];
         }
-        if (!here) {
-          r.npair[h] = np;
-          r.nwall[h] = nw;
-          (h == 0 ? r.dxm : r.dxe).clear();
-          (h == 0 ? r.vm : r.ve).clear();
-          for (auto &sg : (h == 0 ? r.segsA : r.segsB)) sg.clear();
-          if (h == 0) {
-            r.a_done = true;
-            r.b_done = false;
-          } else
-            r.b_done = true;
-          m = q;
-          continue;
-        }
+        end += 8 + SEG_DOUBLES * (size_t) b[end + 7];
       }
-      if (!mine) {
-        std::vector<Vec> &dx = h == 0 ? r.dxm : r.dxe;
-        std::vector<Vec> &vv = h == 0 ? r.vm : r.ve;
-        std::vector<std::vector<Seg>> &segs = h == 0 ? r.segsA : r.segsB;
+      if (mine) {    // (this rank's own state)
+        m = end;
+        continue;
+      }
+      std::vector<Vec> &dx = h == 0 ? r.dxm : r.dxe;
+      std::vector<Vec> &vv = h == 0 ? r.vm : r.ve;
+      std::vector<std::vector<Seg>> &segs = h == 0 ? r.segsA : r.segsB;
+      r.npair[h] = np;
+      r.nwall[h] = nw;
+      if (!here) {
+        dx.clear();
+        vv.clear();
+        for (auto &sg : segs) sg.clear();
+      } else {
         dx.resize(nm);
         vv.resize(nm);
         segs.resize(nm);
-        r.npair[h] = np;
-        r.nwall[h] = nw;
         for (int k = 0; k < nm; k++) {
-          r.mtags[k] = (tagint) b[m++];
+          m++;    // (the ID, taken above)
           for (int d = 0; d < 3; d++) dx[k][d] = b[m++];
           for (int d = 0; d < 3; d++) vv[k][d] = b[m++];
           const int ns = (int) b[m++];
@@ -441,14 +436,14 @@ void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arr
             for (int d = 0; d < 3; d++) s.a[d] = b[m++];
           }
         }
-        if (h == 0) {
-          r.a_done = true;
-          r.b_done = false;
-          place_members(r);
-        } else
-          r.b_done = true;
+      }
+      m = end;
+      if (h == 0) {
+        r.a_done = true;
+        r.b_done = false;
+        if (here) place_members(r);
       } else
-        for (int k = 0; k < nm; k++) m += 8 + SEG_DOUBLES * (int) b[m + 7];
+        r.b_done = true;
     }
   }
   std::sort(hits.begin(), hits.end());
@@ -1758,9 +1753,7 @@ void HSLocalEngine::sa_change(Run &r, double sign)
       dstamp_sa[p] = dsepoch;
       dsa_rows.push_back(p);
     }
-    // (the row by its offset in the contiguous block: dsa[p] would load a
-    // row pointer from another random place first)
-    double *row = dsa[0] + 7 * (size_t) p;
+    double *row = HardSphere::row_at(dsa[0], 7, p);
     for (int d = 0; d < 3; d++) row[d] += sign * r.fk0[k][d];
     if (mask[p] & sys->groupbit)
       for (int d = 0; d < 3; d++) row[3 + d] += sign * r.dvA[k][d];
@@ -2437,7 +2430,7 @@ int HSLocalEngine::step_clusters()
         HardSphere::prefetch_row(sb[0], 7, r.touched[k + HardSphere::PREFETCH_AHEAD], true);
       const int p = r.touched[k];
       sb_rows.push_back(p);
-      double *row = sb[0] + 7 * (size_t) p;    // (as in sa_change())
+      double *row = HardSphere::row_at(sb[0], 7, p);
       for (int d = 0; d < 3; d++) {
         row[d] += r.fend[k][d];
         row[3 + d] += r.dvB[k][d];

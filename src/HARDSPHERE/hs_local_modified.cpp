@@ -91,10 +91,6 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
   // 32000-bead melt the rows outgrow the caches: this loop's cost per
   // collision was 1.5x that at 4000 beads)
   const int ahead = HardSphere::PREFETCH_AHEAD;
-  // (rows by their offsets in the contiguous blocks: fwd[i] would first
-  // load a row pointer from another random place)
-  const double *fwdb = fwd[0];
-  double *redb = red[0];
   for (int t = 0; t < nterm; t++) {
     if (t + ahead < nterm) {
       const int o = toff[t + ahead];
@@ -124,7 +120,8 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     }
     const double r = sqrt(rsq);
     const double e[3] = {del[0] / r, del[1] / r, del[2] / r};
-    const double *fi = fwdb + 7 * (size_t) i, *fj = fwdb + 7 * (size_t) j;
+    // (rows by offset, HardSphere::row_at())
+    const double *fi = HardSphere::row_at(fwd[0], 7, i), *fj = HardSphere::row_at(fwd[0], 7, j);
     const double *vi = (mask[i] & gb) ? fi : zero, *vj = (mask[j] & gb) ? fj : zero;
     const double vij[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
     const double ev = e[0] * vij[0] + e[1] * vij[1] + e[2] * vij[2];
@@ -140,7 +137,7 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
     const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
     Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
-    double *ri = redb + 7 * (size_t) i, *rj = redb + 7 * (size_t) j;
+    double *ri = HardSphere::row_at(red[0], 7, i), *rj = HardSphere::row_at(red[0], 7, j);
     for (int d = 0; d < 3; d++) {
       ri[d] -= w * phi[1] * e[d];
       rj[d] += w * phi[1] * e[d];

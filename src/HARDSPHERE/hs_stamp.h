@@ -58,10 +58,20 @@ class RowSet {
 // on while they work on the current one, so the misses overlap
 constexpr int PREFETCH_AHEAD = 8;
 // row i of a contiguous ncol-column array (LAMMPS' memory->create(): row i
-// at base + ncol i); both ends, for a row that straddles two cache lines
+// at base + ncol i), by its offset: a[i] would first load a row pointer
+// from another place, a second miss where rows are taken at random
+inline double *row_at(double *base, int ncol, int i)
+{
+  return base + (size_t) ncol * i;
+}
+inline const double *row_at(const double *base, int ncol, int i)
+{
+  return base + (size_t) ncol * i;
+}
+// row i (as row_at()); both ends, for a row that straddles two cache lines
 inline void prefetch_row(const double *base, int ncol, int i, bool write = false)
 {
-  const double *row = base + (size_t) ncol * i;
+  const double *row = row_at(base, ncol, i);
   if (write) {
     __builtin_prefetch(row, 1);
     __builtin_prefetch(row + ncol - 1, 1);

@@ -132,7 +132,6 @@ class HSSystem : protected Pointers, public HSTypes {
   int screened_flags = 0;
   int screen(double tleft);
   // LIST: also the NEAR bit for near_atoms (closing_kick())
-  static constexpr int NEAR = 4;
   template <bool LIST = false> int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
   // the closing kick's list of the owned atoms that the local engine's
   // quick first guess may find flagged at step near_step: every atom the

@@ -29,8 +29,9 @@ struct HSTypes {
   // x the group's size (a dense fluid at a large step has a few per sphere)
   static constexpr bigint MAX_SUBSTEPS_BASE = 1000000;
   static constexpr bigint MAX_SUBSTEPS_PER_SPHERE = 100;
-  // screen() results
-  static constexpr int ACTIVE = 1, FAR = 2;
+  // screen() results (NEAR: screen_atom<true>()'s, for the closing kick's
+  // list of the local engine's quick first guess)
+  static constexpr int ACTIVE = 1, FAR = 2, NEAR = 4;
 
   struct Wall {
     int dim;         // 0,1,2
