@@ -127,7 +127,74 @@ struct Contact {
 // so round-off in g(0) can neither fake nor hide the next contact.
 // A grazing trajectory whose minimum stays > 0 is no contact; one that dips to
 // <= 0 is a contact at the downward crossing (double roots included).
-inline Contact first_contact(const double *c_in, int n, double tmax, double tol)
+inline Contact first_contact_searched(const double *c_in, int n, double tmax, double tol,
+                                      bool timed = true);
+
+// A cheap proof that g > 0 on (0, tmax] for a gap c0 > 0: g(t) >= c0 +
+// sum_k min(c_k, 0) tmax^k there. When that bound exceeds 1e-12 of s = sum_k
+// |c_k| tmax^k, far above the round-off of any evaluation of g on [0, tmax]
+// (Horner: below 2n ulps of s), every evaluation first_contact_searched()
+// would make is positive: its answer, NO_CONTACT, without the roots of g'.
+// Most pairs a first guess or a flow tests are cleared so.
+inline bool clear_by_bound(const double *c, int n, double tmax)
+{
+  double lb = c[0], s = c[0], tk = 1.0;
+  for (int k = 1; k <= n; ++k) {
+    tk *= tmax;
+    lb += std::min(c[k], 0.0) * tk;
+    s += std::fabs(c[k]) * tk;
+  }
+  return lb > 1.0e-12 * s;    // (false if anything overflowed to inf or nan)
+}
+
+// The same kind of proof that g' < 0 on [0, tmax] (d = g', degree n):
+// d0 + sum_k max(d_k, 0) tmax^k below -1e-12 of sum_k |d_k| tmax^k. Then
+// every evaluation of g' the search makes is negative: it finds no root of
+// g', and g is monotone on all of (0, tmax]
+inline bool decreasing_by_bound(const double *d, int n, double tmax)
+{
+  double ub = d[0], s = std::fabs(d[0]), tk = 1.0;
+  for (int k = 1; k <= n; ++k) {
+    tk *= tmax;
+    ub += std::max(d[k], 0.0) * tk;
+    s += std::fabs(d[k]) * tk;
+  }
+  return ub < -1.0e-12 * s;
+}
+
+// timed = false: a CONTACT's time is not computed (t is NaN), for callers
+// that need to know only whether there is one
+inline Contact first_contact(const double *c_in, int n, double tmax, double tol,
+                             bool timed = true)
+{
+  constexpr double UNTIMED = std::numeric_limits<double>::quiet_NaN();
+  // touching and separating (a pair just after its impulse): g = t h(t),
+  // h = c1 + c2 t + ...; the search sees g > 0 on (0, tmax] where h's bound
+  // holds (g's round-off is t times h's)
+  if (tmax > 0.0 && n >= 1 && std::fabs(c_in[0]) <= tol && c_in[1] > 0.0 &&
+      clear_by_bound(c_in + 1, n - 1, tmax))
+    return {NO_CONTACT, 0.0};
+  if (c_in[0] > tol && tmax > 0.0) {
+    if (clear_by_bound(c_in, n, tmax)) return {NO_CONTACT, 0.0};
+    // an approach through the whole interval (most pairs near contact):
+    // the search's one piece, (0, tmax], with its evaluations and its root
+    double c[5], d[4];
+    for (int k = 0; k <= n; ++k) c[k] = c_in[k];
+    const int m = poly_degree(c, n);
+    poly_derivative(c, m, d);
+    if (m >= 1 && decreasing_by_bound(d, m - 1, tmax)) {
+      const double ghi = poly_eval(c, m, tmax);
+      if (ghi > 0.0) return {NO_CONTACT, 0.0};
+      if (ghi == 0.0) return {CONTACT, tmax};
+      return {CONTACT, timed ? poly_root_bracketed(c, m, 0.0, tmax) : UNTIMED};
+    }
+  }
+  return first_contact_searched(c_in, n, tmax, tol, timed);
+}
+
+// first_contact() by the roots of g': g is monotone between them
+inline Contact first_contact_searched(const double *c_in, int n, double tmax, double tol,
+                                      bool timed)
 {
   double c[5];
   for (int k = 0; k <= n; ++k) c[k] = c_in[k];
@@ -159,6 +226,7 @@ inline Contact first_contact(const double *c_in, int n, double tmax, double tol)
     if (ghi <= 0.0) {
       const double glo = poly_eval(c, n, pts[k]);
       if (ghi == 0.0 || glo <= 0.0) return {CONTACT, pts[k + 1]};
+      if (!timed) return {CONTACT, std::numeric_limits<double>::quiet_NaN()};
       return {CONTACT, poly_root_bracketed(c, n, pts[k], pts[k + 1])};
     }
   }

@@ -591,19 +591,20 @@ int HSLocalEngine::guess_pair(int i, int j, const double *dq, double r2, double 
   const double sm = sigma * (1.0 + LINE_MARGIN);
   const double dv[3] = {vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]};
   const double da[3] = {ai[0] - aj[0], ai[1] - aj[1], ai[2] - aj[2]};
-  const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt);
+  // (whether, not when: the flows find the time)
+  const Contact ct = pair_contact(i, j, dq, dv, da, sigma, dt, false);
   if (ct.status != HardSphere::NO_CONTACT) return GUESS_HIT;
   const double dw[3] = {dv[0] + 0.5 * dt * da[0], dv[1] + 0.5 * dt * da[1],
                         dv[2] + 0.5 * dt * da[2]};
   const double zero[3] = {0.0, 0.0, 0.0};
   if (r2 >= sm * sm) {
     HardSphere::pair_gap_poly(dq, dw, zero, sm, c);
-    if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm).status ==
+    if (HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sm * sm, false).status ==
         HardSphere::NO_CONTACT)
       return GUESS_NONE;
   }
   HardSphere::pair_gap_poly(dq, dw, zero, sigma, c);
-  const Contact cl = HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma);
+  const Contact cl = HardSphere::first_contact(c, 4, dt, TOUCH_TOL * sigma * sigma, false);
   return cl.status != HardSphere::NO_CONTACT ? GUESS_HIT : GUESS_NEAR;
 }
 
@@ -617,15 +618,16 @@ int HSLocalEngine::guess_wall(int i, int wl, const double *vi, const double *ai,
   const double g = F.wall_gap(W, atom->x[i], r);
   if (g > Di) return GUESS_NONE;
   const double s = (W.side < 0) ? 1.0 : -1.0;
-  const Contact ct = wall_contact(i, wl, g, vi[W.dim], ai[W.dim], dt);
+  const Contact ct = wall_contact(i, wl, g, vi[W.dim], ai[W.dim], dt, false);
   if (ct.status != HardSphere::NO_CONTACT) return GUESS_HIT;
   const double m = LINE_MARGIN * 2.0 * r;
   const double wn = s * (vi[W.dim] + 0.5 * dt * ai[W.dim]);
   HardSphere::wall_gap_poly(g - m, wn, 0.0, c);
-  if (HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r).status == HardSphere::NO_CONTACT)
+  if (HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r, false).status ==
+      HardSphere::NO_CONTACT)
     return GUESS_NONE;
   HardSphere::wall_gap_poly(g, wn, 0.0, c);
-  const Contact cl = HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r);
+  const Contact cl = HardSphere::first_contact(c, 2, dt, TOUCH_TOL * 2.0 * r, false);
   return cl.status != HardSphere::NO_CONTACT ? GUESS_HIT : GUESS_NEAR;
 }
 
@@ -1718,7 +1720,7 @@ void HSLocalEngine::cross_check(bool first_half, const std::vector<int> &fresh,
             }
             HardSphere::pair_gap_poly(dq, dv, da, sigma, cc);
             const Contact ct = HardSphere::first_contact(cc, 4, tend - t,
-                                                         TOUCH_TOL * sigma * sigma);
+                                                         TOUCH_TOL * sigma * sigma, false);
             if (ct.status != HardSphere::NO_CONTACT) found = true;
           }
           t = tend;
@@ -2033,7 +2035,7 @@ void HSLocalEngine::check_pair(int p, std::vector<Hit> &hits)
   const double reach = sigma + dt * sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
   if (r2 > reach * reach) return;
   const double da[3] = {0.0, 0.0, 0.0};
-  if (pair_contact(la, lb, dq, dv, da, sigma, dt).status != HardSphere::NO_CONTACT)
+  if (pair_contact(la, lb, dq, dv, da, sigma, dt, false).status != HardSphere::NO_CONTACT)
     hits.push_back({atom->tag[la], atom->tag[lb]});
 }
 
@@ -2044,7 +2046,7 @@ void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
   for (int wl = 0; wl < (int) F.walls.size(); wl++) {
     const Wall &W = F.walls[wl];
     const double g = F.wall_gap(W, x0[i], F.radius_of(i));
-    if (wall_contact(i, wl, g, wq[i][W.dim], 0.0, F.dtv).status != HardSphere::NO_CONTACT)
+    if (wall_contact(i, wl, g, wq[i][W.dim], 0.0, F.dtv, false).status != HardSphere::NO_CONTACT)
       hits.push_back({atom->tag[i], -1 - (tagint) wl});
   }
 }
@@ -2056,12 +2058,13 @@ void HSLocalEngine::check_walls(int i, std::vector<Hit> &hits)
    overlap now is the fix's missed-collision error
 ------------------------------------------------------------------------- */
 
-Contact HSLocalEngine::wall_contact(int i, int wl, double g, double vd, double ad, double tmax)
+Contact HSLocalEngine::wall_contact(int i, int wl, double g, double vd, double ad, double tmax,
+                                    bool timed)
 {
   const double s = (sys->walls[wl].side < 0) ? 1.0 : -1.0, r = sys->radius_of(i);
   double c[5];
   HardSphere::wall_gap_poly(g, s * vd, s * ad, c);
-  const Contact ct = HardSphere::first_contact(c, 2, tmax, TOUCH_TOL * 2.0 * r);
+  const Contact ct = HardSphere::first_contact(c, 2, tmax, TOUCH_TOL * 2.0 * r, timed);
   if (ct.status == HardSphere::OVERLAP)
     error->one(FLERR, "Fix {}: atom {} is {} through a wall on step {}: a collision was missed",
                sys->style_name, atom->tag[i], -g, update->ntimestep);
@@ -2069,12 +2072,11 @@ Contact HSLocalEngine::wall_contact(int i, int wl, double g, double vd, double a
 }
 
 Contact HSLocalEngine::pair_contact(int la, int lb, const double *dq, const double *dv,
-                                   const double *da, double sigma, double tmax)
+                                   const double *da, double sigma, double tmax, bool timed)
 {
   double c[5];
   HardSphere::pair_gap_poly(dq, dv, da, sigma, c);
-  const Contact ct =
-      HardSphere::first_contact(c, 4, tmax, TOUCH_TOL * sigma * sigma);
+  const Contact ct = HardSphere::first_contact(c, 4, tmax, TOUCH_TOL * sigma * sigma, timed);
   if (ct.status == HardSphere::OVERLAP)
     sys->pair_overlap_error(la, lb, sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]), sigma);
   return ct;

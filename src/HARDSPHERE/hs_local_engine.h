@@ -392,9 +392,12 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void h2_pos(int l, double *q) const;
   void check_pair(int p, std::vector<Hit> &hits);
   void check_walls(int i, std::vector<Hit> &hits);
-  HardSphere::Contact wall_contact(int i, int wl, double g, double vd, double ad, double tmax);
+  // (timed = false: whether there is a contact, not when: HardSphere::first_contact())
+  HardSphere::Contact wall_contact(int i, int wl, double g, double vd, double ad, double tmax,
+                                   bool timed = true);
   HardSphere::Contact pair_contact(int la, int lb, const double *dq, const double *dv,
-                                   const double *da, double sigma, double tmax);
+                                   const double *da, double sigma, double tmax,
+                                   bool timed = true);
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc;

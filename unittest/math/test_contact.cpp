@@ -364,6 +364,121 @@ TEST(FirstContactRandom, PairsAgainstBruteForce)
   EXPECT_LT(n_amb, NCASE / 50);
 }
 
+// first_contact() clears most pairs by a bound on the gap polynomial
+// (clear_by_bound()) before searching the roots of g': it must give the
+// search's answer, bit for bit (the local engine's trajectories on 1 and
+// n ranks rest on it), and the bound must hold for the geometry itself
+TEST(FirstContactBound, SameAnswerAsTheSearchAndSound)
+{
+  Rng rng(20261127);
+  const int NCASE = 200000;
+  int n_bound = 0, n_down = 0, n_touch = 0, n_touch_clear = 0, n_contact = 0, n_diff = 0,
+      n_unsound = 0;
+  for (int icase = 0; icase < NCASE; ++icase) {
+    PairCase p = random_pair(rng);
+    // a third of the cases graze: a straight line that passes the contact
+    // distance by a relative 1e-14 .. 1e-2 (a tiny positive minimum)
+    if (icase % 3 == 0) {
+      double u[3], w[3];
+      rng.unit(u);
+      rng.unit(w);
+      const double uw = dot(u, w);
+      for (int k = 0; k < 3; ++k) w[k] -= uw * u[k];
+      const double wn = norm(w);
+      if (wn < 1e-3) continue;
+      const double b = p.sigma * (1.0 + rng.logu(-14.0, -2.0));
+      const double speed = norm(p.dv) > 0.0 ? norm(p.dv) : p.sigma / p.tmax;
+      const double tc = p.tmax * rng.uni(0.0, 1.2);    // closest approach
+      for (int k = 0; k < 3; ++k) {
+        p.dv[k] = -speed * u[k];
+        p.dq[k] = b * w[k] / wn + speed * tc * u[k];
+        p.da[k] = (icase % 2) ? 0.0 : 1e-9 * speed / p.tmax * w[k] / wn;
+      }
+    }
+    // another third touch at t = 0 (|g(0)| <= tol), most of them separating
+    // (a pair just after its impulse), pulled back by da in some
+    if (icase % 3 == 1) {
+      double u[3];
+      rng.unit(u);
+      const double r = p.sigma * (1.0 + rng.uni(-1.0, 1.0) * 1e-13);
+      const double vn = rng.uni(-0.2, 1.0) * norm(p.dv);
+      for (int k = 0; k < 3; ++k) {
+        p.dq[k] = r * u[k];
+        p.dv[k] += (vn - dot(p.dv, u)) * u[k];
+      }
+    }
+    double c[5];
+    pair_gap_poly(p.dq, p.dv, p.da, p.sigma, c);
+    const double tol = 1e-12 * p.sigma * p.sigma;
+    const Contact a = first_contact(c, 4, p.tmax, tol);
+    const Contact b = first_contact_searched(c, 4, p.tmax, tol);
+    if (a.status != b.status || a.t != b.t) {
+      if (++n_diff <= 10)
+        ADD_FAILURE() << std::scientific << "case " << icase << ": status " << a.status
+                      << " t " << a.t << " against the search's " << b.status << " t " << b.t;
+    }
+    // whether, not when: the same status
+    if (first_contact(c, 4, p.tmax, tol, false).status != b.status) {
+      if (++n_diff <= 10) ADD_FAILURE() << "case " << icase << ": untimed status differs";
+    }
+    if (std::fabs(c[0]) <= tol) {
+      ++n_touch;
+      if (c[1] > 0.0 && clear_by_bound(c + 1, 3, p.tmax)) {
+        ++n_touch_clear;
+        // the geometry: separating throughout
+        for (int k = 1; k <= 200; ++k) {
+          const double t = p.tmax * k / 200.0;
+          if (!(dgap(p, t) > 0.0 || gap(p, t) > 0.0)) {
+            if (++n_unsound <= 10)
+              ADD_FAILURE() << std::scientific << "case " << icase << ": cleared touching, "
+                            << "but the gap is " << gap(p, t) << " at t " << t;
+            break;
+          }
+        }
+      }
+    }
+    if (b.status == CONTACT || b.status == CONTACT_NOW) ++n_contact;
+    if (c[0] > tol && clear_by_bound(c, 4, p.tmax)) {
+      ++n_bound;
+      // the geometry, not the coefficients: the gap stays positive
+      for (int k = 0; k <= 200; ++k) {
+        const double t = p.tmax * k / 200.0;
+        if (!(gap(p, t) > 0.0)) {
+          if (++n_unsound <= 10)
+            ADD_FAILURE() << std::scientific << "case " << icase << ": cleared, but the gap is "
+                          << gap(p, t) << " at t " << t;
+          break;
+        }
+      }
+    } else if (c[0] > tol) {
+      double d[4];
+      poly_derivative(c, 4, d);
+      if (!decreasing_by_bound(d, 3, p.tmax)) continue;
+      ++n_down;
+      // the geometry: approaching throughout
+      for (int k = 0; k <= 200; ++k) {
+        const double t = p.tmax * k / 200.0;
+        if (!(dgap(p, t) < 0.0)) {
+          if (++n_unsound <= 10)
+            ADD_FAILURE() << std::scientific << "case " << icase << ": taken as approaching, "
+                          << "but g' is " << dgap(p, t) << " at t " << t;
+          break;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(n_diff, 0);
+  EXPECT_EQ(n_unsound, 0);
+  std::printf("[ info     ] %d cases: %d cleared by the bound, %d approaching throughout, %d "
+              "touching (%d cleared), %d contacts\n",
+              NCASE, n_bound, n_down, n_touch, n_touch_clear, n_contact);
+  // no side is vacuous
+  EXPECT_GT(n_bound, NCASE / 10);
+  EXPECT_GT(n_down, NCASE / 20);
+  EXPECT_GT(n_touch_clear, NCASE / 10);
+  EXPECT_GT(n_contact, NCASE / 10);
+}
+
 TEST(FirstContactRandom, WallsAgainstBruteForceAndClosedForm)
 {
   Rng rng(424242);
