@@ -268,6 +268,15 @@ void HSLocalEngine::build_adjacency()
   const int nlocal = atom->nlocal;
   for (int g = nlocal; g < nall; g++)
     if (adj_off[g + 1] > adj_off[g]) cand_ghosts.push_back(g);
+  // (predict_all(): a pair whose copies moved less than this since the
+  // build, paths included, is out of reach)
+  const std::vector<double> &r0 = sys->cand_r;
+  cand_slack.resize(np);
+  for (int p = 0; p < np; p++) {
+    const double sm =
+        (sys->radius_of(cand[2 * p]) + sys->radius_of(cand[2 * p + 1])) * (1.0 + LINE_MARGIN);
+    cand_slack[p] = r0[p] - sm * (1.0 + 1.0e-10);
+  }
   pstamp.assign(np, 0u);
   pepoch = 0;
   cand_version = sys->cand_version;
@@ -518,13 +527,18 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   const double ftm2v = force->ftm2v;
   pathv.resize(nall);
   flagv.resize(nall);
+  awayv.resize(nall);
   // the path bound dt |v| + dt^2/2 |a| of fix nve's step and the flag of
   // every copy, once per copy in two contiguous arrays: the pair loop reads
   // them for each of its ~5 pairs per atom (the bound per pair of an
-  // unflagged atom, and the flags through cols, cost more)
+  // unflagged atom, and the flags through cols, cost more); and how far the
+  // copy can be from its list build position by the step's end
+  double **xref = F.xref;
   auto bound = [&](int k) {
     pathv[k] = path_bound(v[k], acc[k], dt);
     flagv[k] = cols[k][1] != 0.0;
+    const double d[3] = {x[k][0] - xref[k][0], x[k][1] - xref[k][1], x[k][2] - xref[k][2]};
+    awayv[k] = pathv[k] + sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   };
   // one pass over the owned atoms (each array read once, as fix nve's
   // kick reads it: the passes are bound by memory, not arithmetic): the
@@ -552,6 +566,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   for (int k : cand_ghosts) bound(k);
   const double *pv = pathv.data();
   const char *fv = flagv.data();
+  const double *av = awayv.data();
+  const double *slack = cand_slack.data();
   for (int i : act0)
     for (int wl = 0; wl < (int) F.walls.size(); wl++) {
       const int g = guess_wall(i, wl, v[i], acc[i], pathv[i]);
@@ -564,6 +580,11 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   for (int p = 0; p < np; p++) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
     if (!(fv[i] | fv[j])) continue;
+    // out of reach by the distance at the build less the copies' moves
+    // since (triangle inequality; with the slack's 1e-10, also for the
+    // rounded test below, which would skip the pair too): most of a dense
+    // fluid's pairs, without reading the copies' positions
+    if (slack[p] > av[i] + av[j]) continue;
     if (tag[i] == tag[j]) continue;    // (two images of one atom: a ghost with no bound)
     const double sigma = F.radius_of(i) + F.radius_of(j);
     const double dq[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};

@@ -331,6 +331,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bigint cand_version = -1;
   std::vector<int> adj_off, adj;            // local copy -> candidate pairs
   std::vector<int> cand_ghosts;             // ghost copies in a candidate pair
+  // candidate pair's distance at the list build less its reach without
+  // paths (contact distance and line margin, a relative 1e-10 more)
+  std::vector<double> cand_slack;
   std::vector<uint32_t> pstamp;             // candidate pair seen
   std::vector<int> act0;                    // owned atoms the screen marked active
   std::vector<uint32_t> astamp;             // considered by h2_check
@@ -360,6 +363,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   double **cols = nullptr;    // free gap (0) and the screen's flag (1), forwarded by predict_all()
   std::vector<double> pathv;    // predict_all(): the path bound of each copy
   std::vector<char> flagv;      // predict_all(): 1 if the copy is flagged (cols[k][1])
+  std::vector<double> awayv;    // predict_all(): path bound + distance from the list build
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
   void predict_all(std::vector<Hit> &hits);

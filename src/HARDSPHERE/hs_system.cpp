@@ -200,6 +200,8 @@ void HSSystem::reset_reference(int at_setup)
   const size_t ncand_before = cand.size();
   cand.clear();
   cand.reserve(ncand_before + ncand_before / 4);
+  cand_r.clear();
+  cand_r.reserve(cand.capacity() / 2);
 
   auto candidate = [&](int i, int j) {
     if (!(mask[j] & groupbit)) return;
@@ -218,6 +220,7 @@ void HSSystem::reset_reference(int at_setup)
     gap[j] = MIN(gap[j], g);
     cand.push_back(i);
     cand.push_back(j);
+    cand_r.push_back(r);
   };
 
   // the list may be the pair style's, with a longer cutoff: the distance

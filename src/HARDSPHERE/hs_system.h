@@ -98,6 +98,7 @@ class HSSystem : protected Pointers, public HSTypes {
   int forces_present = 0;
   class NeighList *list = nullptr;
   std::vector<int> cand;        // candidate pairs (i owned, j owned or ghost), flat
+  std::vector<double> cand_r;   // their distances at the build (xref)
   bigint cand_version = 0;      // bumped at every candidate list build
   std::vector<double> ftm2v_mass;    // ftm2v / mass[type], when there is no rmass
 
