@@ -224,10 +224,9 @@ void HSLocalEngine::grow_arrays()
 
 int HSLocalEngine::id_of(tagint t)
 {
-  auto it = idof.find(t);
-  if (it != idof.end()) return it->second;
+  if (const int *known = idof.find(t)) return *known;
   const int id = (int) idtag.size();
-  idof.emplace(t, id);
+  idof.insert(t, id);
   idtag.push_back((int64_t) t);
   cs.grow(id + 1);
   return id;
@@ -907,8 +906,7 @@ void HSLocalEngine::gather_topology(const std::vector<int> &newids)
     const int w = T.width();
     members.clear();
     for (int k = 0; k < w; k++) {
-      auto it = idof.find(T.id[k]);
-      if (it != idof.end()) members.push_back(it->second);
+      if (const int *id = idof.find(T.id[k])) members.push_back(*id);
     }
     if (members.size() > 1) cs.add_term(members.data(), (int) members.size());
   }
@@ -1193,7 +1191,11 @@ void HSLocalEngine::grow_clusters(std::vector<Hit> &hits)
         Run *r = run_of(key);
         if (!r || !r->mine || r->members.empty()) continue;
         retire(key);
-        const int c = cs.cluster_of(idof.at(key));
+        const int *id = idof.find(key);
+        if (!id)
+          error->one(FLERR, "Fix {} substep local: internal error: run {} is no member's",
+                     sys->style_name, key);
+        const int c = cs.cluster_of(*id);
         if (c >= 0) workA.push_back(key_of(c));
       }
   for (int c : redo) {
@@ -1207,22 +1209,22 @@ void HSLocalEngine::grow_clusters(std::vector<Hit> &hits)
 // a run that is dropped (on every rank: its packets go too)
 void HSLocalEngine::retire(tagint key)
 {
-  auto it = runs.find(key);
-  if (it == runs.end()) return;
-  Run &r = *it->second;
+  Run *rp = runs.find(key);
+  if (!rp) return;
+  Run &r = *rp;
   if (r.mine)
     for (tagint k : r.xnbrs) workX.push_back(k);    // their cross terms with it change
   if (r.in_sa) sa_change(r, -1.0);    // its sums go (h2_velocities)
-  runs.erase(it);
+  runs.erase(key);
 }
 
 // the cluster of a key, -1 if it is no longer a cluster's key
 int HSLocalEngine::clusters_of_key(tagint key) const
 {
-  auto it = idof.find(key);
-  if (it == idof.end()) return -1;
-  const int c = cs.cluster_of(it->second);
-  return (c >= 0 && cs.members(c)[0] == it->second) ? c : -1;
+  const int *id = idof.find(key);
+  if (!id) return -1;
+  const int c = cs.cluster_of(*id);
+  return (c >= 0 && cs.members(c)[0] == *id) ? c : -1;
 }
 
 // keys -> cluster indices, once each, ascending (keys is emptied)
@@ -1902,8 +1904,9 @@ void HSLocalEngine::h2_velocities(bool full)
 std::vector<tagint> HSLocalEngine::my_keys()
 {
   std::vector<tagint> k;
-  for (auto &kv : runs)
-    if (kv.second->mine) k.push_back(kv.first);
+  runs.for_each([&](tagint key, Run &r) {
+    if (r.mine) k.push_back(key);
+  });
   std::sort(k.begin(), k.end());
   return k;
 }
@@ -2426,7 +2429,11 @@ int HSLocalEngine::step_clusters()
   sb_rows.clear();
   view_members.assign(cs.nclusters(), {});
   for (int c = 0; c < cs.nclusters(); c++) {
-    const Run &r = *runs.at(key_of(c));
+    const Run *rp = run_of(key_of(c));
+    if (!rp)
+      error->one(FLERR, "Fix {} substep local: internal error: cluster {} has no run",
+                 F.style_name, key_of(c));
+    const Run &r = *rp;
     for (size_t k = 0; k < r.mtags.size(); k++) {
       const int l = atom->map(r.mtags[k]);
       if (l < 0 || l >= nlocal) continue;

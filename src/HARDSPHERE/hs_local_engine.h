@@ -102,6 +102,7 @@
 #include "hs_cells.h"
 #include "hs_cluster.h"
 #include "hs_contact.h"
+#include "hs_flatmap.h"
 #include "hs_local_forces.h"
 #include "hs_mpi.h"
 #include "hs_stamp.h"
@@ -116,7 +117,6 @@
 #include <deque>
 #include <map>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -177,7 +177,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // ---- the step's clusters, the same on every rank: a ClusterSet over
   // dense ids of the members' atom IDs, ordered by ID (keys: lowest ID)
   HardSphere::ClusterSet cs;
-  std::unordered_map<tagint, int> idof;    // member ID -> dense id
+  HardSphere::FlatMap<tagint, int> idof;    // member ID -> dense id
   std::vector<int64_t> idtag;              // dense id -> ID
   int id_of(tagint t);                     // adds t if new
   std::vector<int> mid;                    // per local copy: its dense id, -1 if not a member
@@ -233,18 +233,18 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     }
   };
   // the runs by key, their storage reused from step to step (a step makes
-  // and drops thousands of them in a large system)
+  // and drops thousands of them in a large system; a flat table: lookups
+  // by key are frequent)
   class RunTable {
    public:
-    using Map = std::unordered_map<tagint, Run *>;
-    Map::iterator find(tagint k) { return map_.find(k); }
-    Map::iterator begin() { return map_.begin(); }
-    Map::iterator end() { return map_.end(); }
-    Run *at(tagint k) { return map_.at(k); }
+    Run *find(tagint k)
+    {
+      Run **r = map_.find(k);
+      return r ? *r : nullptr;
+    }
     Run &operator[](tagint k)
     {
-      auto it = map_.find(k);
-      if (it != map_.end()) return *it->second;
+      if (Run *old = find(k)) return *old;
       Run *r;
       if (spare_.empty()) {
         store_.emplace_back();
@@ -254,31 +254,34 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
         spare_.pop_back();
       }
       r->reset();
-      map_.emplace(k, r);
+      map_.insert(k, r);
       return *r;
     }
-    void erase(Map::iterator it)
+    void erase(tagint k)
     {
-      spare_.push_back(it->second);
-      map_.erase(it);
+      if (Run *r = find(k)) {
+        spare_.push_back(r);
+        map_.erase(k);
+      }
     }
     void clear()
     {
-      for (auto &kv : map_) spare_.push_back(kv.second);
+      map_.for_each([&](tagint, Run *&r) { spare_.push_back(r); });
       map_.clear();
+    }
+    // fn(key, run) for every run, in no particular order
+    template <class F> void for_each(F fn)
+    {
+      map_.for_each([&](tagint k, Run *&r) { fn(k, *r); });
     }
 
    private:
-    Map map_;
+    HardSphere::FlatMap<tagint, Run *> map_;
     std::deque<Run> store_;
     std::vector<Run *> spare_;
   };
   RunTable runs;
-  Run *run_of(tagint key)
-  {
-    auto it = runs.find(key);
-    return it == runs.end() ? nullptr : it->second;
-  }
+  Run *run_of(tagint key) { return runs.find(key); }
   // runs of this rank in key order (the order of every sum it makes)
   std::vector<tagint> my_keys();
 
