@@ -113,14 +113,6 @@ void HSLocalForces::next_epoch()
   epoch_ = 1;
 }
 
-void HSLocalForces::zero(int i)
-{
-  if (zeroed_[i] == epoch_) return;
-  zeroed_[i] = epoch_;
-  fl_[i][0] = fl_[i][1] = fl_[i][2] = 0.0;
-  zero_list_.push_back(i);
-}
-
 // which of bond, angle, dihedral, improper contribute (molecular system,
 // style defined, list allocated)
 void HSLocalForces::presence(bool present[4]) const

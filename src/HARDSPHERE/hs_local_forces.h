@@ -256,7 +256,15 @@ class HSLocalForces : protected Pointers {
   std::vector<std::pair<tagint, int>> ctag_;
   std::vector<char> fold_src_;    // all 0 between calls
   void evaluate(const int *c, int nc, bool record_terms);
-  void zero(int i);
+  // copy i's force row to zero, once per evaluation (inline: ~6.5 million
+  // calls per 10 steps at 256000 atoms, from evaluate()'s term loop)
+  void zero(int i)
+  {
+    if (zeroed_[i] == epoch_) return;
+    zeroed_[i] = epoch_;
+    fl_[i][0] = fl_[i][1] = fl_[i][2] = 0.0;
+    zero_list_.push_back(i);
+  }
   void grow();
   void run_styles(class NeighList *L, const bool present[4], bool first = true);
   int64_t last_ncalls_ = -1;
