@@ -544,7 +544,9 @@ void FixHardSphere::box_changed()
 
 double FixHardSphere::memory_usage()
 {
-  return sys->memory_usage() + (method ? method->memory_usage() : 0.0);
+  return sys->memory_usage() + (method ? method->memory_usage() : 0.0) +
+      (local_engine ? local_engine->memory_usage() : 0.0) +
+      (global_engine ? global_engine->memory_usage() : 0.0);
 }
 
 // fix_modify keywords of the method (mcva: stages)

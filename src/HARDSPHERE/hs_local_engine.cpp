@@ -2356,6 +2356,21 @@ double HSLocalEngine::counter(int k)
   return 0.0;
 }
 
+// the per-copy columns (peratom()), the per-copy stamps and bounds, the
+// candidate pairs' adjacency, and the restricted evaluations' arrays
+double HSLocalEngine::memory_usage() const
+{
+  auto bytes = [](const auto &vec) { return (double) vec.capacity() * sizeof(vec[0]); };
+  double b = 0.0;
+  for (const auto &a : const_cast<HSLocalEngine *>(this)->peratom())
+    b += (double) nmax * a.second * sizeof(double);
+  b += bytes(mid) + bytes(lab) + bytes(estamp) + bytes(astamp) + bytes(wstamp) +
+      bytes(dstamp_sa) + bytes(in_used) + bytes(dstamp) + bytes(hstampv) + bytes(kstamp) +
+      bytes(atom_runs) + bytes(pathv) + bytes(flagv) + bytes(awayv) + bytes(adj_off) +
+      bytes(adj) + bytes(cand_ghosts) + bytes(cand_slack) + bytes(pstamp);
+  return b + locf->memory_usage();
+}
+
 const std::vector<int> &HSLocalEngine::members(int c) const
 {
   return view_members[c];

@@ -139,6 +139,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bool step() override;
   bool finish() override;
   double counter(int k) override;
+  double memory_usage() const override;
 
   // HSStepView: the step's clusters and state, for a method's own
   // bookkeeping (hs_local_modified.h); valid from step() to the

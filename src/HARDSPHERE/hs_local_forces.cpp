@@ -103,6 +103,16 @@ void HSLocalForces::grow()
   }
 }
 
+double HSLocalForces::memory_usage() const
+{
+  auto bytes = [](const auto &vec) { return (double) vec.capacity() * sizeof(vec[0]); };
+  // fl_ (3 doubles), numneigh_, firstneigh_ per copy
+  double b = (double) nmax_ * (3 * sizeof(double) + sizeof(int) + sizeof(int *));
+  b += bytes(in_c_) + bytes(zeroed_) + bytes(has_row_) + bytes(pinv_off_) + bytes(pinv_row_) +
+      bytes(pinv_val_) + bytes(ilist_) + bytes(neigh_) + bytes(zero_list_) + bytes(term_atoms_);
+  return b;
+}
+
 void HSLocalForces::next_epoch()
 {
   if (++epoch_ != 0) return;

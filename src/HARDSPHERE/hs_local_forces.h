@@ -68,6 +68,7 @@ class HSLocalForces : protected Pointers {
 
   // call from the owner's init(): checks the styles and the atom map
   void init();
+  double memory_usage() const;    // bytes of its per-copy arrays and rows
   // "" when every contribution can be restricted exactly, else why not
   // (the styles named); valid after init()
   const std::string &unrestrictable() const { return why_; }

@@ -49,6 +49,8 @@ class HSStepEngine : protected Pointers {
   // flagged spheres alone cleared the first guess
   static constexpr int NCOUNTERS = 8;
   virtual double counter(int k) = 0;
+  // bytes of the engine's own arrays (the fix's memory_usage())
+  virtual double memory_usage() const { return 0.0; }
 };
 
 }    // namespace LAMMPS_NS

@@ -19,6 +19,8 @@
 
 #include "atom.h"
 #include "domain.h"
+#include "fix.h"
+#include "modify.h"
 #include "lmptype.h"
 
 #include <array>
@@ -232,6 +234,30 @@ TEST(LocalEngine, OutputVector)
   EXPECT_GE(coll, 10.0);
   EXPECT_LE(coll, 10.0 * (1.0 + rounds) + 4.0);
   EXPECT_EQ(L.fix_vector("hs", 4), 0.0);    // no full force evaluation
+}
+
+// LAMMPS' "Per MPI rank memory allocation" includes the local engine's own
+// arrays (fix memory_usage()): at least the per-copy columns it keeps (start
+// state x0, v0 and held forces, Phi_H2's w with a flag, three 7-column sums
+// and the quick guess's 7-column rows, free gap and flag: 43 doubles per
+// copy, atom->nmax copies), and not absurdly more
+TEST(LocalEngine, MemoryUsageCountsTheEngine)
+{
+  auto usage = [](const std::string &substep, double &nmax) {
+    HSLammps L;
+    L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep " + substep, 0.005, 87287, 6));
+    L.cmd("run 20");
+    nmax = L.lmp->atom->nmax;
+    LAMMPS_NS::Fix *f = L.lmp->modify->fix[L.lmp->modify->find_fix("hs")];
+    return f->memory_usage();
+  };
+  double nmax_l = 0.0, nmax_g = 0.0;
+  const double local = usage("local", nmax_l), global = usage("global", nmax_g);
+  std::printf("memory: substep local %g bytes, global %g (nmax %g / %g)\n", local, global,
+              nmax_l, nmax_g);
+  ASSERT_EQ(nmax_l, nmax_g);
+  EXPECT_GE(local - global, 43.0 * sizeof(double) * nmax_l);
+  EXPECT_LE(local - global, 2000.0 * nmax_l);
 }
 
 TEST(LocalEngine, Errors)
