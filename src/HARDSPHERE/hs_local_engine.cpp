@@ -2360,7 +2360,7 @@ double HSLocalEngine::counter(int k)
 // candidate pairs' adjacency, and the restricted evaluations' arrays
 double HSLocalEngine::memory_usage() const
 {
-  auto bytes = [](const auto &vec) { return (double) vec.capacity() * sizeof(vec[0]); };
+  const auto bytes = [](const auto &vec) { return HardSphere::capacity_bytes(vec); };
   double b = 0.0;
   for (const auto &a : const_cast<HSLocalEngine *>(this)->peratom())
     b += (double) nmax * a.second * sizeof(double);

@@ -105,7 +105,7 @@ void HSLocalForces::grow()
 
 double HSLocalForces::memory_usage() const
 {
-  auto bytes = [](const auto &vec) { return (double) vec.capacity() * sizeof(vec[0]); };
+  const auto bytes = [](const auto &vec) { return HardSphere::capacity_bytes(vec); };
   // fl_ (3 doubles), numneigh_, firstneigh_ per copy
   double b = (double) nmax_ * (3 * sizeof(double) + sizeof(int) + sizeof(int *));
   b += bytes(in_c_) + bytes(zeroed_) + bytes(has_row_) + bytes(pinv_off_) + bytes(pinv_row_) +

@@ -4,7 +4,7 @@
    between passes; the stamps are cleared only when the counter wraps. And
    the memory-order helpers of the local engine: RowSet, a bitmap that
    reads listed rows back in index order, and prefetch_row() for loops
-   whose order is fixed. LAMMPS-free.
+   whose order is fixed; capacity_bytes() for memory_usage(). LAMMPS-free.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_STAMP_H
@@ -15,6 +15,12 @@
 #include <vector>
 
 namespace HardSphere {
+
+// the bytes a vector holds (its capacity), for the fix's memory_usage()
+template <class T> double capacity_bytes(const std::vector<T> &v)
+{
+  return (double) v.capacity() * sizeof(T);
+}
 
 // a new epoch e for stamp: afterwards no entry equals e
 inline void bump_epoch(uint32_t &e, std::vector<uint32_t> &stamp)

@@ -9,6 +9,7 @@
 #include "hs_contact.h"
 #include "hs_near.h"
 #include "hs_potential.h"
+#include "hs_stamp.h"
 
 #include "comm.h"
 #include "domain.h"
@@ -894,6 +895,6 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
 
 double HSSystem::memory_usage() const
 {
-  return (double) nmax_hs * 8 * sizeof(double) +
-      (double) (cand.capacity() + near_atoms.capacity()) * sizeof(int);
+  return (double) nmax_hs * 8 * sizeof(double) + HardSphere::capacity_bytes(cand) +
+      HardSphere::capacity_bytes(cand_r) + HardSphere::capacity_bytes(near_atoms);
 }

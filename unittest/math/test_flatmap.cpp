@@ -59,7 +59,6 @@ TEST(FlatMap, AgreesWithUnorderedMapUnderRandomOperations)
             ASSERT_EQ(got, ref[k]) << "insert of a present key changed it";
           else
             ref[k] = v;
-          got = ref[k] + 0;
         } else {
           ASSERT_EQ(fm.erase(k), ref.erase(k) > 0) << "key " << k;
         }
