@@ -166,6 +166,13 @@ template <class T> class CellRows {
   template <class X> void rebuild(const X &x, int n, double width, int sub = 1)
   {
     grid.build(x, n, width, sub);
+    forget(n);
+  }
+
+  // every row forgotten, the grid left as it is (rows a caller fills from
+  // a scan of its own, for points 0..n)
+  void forget(int n)
+  {
     for (int a : built_) start_[a] = -1;
     built_.clear();
     pool_.clear();
@@ -173,6 +180,14 @@ template <class T> class CellRows {
       start_.resize(n, -1);
       len_.resize(n, 0);
     }
+  }
+  // the row of a if it was built since the last rebuild() or forget(), else
+  // nullptr
+  const T *built(int a, int &n) const
+  {
+    if (a < 0 || a >= (int) start_.size() || start_[a] < 0) return nullptr;
+    n = len_[a];
+    return pool_.data() + start_[a];
   }
 
   // the row of point a (n entries); fill(pool) appends its entries the

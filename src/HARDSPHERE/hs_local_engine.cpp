@@ -129,6 +129,7 @@ std::string HSLocalEngine::limits()
 void HSLocalEngine::chosen()
 {
   locf->keep_energy(meth.needs_flow_energy());
+  locf->set_near(sys->list_cutoff, sys->groupbit);
   cutneigh = sys->list_cutoff;
   if (force->pair && force->pair->cutforce > 0.0)
     cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
@@ -166,6 +167,9 @@ void HSLocalEngine::vc(const int *c, int n)
 const int *HSLocalEngine::crow(int a, int &n)
 {
   HSSystem &F = *sys;
+  // a member's row of V_C (built first, vc()) lists them from its own scan
+  if (rows)
+    if (const int *r = locf->near_row(a, n)) return r;
   if (crows_version != F.cand_version) {
     crows.rebuild(F.xref, atom->nlocal + atom->nghost, F.list_cutoff, 2);
     crows_version = F.cand_version;

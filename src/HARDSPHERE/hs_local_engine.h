@@ -467,8 +467,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // contact candidates of any local copy: every group atom within the
   // contact list's cutoff at the list build (HSSystem::xref), bonded
   // partners included (as the fix's list, HSSystem::reset_reference), not
-  // its images, in ID order; kept per build. The pointer is valid until
-  // the next crow() of an atom without a row.
+  // its images, in ID order; kept per build. A member's come from the scan
+  // of its interaction row (HSLocalForces::set_near(): the row is built
+  // first, by vc()); any other's from the engine's own grid. The pointer is
+  // valid until the next crow() of an atom without a row.
   const int *crow(int a, int &n);
   HardSphere::CellRows<int> crows;
   bigint crows_version = -1;

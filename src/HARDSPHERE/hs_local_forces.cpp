@@ -218,31 +218,80 @@ void HSLocalForces::set_reference(double **xb)
   ref_ncalls_ = neighbor->ncalls;
 }
 
+int64_t HSLocalForces::neighbor_ncalls() const
+{
+  return neighbor->ncalls;
+}
+
 // the row of local atom a: every local atom within the neighbor cutoff at
 // the list build's positions (not a, not its images), in tag order, with
-// its special bits as LAMMPS' lists carry them
-void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out) const
+// its special bits as LAMMPS' lists carry them; with set_near(), a's
+// contact neighbours from the same scan (near_row())
+void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out)
 {
   const tagint *tag = atom->tag;
+  const int *mask = atom->mask;
   const tagint ta = tag[a];
   const double cut2 = neighbor->cutneighmax * neighbor->cutneighmax;
   const double *xa = ref_[a];
   const bool mol = atom->molecular != Atom::ATOMIC && atom->nspecial;
   const size_t start = out.size();
-  rows_cache_.grid.for_each_candidate(xa, [&](int j, const double *xj) {
+  // a contact neighbour is marked in its entry by the bit below the special
+  // bits (SBBITS up), taken off again below (LAMMPS 29Sep2021's NEIGHMASK
+  // has it, 4Feb2025's not: the sort masks it out, and it is used only
+  // while the local indices stay below it); one the lists leave out waits
+  // in near_excl_
+  constexpr int NEAR = 1 << (SBBITS - 1);
+  constexpr int INDEX = NEIGHMASK & ~NEAR;
+  const bool near = near_cut2_ >= 0.0 && near_cut2_ <= cut2 &&
+      atom->nlocal + atom->nghost <= NEAR;
+  const double ncut2 = near_cut2_;
+  const int nbit = near_groupbit_;
+  near_excl_.clear();
+  // (the constants by value: read once, not through the closure per entry)
+  auto scan = [&, near, ncut2, cut2, mol, a, ta](int j, const double *xj) {
     const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
-    if (dx * dx + dy * dy + dz * dz > cut2) return;
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    if (r2 > cut2) return;
     const tagint tj = tag[j];
     if (j == a || tj == ta) return;    // itself, its own images
+    // (as HSLocalEngine::crow()'s own scan decides; its group test below)
+    const bool nj = near && !(r2 > ncut2);
     const int code = mol ? special_code(a, tj) : 0;
-    if (code < 0) return;    // excluded
-    out.emplace_back(tj, code ? j ^ (code << SBBITS) : j);
-  });
+    if (code < 0) {    // excluded
+      if (nj && (mask[j] & nbit)) near_excl_.emplace_back(tj, j);
+      return;
+    }
+    out.emplace_back(tj, (code ? j ^ (code << SBBITS) : j) | (nj ? NEAR : 0));
+  };
+  rows_cache_.grid.for_each_candidate(xa, scan);
   std::sort(out.begin() + start, out.end(),
             [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
               return p.first != q.first ? p.first < q.first
-                                        : (p.second & NEIGHMASK) < (q.second & NEIGHMASK);
+                                        : (p.second & INDEX) < (q.second & INDEX);
             });
+  if (!near) return;
+  // the contact neighbours in (ID, index) order: the marked entries of the
+  // sorted row merged with the excluded ones
+  std::sort(near_excl_.begin(), near_excl_.end());
+  int n;
+  bool filled = false;
+  near_.row(a, n, [&](std::vector<int> &nout) {
+    filled = true;
+    size_t e = 0;
+    for (size_t k = start; k < out.size(); k++) {
+      if (!(out[k].second & NEAR)) continue;
+      out[k].second &= ~NEAR;
+      const int j = out[k].second & INDEX;
+      if (!(mask[j] & nbit)) continue;
+      for (; e < near_excl_.size() && near_excl_[e] < std::make_pair(out[k].first, j); e++)
+        nout.push_back(near_excl_[e].second);
+      nout.push_back(j);
+    }
+    for (; e < near_excl_.size(); e++) nout.push_back(near_excl_[e].second);
+  });
+  if (!filled)
+    for (size_t k = start; k < out.size(); k++) out[k].second &= ~NEAR;
 }
 
 int HSLocalForces::special_code(int a, tagint tj) const
@@ -379,7 +428,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   int nterm = 0;
   const bool record = record_terms || terms_only_;
   // extra: a pair's special index, a bonded term's type
-  auto add_term = [&](const int *a, int k, int extra) {
+  // (inline: called per term; GCC left it out of line once evaluate() grew)
+  auto add_term = [&](const int *a, int k, int extra) __attribute__((always_inline)) {
     ++nterm;
     if (!terms_only_)
       for (int t = 0; t < k; t++) zero(a[t]);
@@ -410,6 +460,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
                  "list build (set_reference)", owner_);
     if (cells_ncalls_ != neighbor->ncalls) {
       rows_cache_.rebuild(ref_, nall, neighbor->cutneighmax, 2);
+      near_.forget(nall);
       cells_ncalls_ = neighbor->ncalls;
     }
     std::vector<int> starts;

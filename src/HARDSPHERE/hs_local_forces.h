@@ -149,6 +149,24 @@ class HSLocalForces : protected Pointers {
   // compute_rows(); the array must stay unchanged until the next build.
   void set_reference(double **xb);
   void compute_rows(const int *c, int nc);
+  // contact neighbours from the rows' own scan (the local engine's contact
+  // candidates, HSLocalEngine::crow(), asked for right after a member's
+  // row): while set, building the row of a also lists every copy j of an
+  // atom of groupbit within cut of a at the reference positions (not a, not
+  // its images; bonded partners the lists leave out included), in (ID,
+  // index) order. near_row(a) gives that list until the next list build;
+  // nullptr if a's row was not built since, or built while cut exceeded
+  // the neighbor cutoff (the scan did not reach it)
+  void set_near(double cut, int groupbit)
+  {
+    near_cut2_ = cut * cut;
+    near_groupbit_ = groupbit;
+  }
+  const int *near_row(int a, int &n) const
+  {
+    if (near_cut2_ < 0.0 || cells_ncalls_ != neighbor_ncalls()) return nullptr;
+    return near_.built(a, n);
+  }
 
   // ---- molecular systems in rows mode (issue 20): a ghost carries no
   // special neighbours, and a rank's bonded lists hold only the terms it
@@ -245,7 +263,13 @@ class HSLocalForces : protected Pointers {
   int64_t ref_ncalls_ = -1, cells_ncalls_ = -1;
   // rows by local atom, kept per list build: entries (tag, raw j)
   HardSphere::CellRows<std::pair<tagint, int>> rows_cache_;
-  void build_row(int a, std::vector<std::pair<tagint, int>> &out) const;
+  void build_row(int a, std::vector<std::pair<tagint, int>> &out);
+  // set_near(): the contact neighbours found by build_row(), per copy
+  double near_cut2_ = -1.0;
+  int near_groupbit_ = 0;
+  HardSphere::CellRows<int> near_;    // (its grid unused: rows_cache_'s scan fills it)
+  std::vector<std::pair<tagint, int>> near_excl_;    // scratch: bonded partners left out
+  int64_t neighbor_ncalls() const;
   // how LAMMPS' lists carry the pair (a, tj) (a local, tj a tag): 0 plain,
   // 1-3 a special pair with its bits, -1 a special pair left out
   // (special_flag 0)

@@ -26,6 +26,7 @@
 #include "dihedral.h"
 #include "domain.h"
 #include "force.h"
+#include "group.h"
 #include "neighbor.h"
 #include "pair.h"
 
@@ -654,4 +655,95 @@ TEST(LocalForcesRows, SaysWhatItCannotDo)
   lf.init();
   EXPECT_NE(lf.rows_unsupported().find("neigh_modify exclude"), std::string::npos)
       << lf.rows_unsupported();
+}
+
+// set_near(): a row's scan also lists its contact neighbours (the local
+// engine's crow()): against a brute-force search over all local copies at
+// the reference positions, in (ID, index) order, with a group that leaves
+// atoms out and, on the melt, the bonded partners special_bonds lj 0.0
+// leaves out of the rows (they must be listed: they can touch)
+TEST(LocalForcesRows, NearRowsAreTheContactNeighbours)
+{
+  int nprocs = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  for (bool melt : {false, true}) {
+    // the melt on one rank: a ghost's special list is not known without a
+    // topology, so the rows of a molecular system on several ranks need one
+    if (melt && nprocs > 1) continue;
+    const std::string data = melt ? melt_data(scratch_name("melt-near.data")) : "";
+    HSLammps h;
+    if (melt) {
+      h.lines(melt_input(data, true));
+      remove(data.c_str());
+    } else {
+      std::string in = fluid_input(true);
+      in.insert(in.find("run 0"), "comm_modify cutoff 5.5\n");
+      h.lines(in);
+    }
+    h.lines("group g id <= 130\n");
+    auto *atom = h.lmp->atom;
+    const int gbit = 1 << h.lmp->group->find("g");
+    const double cut = 1.5;
+    ASSERT_LT(cut, h.lmp->neighbor->cutneighmax);
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    ASSERT_EQ(lf.rows_unsupported(), "");
+    lf.set_near(cut, gbit);
+    Reference ref(h.lmp);
+    lf.set_reference(ref.get());
+    double **xr = ref.get();
+    const int nall = atom->nlocal + atom->nghost;
+    // melt: owned copies (the same reason); fluid: any copies
+    std::vector<int> c;
+    if (melt)
+      c = random_c(h.lmp, 60, 11, true);
+    else
+      c = random_copies(h.lmp, 60, 23u + 7u * h.lmp->comm->me);
+    ASSERT_FALSE(c.empty());
+    int n0;
+    EXPECT_EQ(lf.near_row(c[0], n0), nullptr) << "a row listed before its scan";
+    lf.compute_rows(c.data(), (int) c.size());
+    std::set<int> in_c(c.begin(), c.end());
+    int listed = 0, excluded_listed = 0, left_out = 0;
+    for (int a : c) {
+      int n = -1;
+      const int *got = lf.near_row(a, n);
+      ASSERT_NE(got, nullptr) << "no contact neighbours for copy " << a;
+      std::vector<std::pair<int, int>> want;
+      for (int j = 0; j < nall; j++) {
+        if (j == a || atom->tag[j] == atom->tag[a]) continue;
+        double r2 = 0.0;
+        for (int k = 0; k < 3; k++) r2 += (xr[a][k] - xr[j][k]) * (xr[a][k] - xr[j][k]);
+        if (r2 > cut * cut) continue;
+        if (!(atom->mask[j] & gbit)) {
+          ++left_out;
+          continue;
+        }
+        want.emplace_back((int) atom->tag[j], j);
+      }
+      std::sort(want.begin(), want.end());
+      ASSERT_EQ(n, (int) want.size()) << "copy " << a << " tag " << atom->tag[a];
+      for (int k = 0; k < n; k++) EXPECT_EQ(got[k], want[k].second) << "entry " << k;
+      listed += n;
+      if (melt && atom->molecular) {
+        const int o = atom->map(atom->tag[a]);
+        for (int k = 0; k < n; k++)
+          for (int m = 0; m < atom->nspecial[o][0]; m++)
+            if (atom->special[o][m] == atom->tag[got[k]]) ++excluded_listed;
+      }
+    }
+    // (summed over the ranks)
+    int mine[2] = {listed, left_out}, all[2];
+    MPI_Allreduce(mine, all, 2, MPI_INT, MPI_SUM, h.lmp->world);
+    EXPECT_GT(all[0], 50);
+    EXPECT_GT(all[1], 10) << "the group test was not tried";
+    if (melt) EXPECT_GT(excluded_listed, 10) << "no bonded partner (left out of the rows) tried";
+    // a copy without a row has none
+    for (int j = 0; j < atom->nlocal; j++)
+      if (!in_c.count(j)) {
+        int n;
+        EXPECT_EQ(lf.near_row(j, n), nullptr);
+        break;
+      }
+  }
 }

@@ -7,6 +7,7 @@
 # with bonds, angles and dihedrals, and after reneighboring). Rank-local rows
 # (compute_rows(), issue 20): every rank passes random local copies, ghosts
 # included; members get their full force, partners V_C's part (by tag).
+# Their contact neighbours (set_near()) against a brute-force search.
 #   bash test_mpi_local_forces.sh <lmp> <source dir>
 LMP=${1:?usage: test_mpi_local_forces.sh <lmp> <source dir>}
 EXE="$(dirname "$LMP")/unittest/lammps_test_local_forces"
@@ -17,10 +18,10 @@ fi
 fail=0
 for np in 2 3 4; do
   out=$(mpirun -np "$np" --oversubscribe "$EXE" \
-        --gtest_filter='*LocalForcesFluid*:*LocalForcesMelt*:LocalForces.AfterReneighboring:LocalForcesRows.GhostCopiesOnAnyRankCount' 2>&1)
-  npass=$(printf '%s\n' "$out" | grep -c 'PASSED.*6 tests')
+        --gtest_filter='*LocalForcesFluid*:*LocalForcesMelt*:LocalForces.AfterReneighboring:LocalForcesRows.GhostCopiesOnAnyRankCount:LocalForcesRows.NearRowsAreTheContactNeighbours' 2>&1)
+  npass=$(printf '%s\n' "$out" | grep -c 'PASSED.*7 tests')
   if [ "$npass" -eq "$np" ]; then
-    echo "ok: $np ranks, 6 tests passed on every rank"
+    echo "ok: $np ranks, 7 tests passed on every rank"
   else
     echo "FAIL: $np ranks"
     printf '%s\n' "$out" | grep -E 'Failure|Expected|actual|FAILED' | head -20
