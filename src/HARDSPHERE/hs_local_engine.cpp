@@ -1232,6 +1232,23 @@ int HSLocalEngine::clusters_of_key(tagint key) const
 }
 
 // keys -> cluster indices, once each, ascending (keys is emptied)
+// clusters in the order of their keys' local copies (LAMMPS sorts atoms
+// by space: neighbouring clusters share cells and pages). A flow reads and
+// changes only its own cluster's atoms (other clusters' members enter
+// through cross terms, evaluated apart), so the order is free
+std::vector<int> HSLocalEngine::in_memory_order(std::vector<int> cl)
+{
+  std::vector<std::pair<int, int>> &o = scratch_order;
+  o.clear();
+  for (int c : cl) {
+    const int l = atom->map(key_of(c));
+    o.emplace_back(l < 0 ? INT_MAX : l, c);
+  }
+  std::sort(o.begin(), o.end());
+  for (size_t k = 0; k < o.size(); k++) cl[k] = o[k].second;
+  return cl;
+}
+
 std::vector<int> HSLocalEngine::clusters_of(std::vector<tagint> &keys)
 {
   std::vector<int> out;
@@ -2187,7 +2204,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     ev.clear();
     std::vector<tagint> ranA;
     bool outgrown = false;
-    for (int c : clusters_of(workA)) {
+    for (int c : in_memory_order(clusters_of(workA))) {
       const tagint key = key_of(c);
       if (!mine(key)) continue;
       Run &r = runs[key];
@@ -2273,7 +2290,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     ddirty.clear();
     ev.clear();
     std::vector<tagint> ranB;
-    for (int c : clusters_of(workB)) {
+    for (int c : in_memory_order(clusters_of(workB))) {
       const tagint key = key_of(c);
       Run *r = run_of(key);
       if (!r || !r->mine || r->b_done || !r->a_done) continue;

@@ -430,6 +430,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // work lists of cluster keys; runs not cross-checked yet
   std::vector<tagint> workA, workB, workX, uncheckedA, uncheckedB;
   std::vector<int> clusters_of(std::vector<tagint> &keys);
+  std::vector<int> in_memory_order(std::vector<int> clusters);
+  std::vector<std::pair<int, int>> scratch_order;
   int clusters_of_key(tagint key) const;
 
   // ---- the replicated registry: packets of each half, shared by one
