@@ -642,8 +642,10 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
     const size_t nz = zero_list_.size();
     for (size_t k = 0; k < nz; k++) {
       const int j = zero_list_[k];
-      const int in_c = copy_in_c(tag[j]);
-      const int to = in_c >= 0 ? in_c : atom->map(tag[j]);
+      // (C's copies are stamped: only they need the search by ID; an owned
+      // copy of another atom is atom->map()'s own, which maps an ID to its
+      // lowest index: no read of the map at a random place)
+      const int to = inC(j) ? copy_in_c(tag[j]) : j < nlocal ? j : atom->map(tag[j]);
       if (to != j) {
         fold_.push_back(j);
         fold_.push_back(to);
