@@ -206,6 +206,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Vec> fk0;           // runner: V_C's force at the step's start, on touched
     bool a_done = false, b_done = false;
     bool in_sa = false;    // runner: its first half's sums are in sa (sa_change)
+    uint32_t xmark = 0;    // runner: its cross forces redone in this cross_at_mid() (xepoch)
     std::vector<int> env;           // runner: static copies of its flows
     std::vector<Vec> dxm, vm;       // members after Phi_H1(dt/2): displacement from x0, v
     std::vector<Vec> dxe, ve;       // members at the step's end
@@ -226,6 +227,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
       a_done = b_done = in_sa = false;
+      xmark = 0;
       for (int h = 0; h < 2; h++) {
         mcount[h].clear();
         npair[h] = nwall[h] = 0.0;
@@ -419,6 +421,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> lab, labelled;
   void label_cluster(int c);
   void cross_at_mid();
+  uint32_t xepoch = 0;
   void cross_of(Run &r);
   void cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi);
   void held_of(Run &r);
