@@ -263,16 +263,24 @@ void HSSystem::reset_reference(int at_setup)
     for (int d = 0; d < 3; d++)
       if (domain->periodicity[d]) half = MIN(half, 0.5 * domain->prd[d]);
     const double half2 = half * half;
+    // only the levels (1-2, 1-3, 1-4: nspecial's cumulative ranges) the
+    // lists leave out are read (a melt's special_bonds lj 0 1 1: the 1-2
+    // range alone, not every 1-3 and 1-4 entry of every atom)
+    bool out[3];
+    for (int lev = 0; lev < 3; lev++) out[lev] = neighbor->special_flag[lev + 1] == 0;
     for (int i = 0; i < nlocal; i++) {
       if (!(mask[i] & groupbit)) continue;
-      for (int m = 0; m < nspecial[i][2]; m++) {
-        const int level = (m < nspecial[i][0]) ? 1 : (m < nspecial[i][1]) ? 2 : 3;
-        if (neighbor->special_flag[level] != 0 || special[i][m] < tag[i]) continue;
-        int j = atom->map(special[i][m]);
-        if (j < 0) continue;
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        if (!(dx * dx + dy * dy + dz * dz < half2)) j = domain->closest_image(i, j);
-        candidate(i, j);
+      for (int lev = 0; lev < 3; lev++) {
+        if (!out[lev]) continue;
+        const int m1 = nspecial[i][lev];
+        for (int m = lev ? nspecial[i][lev - 1] : 0; m < m1; m++) {
+          if (special[i][m] < tag[i]) continue;
+          int j = atom->map(special[i][m]);
+          if (j < 0) continue;
+          const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+          if (!(dx * dx + dy * dy + dz * dz < half2)) j = domain->closest_image(i, j);
+          candidate(i, j);
+        }
       }
     }
   }
