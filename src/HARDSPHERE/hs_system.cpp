@@ -9,6 +9,7 @@
 #include "hs_contact.h"
 #include "hs_near.h"
 #include "hs_potential.h"
+#include "hs_screen.h"
 #include "hs_stamp.h"
 
 #include "comm.h"
@@ -886,6 +887,40 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   int flags = 0;
+  // per-type masses and contiguous rows: the kick and the fast path four
+  // spheres at a time (hs_screen.h, bit for bit this loop's), the full test
+  // only for the spheres it does not clear
+  if (!rmass && nlocal > 0 && v[nlocal - 1] == v[0] + 3 * (size_t) (nlocal - 1) &&
+      f[nlocal - 1] == f[0] + 3 * (size_t) (nlocal - 1) &&
+      atom->x[nlocal - 1] == atom->x[0] + 3 * (size_t) (nlocal - 1) &&
+      xref[nlocal - 1] == xref[0] + 3 * (size_t) (nlocal - 1)) {
+    HardSphere::KickScreen k;
+    k.v = v[0];
+    k.active = active;
+    k.f = f[0];
+    k.x = atom->x[0];
+    k.xref = xref[0];
+    k.gap = gap;
+    k.type = type;
+    k.mask = mask;
+    k.mass = mass;
+    k.im = ftm2v_mass.data();
+    k.groupbit = groupbit;
+    k.dtf = dtf_last;
+    k.t2 = t2;
+    k.h4 = h4;
+    k.half_skin = 0.5 * skin;
+    k.list = LIST;
+    k.margin = near_margin;
+    unscreened.clear();
+    HardSphere::kick_clear(k, nlocal, unscreened);
+    for (int i : unscreened) {
+      const int fl = screen_atom<LIST>(i, t2, h4, ftm2v_mass[type[i]]);
+      if (LIST && (fl & NEAR)) near_atoms.push_back(i);
+      flags |= fl & ~NEAR;
+    }
+    return flags;
+  }
   for (int i = 0; i < nlocal; i++) {
     active[i] = 0.0;
     if (!(mask[i] & groupbit)) continue;
@@ -904,5 +939,6 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
 double HSSystem::memory_usage() const
 {
   return (double) nmax_hs * 8 * sizeof(double) + HardSphere::capacity_bytes(cand) +
-      HardSphere::capacity_bytes(cand_r) + HardSphere::capacity_bytes(near_atoms);
+      HardSphere::capacity_bytes(cand_r) + HardSphere::capacity_bytes(near_atoms) +
+      HardSphere::capacity_bytes(unscreened);
 }

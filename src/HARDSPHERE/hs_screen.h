@@ -1,0 +1,191 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the closing kick of a collision-free step and the
+   next step's screen, fast path (HSSystem::kick_and_screen(), every step:
+   most of what a collision-free step costs beyond fix nve's, issue 22).
+
+   Per sphere i in the group: v_i += dtf / m_i f_i (fix nve's kick), then
+   the screen's test without a square root (HSSystem::screen_atom()):
+     s3 = 3 (|x_i - xref_i|^2 + t2 |v_i|^2 + h4 im_i^2 |f_i|^2)
+     cleared if s3 <= g^2, g = min(gap_i, skin / 2), and, when the caller
+     lists near spheres, also with the smaller gap gm = gap_i - margin:
+     gm > 0 and s3 (1 + 1e-12) <= gm^2.
+   kick_clear() kicks every sphere of the group and lists the ones it does
+   not clear (ascending); the caller runs its full test on those, from the
+   kicked velocities. kick_clear_avx2() does four spheres at a time (rows
+   loaded two doubles at a time, as hs_near.h) and gives the same
+   velocities and marks bit for bit: the same products and sums in the same
+   order (no fused multiply-add), the same division for dtf / m, the same
+   comparisons. kick_clear_scalar() is the reference; kick_clear() picks one
+   at run time. Per-type masses only (the caller's rmass case stays scalar).
+
+   LAMMPS-free (unit-tested alone: unittest/math/test_screen.cpp).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_SCREEN_H
+#define LMP_HS_SCREEN_H
+
+#include <cstddef>
+#include <vector>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define HS_SCREEN_AVX2 1
+#endif
+
+namespace HardSphere {
+
+struct KickScreen {
+  // rows of 3 doubles, contiguous (row i at p + 3 i)
+  double *v = nullptr;
+  double *active = nullptr;    // per sphere: set to 0 (the caller's full test sets it)
+  const double *f = nullptr, *x = nullptr, *xref = nullptr;
+  const double *gap = nullptr;
+  const int *type = nullptr, *mask = nullptr;
+  const double *mass = nullptr;    // per type
+  const double *im = nullptr;      // per type: ftm2v / mass
+  int groupbit = 0;
+  double dtf = 0.0, t2 = 0.0, h4 = 0.0, half_skin = 0.0;
+  bool list = false;
+  double margin = 0.0;
+};
+
+// the test of one sphere whose velocity is kicked already: true if cleared
+inline bool screen_cleared(const KickScreen &k, int i)
+{
+  const double *xi = k.x + 3 * (size_t) i, *xr = k.xref + 3 * (size_t) i;
+  const double *vi = k.v + 3 * (size_t) i, *fi = k.f + 3 * (size_t) i;
+  const double im = k.im[k.type[i]];
+  const double dx = xi[0] - xr[0], dy = xi[1] - xr[1], dz = xi[2] - xr[2];
+  const double d2 = dx * dx + dy * dy + dz * dz;
+  const double v2 = k.t2 * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
+  const double a2 = k.h4 * im * im * (fi[0] * fi[0] + fi[1] * fi[1] + fi[2] * fi[2]);
+  // (LAMMPS' MIN(gap, skin / 2), as the caller's full test)
+  const double g = k.gap[i] < k.half_skin ? k.gap[i] : k.half_skin;
+  const double s3 = 3.0 * (d2 + v2 + a2);
+  if (!(s3 <= g * g)) return false;
+  if (!k.list) return true;
+  const double gm = k.gap[i] - k.margin;
+  return gm > 0.0 && s3 * (1.0 + 1.0e-12) <= gm * gm;
+}
+
+// spheres [i0, i1): kick those of the group, append those not cleared to
+// todo (not in the group: no kick, not listed)
+inline void kick_clear_scalar(const KickScreen &k, int i0, int i1, std::vector<int> &todo)
+{
+  for (int i = i0; i < i1; i++) {
+    k.active[i] = 0.0;
+    if (!(k.mask[i] & k.groupbit)) continue;
+    const double dtfm = k.dtf / k.mass[k.type[i]];
+    double *vi = k.v + 3 * (size_t) i;
+    const double *fi = k.f + 3 * (size_t) i;
+    vi[0] += dtfm * fi[0];
+    vi[1] += dtfm * fi[1];
+    vi[2] += dtfm * fi[2];
+    if (!screen_cleared(k, i)) todo.push_back(i);
+  }
+}
+
+#ifdef HS_SCREEN_AVX2
+namespace detail {
+  // rows i .. i+3 of p (3 doubles each) as x, y, z of four lanes
+  __attribute__((target("avx2"))) inline void load4(const double *p, __m256d &X, __m256d &Y,
+                                                    __m256d &Z)
+  {
+    const __m256d a02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)),
+                                             _mm_loadu_pd(p + 6), 1);
+    const __m256d a13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 3)),
+                                             _mm_loadu_pd(p + 9), 1);
+    X = _mm256_unpacklo_pd(a02, a13);
+    Y = _mm256_unpackhi_pd(a02, a13);
+    Z = _mm256_setr_pd(p[2], p[5], p[8], p[11]);
+  }
+  __attribute__((target("avx2"))) inline __m256d sq3(__m256d X, __m256d Y, __m256d Z)
+  {
+    return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(X, X), _mm256_mul_pd(Y, Y)),
+                         _mm256_mul_pd(Z, Z));
+  }
+}    // namespace detail
+
+__attribute__((target("avx2"))) inline void kick_clear_avx2(const KickScreen &k, int i0, int i1,
+                                                            std::vector<int> &todo)
+{
+  const __m256d dtf = _mm256_set1_pd(k.dtf), t2 = _mm256_set1_pd(k.t2),
+                h4 = _mm256_set1_pd(k.h4), hs = _mm256_set1_pd(k.half_skin),
+                three = _mm256_set1_pd(3.0);
+  int i = i0;
+  for (; i + 4 <= i1; i += 4) {
+    const int *ty = k.type + i;
+    const int m0 = k.mask[i] & k.groupbit, m1 = k.mask[i + 1] & k.groupbit,
+              m2 = k.mask[i + 2] & k.groupbit, m3 = k.mask[i + 3] & k.groupbit;
+    if (!(m0 && m1 && m2 && m3)) {    // (a block with spheres outside the group)
+      kick_clear_scalar(k, i, i + 4, todo);
+      continue;
+    }
+    _mm256_storeu_pd(k.active + i, _mm256_setzero_pd());
+    double *vp = k.v + 3 * (size_t) i;
+    __m256d VX, VY, VZ, FX, FY, FZ;
+    detail::load4(vp, VX, VY, VZ);
+    detail::load4(k.f + 3 * (size_t) i, FX, FY, FZ);
+    const __m256d m =
+        _mm256_setr_pd(k.mass[ty[0]], k.mass[ty[1]], k.mass[ty[2]], k.mass[ty[3]]);
+    const __m256d dtfm = _mm256_div_pd(dtf, m);
+    VX = _mm256_add_pd(VX, _mm256_mul_pd(dtfm, FX));
+    VY = _mm256_add_pd(VY, _mm256_mul_pd(dtfm, FY));
+    VZ = _mm256_add_pd(VZ, _mm256_mul_pd(dtfm, FZ));
+    // the kicked rows back: (x, y) pairs, then z
+    const __m256d lo = _mm256_unpacklo_pd(VX, VY), hi = _mm256_unpackhi_pd(VX, VY);
+    _mm_storeu_pd(vp, _mm256_castpd256_pd128(lo));
+    _mm_storeu_pd(vp + 3, _mm256_castpd256_pd128(hi));
+    _mm_storeu_pd(vp + 6, _mm256_extractf128_pd(lo, 1));
+    _mm_storeu_pd(vp + 9, _mm256_extractf128_pd(hi, 1));
+    alignas(32) double z[4];
+    _mm256_store_pd(z, VZ);
+    vp[2] = z[0];
+    vp[5] = z[1];
+    vp[8] = z[2];
+    vp[11] = z[3];
+
+    __m256d XX, XY, XZ, RX, RY, RZ;
+    detail::load4(k.x + 3 * (size_t) i, XX, XY, XZ);
+    detail::load4(k.xref + 3 * (size_t) i, RX, RY, RZ);
+    const __m256d d2 =
+        detail::sq3(_mm256_sub_pd(XX, RX), _mm256_sub_pd(XY, RY), _mm256_sub_pd(XZ, RZ));
+    const __m256d v2 = _mm256_mul_pd(t2, detail::sq3(VX, VY, VZ));
+    const __m256d im = _mm256_setr_pd(k.im[ty[0]], k.im[ty[1]], k.im[ty[2]], k.im[ty[3]]);
+    const __m256d a2 =
+        _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(h4, im), im), detail::sq3(FX, FY, FZ));
+    const __m256d gap = _mm256_loadu_pd(k.gap + i);
+    // (MIN(gap, half_skin): gap where gap < half_skin, else half_skin)
+    const __m256d g = _mm256_blendv_pd(hs, gap, _mm256_cmp_pd(gap, hs, _CMP_LT_OQ));
+    const __m256d s3 = _mm256_mul_pd(three, _mm256_add_pd(_mm256_add_pd(d2, v2), a2));
+    int ok = _mm256_movemask_pd(_mm256_cmp_pd(s3, _mm256_mul_pd(g, g), _CMP_LE_OQ));
+    if (k.list) {
+      const __m256d gm = _mm256_sub_pd(gap, _mm256_set1_pd(k.margin));
+      const __m256d s3m = _mm256_mul_pd(s3, _mm256_set1_pd(1.0 + 1.0e-12));
+      ok &= _mm256_movemask_pd(_mm256_cmp_pd(gm, _mm256_setzero_pd(), _CMP_GT_OQ)) &
+          _mm256_movemask_pd(_mm256_cmp_pd(s3m, _mm256_mul_pd(gm, gm), _CMP_LE_OQ));
+    }
+    if (ok != 0xF)
+      for (int l = 0; l < 4; l++)
+        if (!(ok >> l & 1)) todo.push_back(i + l);
+  }
+  kick_clear_scalar(k, i, i1, todo);
+}
+#endif
+
+// kick_clear_avx2() where the processor has AVX2, else kick_clear_scalar()
+inline void kick_clear(const KickScreen &k, int n, std::vector<int> &todo)
+{
+#ifdef HS_SCREEN_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) {
+    kick_clear_avx2(k, 0, n, todo);
+    return;
+  }
+#endif
+  kick_clear_scalar(k, 0, n, todo);
+}
+
+}    // namespace HardSphere
+
+#endif
