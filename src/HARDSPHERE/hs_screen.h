@@ -9,7 +9,8 @@
      cleared if s3 <= g^2, g = min(gap_i, skin / 2), and, when the caller
      lists near spheres, also with the smaller gap gm = gap_i - margin:
      gm > 0 and s3 (1 + 1e-12) <= gm^2.
-   kick_clear() kicks every sphere of the group and lists the ones it does
+   kick_clear() kicks every sphere of the group (unless told not to: the
+   screen alone, HSSystem::screen()) and lists the ones it does
    not clear (ascending); the caller runs its full test on those, from the
    kicked velocities. kick_clear_avx2() does four spheres at a time (rows
    loaded two doubles at a time, as hs_near.h) and gives the same
@@ -47,6 +48,7 @@ struct KickScreen {
   double dtf = 0.0, t2 = 0.0, h4 = 0.0, half_skin = 0.0;
   bool list = false;
   double margin = 0.0;
+  bool kick = true;    // false: the screen alone (velocities as they are)
 };
 
 // the test of one sphere whose velocity is kicked already: true if cleared
@@ -75,12 +77,14 @@ inline void kick_clear_scalar(const KickScreen &k, int i0, int i1, std::vector<i
   for (int i = i0; i < i1; i++) {
     k.active[i] = 0.0;
     if (!(k.mask[i] & k.groupbit)) continue;
-    const double dtfm = k.dtf / k.mass[k.type[i]];
-    double *vi = k.v + 3 * (size_t) i;
-    const double *fi = k.f + 3 * (size_t) i;
-    vi[0] += dtfm * fi[0];
-    vi[1] += dtfm * fi[1];
-    vi[2] += dtfm * fi[2];
+    if (k.kick) {
+      const double dtfm = k.dtf / k.mass[k.type[i]];
+      double *vi = k.v + 3 * (size_t) i;
+      const double *fi = k.f + 3 * (size_t) i;
+      vi[0] += dtfm * fi[0];
+      vi[1] += dtfm * fi[1];
+      vi[2] += dtfm * fi[2];
+    }
     if (!screen_cleared(k, i)) todo.push_back(i);
   }
 }
@@ -126,24 +130,26 @@ __attribute__((target("avx2"))) inline void kick_clear_avx2(const KickScreen &k,
     __m256d VX, VY, VZ, FX, FY, FZ;
     detail::load4(vp, VX, VY, VZ);
     detail::load4(k.f + 3 * (size_t) i, FX, FY, FZ);
-    const __m256d m =
-        _mm256_setr_pd(k.mass[ty[0]], k.mass[ty[1]], k.mass[ty[2]], k.mass[ty[3]]);
-    const __m256d dtfm = _mm256_div_pd(dtf, m);
-    VX = _mm256_add_pd(VX, _mm256_mul_pd(dtfm, FX));
-    VY = _mm256_add_pd(VY, _mm256_mul_pd(dtfm, FY));
-    VZ = _mm256_add_pd(VZ, _mm256_mul_pd(dtfm, FZ));
-    // the kicked rows back: (x, y) pairs, then z
-    const __m256d lo = _mm256_unpacklo_pd(VX, VY), hi = _mm256_unpackhi_pd(VX, VY);
-    _mm_storeu_pd(vp, _mm256_castpd256_pd128(lo));
-    _mm_storeu_pd(vp + 3, _mm256_castpd256_pd128(hi));
-    _mm_storeu_pd(vp + 6, _mm256_extractf128_pd(lo, 1));
-    _mm_storeu_pd(vp + 9, _mm256_extractf128_pd(hi, 1));
-    alignas(32) double z[4];
-    _mm256_store_pd(z, VZ);
-    vp[2] = z[0];
-    vp[5] = z[1];
-    vp[8] = z[2];
-    vp[11] = z[3];
+    if (k.kick) {
+      const __m256d m =
+          _mm256_setr_pd(k.mass[ty[0]], k.mass[ty[1]], k.mass[ty[2]], k.mass[ty[3]]);
+      const __m256d dtfm = _mm256_div_pd(dtf, m);
+      VX = _mm256_add_pd(VX, _mm256_mul_pd(dtfm, FX));
+      VY = _mm256_add_pd(VY, _mm256_mul_pd(dtfm, FY));
+      VZ = _mm256_add_pd(VZ, _mm256_mul_pd(dtfm, FZ));
+      // the kicked rows back: (x, y) pairs, then z
+      const __m256d lo = _mm256_unpacklo_pd(VX, VY), hi = _mm256_unpackhi_pd(VX, VY);
+      _mm_storeu_pd(vp, _mm256_castpd256_pd128(lo));
+      _mm_storeu_pd(vp + 3, _mm256_castpd256_pd128(hi));
+      _mm_storeu_pd(vp + 6, _mm256_extractf128_pd(lo, 1));
+      _mm_storeu_pd(vp + 9, _mm256_extractf128_pd(hi, 1));
+      alignas(32) double z[4];
+      _mm256_store_pd(z, VZ);
+      vp[2] = z[0];
+      vp[5] = z[1];
+      vp[8] = z[2];
+      vp[11] = z[3];
+    }
 
     __m256d XX, XY, XZ, RX, RY, RZ;
     detail::load4(k.x + 3 * (size_t) i, XX, XY, XZ);

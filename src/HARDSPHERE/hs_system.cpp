@@ -445,6 +445,39 @@ template <bool LIST> inline int HSSystem::screen_atom(int i, double t2, double h
   return flags | ACTIVE;
 }
 
+// hs_screen.h's kernel over the owned atoms, if it applies (per-type
+// masses, rows contiguous as Memory::create() makes them)
+bool HSSystem::fast_screen(HardSphere::KickScreen &k, double t2, double h4, bool list, bool kick)
+{
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  auto contiguous = [nlocal](double **a) {
+    return a[nlocal - 1] == a[0] + 3 * (size_t) (nlocal - 1);
+  };
+  if (atom->rmass || nlocal == 0 || !contiguous(x) || !contiguous(v) || !contiguous(f) ||
+      !contiguous(xref))
+    return false;
+  k.v = v[0];
+  k.active = active;
+  k.f = f[0];
+  k.x = x[0];
+  k.xref = xref[0];
+  k.gap = gap;
+  k.type = atom->type;
+  k.mask = atom->mask;
+  k.mass = atom->mass;
+  k.im = ftm2v_mass.data();
+  k.groupbit = groupbit;
+  k.dtf = dtf_last;
+  k.t2 = t2;
+  k.h4 = h4;
+  k.half_skin = 0.5 * skin;
+  k.list = list;
+  k.margin = near_margin;
+  k.kick = kick;
+  return true;
+}
+
 int HSSystem::screen(double tleft)
 {
   const double *rmass = atom->rmass;
@@ -455,6 +488,14 @@ int HSSystem::screen(double tleft)
   const double t2 = tleft * tleft;
   const double h4 = 0.25 * t2 * t2;
   int flags = 0;
+  // four spheres at a time where it applies (hs_screen.h; the same decisions)
+  HardSphere::KickScreen k;
+  if (fast_screen(k, t2, h4, false, false)) {
+    unscreened.clear();
+    HardSphere::kick_clear(k, nlocal, unscreened);
+    for (int i : unscreened) flags |= screen_atom(i, t2, h4, ftm2v_mass[type[i]]);
+    return flags;
+  }
 
   for (int i = 0; i < nlocal; i++) {
     active[i] = 0.0;
@@ -890,28 +931,8 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
   // per-type masses and contiguous rows: the kick and the fast path four
   // spheres at a time (hs_screen.h, bit for bit this loop's), the full test
   // only for the spheres it does not clear
-  if (!rmass && nlocal > 0 && v[nlocal - 1] == v[0] + 3 * (size_t) (nlocal - 1) &&
-      f[nlocal - 1] == f[0] + 3 * (size_t) (nlocal - 1) &&
-      atom->x[nlocal - 1] == atom->x[0] + 3 * (size_t) (nlocal - 1) &&
-      xref[nlocal - 1] == xref[0] + 3 * (size_t) (nlocal - 1)) {
-    HardSphere::KickScreen k;
-    k.v = v[0];
-    k.active = active;
-    k.f = f[0];
-    k.x = atom->x[0];
-    k.xref = xref[0];
-    k.gap = gap;
-    k.type = type;
-    k.mask = mask;
-    k.mass = mass;
-    k.im = ftm2v_mass.data();
-    k.groupbit = groupbit;
-    k.dtf = dtf_last;
-    k.t2 = t2;
-    k.h4 = h4;
-    k.half_skin = 0.5 * skin;
-    k.list = LIST;
-    k.margin = near_margin;
+  HardSphere::KickScreen k;
+  if (fast_screen(k, t2, h4, LIST, true)) {
     unscreened.clear();
     HardSphere::kick_clear(k, nlocal, unscreened);
     for (int i : unscreened) {

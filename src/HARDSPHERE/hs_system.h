@@ -22,6 +22,10 @@
 #include <string>
 #include <vector>
 
+namespace HardSphere {
+struct KickScreen;
+}
+
 namespace LAMMPS_NS {
 
 class Fix;
@@ -198,6 +202,7 @@ class HSSystem : protected Pointers, public HSTypes {
   // step in the same pass unless end_of_step fixes may change v before it
   void closing_kick();
   template <bool LIST> int kick_and_screen(double t2, double h4);
+  bool fast_screen(HardSphere::KickScreen &k, double t2, double h4, bool list, bool kick);
   std::vector<int> unscreened;    // kick_and_screen(): spheres its fast path did not clear
   int moved_half_skin();
   // moved: this rank's moved_half_skin() if the caller has it (else computed)

@@ -1,5 +1,5 @@
 // hs_screen.h: the closing kick and the next step's screen, fast path.
-// Against a reference written here (the kick v + (dtf / m) f and the
+// Against a reference written here (the kick v + (dtf / m) f, or none, and the
 // screen's inequalities, each operation forced one at a time in the order
 // the package's full test uses), and the AVX2 version against the scalar
 // one: the same kicked velocities bit for bit, the same spheres listed in
@@ -82,7 +82,7 @@ void reference(const Data &d, std::vector<double> &v, std::vector<int> &todo)
   for (int i = 0; i < d.n; i++) {
     if (!(d.mask[i] & d.k.groupbit)) continue;
     volatile double dtfm = d.k.dtf / d.mass[d.type[i]];
-    for (int c = 0; c < 3; c++) {
+    for (int c = 0; c < 3 && d.k.kick; c++) {
       volatile double p = dtfm * d.f[3 * i + c];
       v[3 * i + c] = v[3 * i + c] + p;
     }
@@ -159,6 +159,7 @@ TEST(KickScreen, RandomSpheresAsTheReference)
   for (int trial = 0; trial < 400; trial++) {
     Data d = random_spheres(rng, 1 + trial % 37, trial % 3 == 0);
     d.bind(trial % 2 == 0);
+    d.k.kick = trial % 5 != 0;    // (the screen alone, HSSystem::screen())
     std::vector<double> vref;
     std::vector<int> want;
     reference(d, vref, want);
