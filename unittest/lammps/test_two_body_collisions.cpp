@@ -117,7 +117,11 @@ TEST_P(TwoBodyCollision, AcrossPeriodicBoundaryPerAtomRadius)
 // nearest it. Across the periodic x face atom->map()'s copy of the partner
 // is a box length away and the nearest image is a ghost; in the box's
 // middle it is the owned copy. Either way one collision, as free spheres.
-static void check_bonded_pair(const std::string &method, Body a, Body b, double L)
+// one_three: the pair is 1-3 instead (a chain a - m - b, special_bonds lj
+// 1 0 1 leaves only the 1-3 pair out; the filter reads only the left-out
+// levels of each special list); m sits far from both and never moves
+static void check_bonded_pair(const std::string &method, Body a, Body b, double L,
+                              bool one_three = false)
 {
   HSLammps h;
   std::string s = R"(units lj
@@ -125,20 +129,23 @@ atom_style bond
 boundary p p p
 atom_modify map array
 region box block 0 )" + f17(L) + " 0 " + f17(L) + " 0 " + f17(L) + R"( units box
-create_box 2 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 1
+create_box 2 box bond/types 1 extra/bond/per/atom 2 extra/special/per/atom 4
 )";
+  const Vec xm{0.5 * L, 0.86 * L, 0.5 * L};
   s += "create_atoms 1 single " + vec(a.x) + " units box\n";
+  if (one_three) s += "create_atoms 1 single " + vec(xm) + " units box\n";
   s += "create_atoms 2 single " + vec(b.x) + " units box\n";
   s += "mass 1 " + f17(a.m) + "\nmass 2 " + f17(b.m) + "\n";
-  s += R"(bond_style zero
-bond_coeff 1
-special_bonds lj 0.0 1.0 1.0
-create_bonds single/bond 1 1 2
-group g1 id 1
-group g2 id 2
-)";
-  s += "velocity g1 set " + vec(a.v) + " units box\n";
-  s += "velocity g2 set " + vec(b.v) + " units box\n";
+  s += "bond_style zero\nbond_coeff 1\n";
+  const int ib = one_three ? 3 : 2;    // b's ID
+  if (one_three)
+    s += "special_bonds lj 1.0 0.0 1.0\ncreate_bonds single/bond 1 1 2\n"
+         "create_bonds single/bond 1 2 3\n";
+  else
+    s += "special_bonds lj 0.0 1.0 1.0\ncreate_bonds single/bond 1 1 2\n";
+  s += "group ga id 1\ngroup gb id " + std::to_string(ib) + "\n";
+  s += "velocity ga set " + vec(a.v) + " units box\n";
+  s += "velocity gb set " + vec(b.v) + " units box\n";
   s += "comm_modify cutoff 3.0\ntimestep 0.01\n";
   s += "fix hs all hardsphere/" + method + " diameter " + f17(2 * a.r) + "\n";
   s += "thermo_style custom step ke\nthermo_modify norm no\nrun 100\n";
@@ -147,17 +154,19 @@ group g2 id 2
   const Vec period{L, L, L};
   exact_two_body(a, b, 1.0, period, tc);
   if (::testing::Test::HasFatalFailure()) return;
-  std::vector<double> x(6), v(6);
+  std::vector<double> x(3 * ib), v(3 * ib);
   lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());
   lammps_gather_atoms(h.lmp, (char *) "v", 1, 3, v.data());
+  const int jb = 3 * (ib - 1);
   for (int k = 0; k < 3; k++) {
-    double d1 = x[k] - a.x[k], d2 = x[3 + k] - b.x[k];
+    double d1 = x[k] - a.x[k], d2 = x[jb + k] - b.x[k];
     d1 -= L * std::round(d1 / L);
     d2 -= L * std::round(d2 / L);
     EXPECT_NEAR(d1, 0.0, 1e-12) << "x1[" << k << "] tc=" << tc;
     EXPECT_NEAR(d2, 0.0, 1e-12) << "x2[" << k << "]";
     EXPECT_NEAR(v[k], a.v[k], 1e-12) << "v1[" << k << "]";
-    EXPECT_NEAR(v[3 + k], b.v[k], 1e-12) << "v2[" << k << "]";
+    EXPECT_NEAR(v[jb + k], b.v[k], 1e-12) << "v2[" << k << "]";
+    if (one_three) EXPECT_EQ(x[3 + k], xm[k]) << "the middle sphere moved";
   }
   EXPECT_EQ(h.fix_vector("hs", 1), 1.0);    // one sphere-sphere collision
 }
@@ -174,60 +183,10 @@ TEST_P(TwoBodyCollision, BondedPairOutOfTheListsAcrossPeriodicBoundary)
                     Body{{9.4, 5.3, 5.0}, {0.5, 0.0, 0.0}, 2.0, 0.5}, 10.0);
 }
 
-// The same for a 1-3 pair: a chain 1-2-3 (bond_style zero), special_bonds
-// lj 1 0 1 leaves only the 1-3 pair out of the lists (the candidate filter
-// reads only the left-out levels of each atom's special list); sphere 2
-// sits far from both and never moves
 TEST_P(TwoBodyCollision, BondedOneThreePairOutOfTheLists)
 {
-  Body a{{4.0, 5.0, 5.0}, {1.0, 0.0, 0.0}, 1.0, 0.5};
-  Body b{{5.6, 5.2, 4.9}, {-0.5, 0.0, 0.1}, 2.0, 0.5};
-  const double L = 10.0;
-  HSLammps h;
-  std::string s = R"(units lj
-atom_style bond
-boundary p p p
-atom_modify map array
-region box block 0 10 0 10 0 10 units box
-create_box 2 box bond/types 1 extra/bond/per/atom 2 extra/special/per/atom 4
-)";
-  s += "create_atoms 1 single " + vec(a.x) + " units box\n";
-  s += "create_atoms 1 single 5.0 8.6 5.0 units box\n";
-  s += "create_atoms 2 single " + vec(b.x) + " units box\n";
-  s += "mass 1 " + f17(a.m) + "\nmass 2 " + f17(b.m) + "\n";
-  s += R"(bond_style zero
-bond_coeff 1
-special_bonds lj 1.0 0.0 1.0
-create_bonds single/bond 1 1 2
-create_bonds single/bond 1 2 3
-group g1 id 1
-group g3 id 3
-)";
-  s += "velocity g1 set " + vec(a.v) + " units box\n";
-  s += "velocity g3 set " + vec(b.v) + " units box\n";
-  s += "comm_modify cutoff 3.0\ntimestep 0.01\n";
-  s += "fix hs all hardsphere/" + method() + " diameter " + f17(2 * a.r) + "\n";
-  s += "thermo_style custom step ke\nthermo_modify norm no\nrun 100\n";
-  h.lines(s);
-  double tc = 0.0;
-  const Vec period{L, L, L};
-  exact_two_body(a, b, 1.0, period, tc);
-  if (::testing::Test::HasFatalFailure()) return;
-  std::vector<double> x(9), v(9);
-  lammps_gather_atoms(h.lmp, (char *) "x", 1, 3, x.data());
-  lammps_gather_atoms(h.lmp, (char *) "v", 1, 3, v.data());
-  const double x2[3] = {5.0, 8.6, 5.0};
-  for (int k = 0; k < 3; k++) {
-    double d1 = x[k] - a.x[k], d3 = x[6 + k] - b.x[k];
-    d1 -= L * std::round(d1 / L);
-    d3 -= L * std::round(d3 / L);
-    EXPECT_NEAR(d1, 0.0, 1e-12) << "x1[" << k << "] tc=" << tc;
-    EXPECT_NEAR(d3, 0.0, 1e-12) << "x3[" << k << "]";
-    EXPECT_NEAR(v[k], a.v[k], 1e-12) << "v1[" << k << "]";
-    EXPECT_NEAR(v[6 + k], b.v[k], 1e-12) << "v3[" << k << "]";
-    EXPECT_EQ(x[3 + k], x2[k]) << "sphere 2 moved";
-  }
-  EXPECT_EQ(h.fix_vector("hs", 1), 1.0);    // one sphere-sphere collision
+  check_bonded_pair(method(), Body{{4.0, 5.0, 5.0}, {1.0, 0.0, 0.0}, 1.0, 0.5},
+                    Body{{5.6, 5.2, 4.9}, {-0.5, 0.0, 0.1}, 2.0, 0.5}, 10.0, true);
 }
 
 INSTANTIATE_TEST_SUITE_P(PSA, TwoBodyCollision, ::testing::Values("psa"), case_name);
