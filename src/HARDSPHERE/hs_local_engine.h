@@ -475,7 +475,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // its images, in ID order; kept per build. A member's come from the scan
   // of its interaction row (HSLocalForces::set_near(): the row is built
   // first, by vc()); any other's from the engine's own grid. The pointer is
-  // valid until the next crow() of an atom without a row.
+  // valid until the next crow() of an atom without a row or the next
+  // restricted evaluation that scans a new interaction row.
   const int *crow(int a, int &n);
   HardSphere::CellRows<int> crows;
   bigint crows_version = -1;
