@@ -11,8 +11,8 @@
      gm > 0 and s3 (1 + 1e-12) <= gm^2.
    kick_clear() kicks every sphere of the group (unless told not to: the
    screen alone, HSSystem::screen()) and lists the ones it does
-   not clear (ascending); the caller runs its full test on those, from the
-   kicked velocities. kick_clear_avx2() does four spheres at a time (rows
+   not clear (ascending) with their three squared terms; the caller's full
+   test goes on from those. kick_clear_avx2() does four spheres at a time (rows
    loaded two doubles at a time, as hs_near.h) and gives the same
    velocities and marks bit for bit: the same products and sums in the same
    order (no fused multiply-add), the same division for dtf / m, the same
@@ -51,8 +51,16 @@ struct KickScreen {
   bool kick = true;    // false: the screen alone (velocities as they are)
 };
 
-// the test of one sphere whose velocity is kicked already: true if cleared
-inline bool screen_cleared(const KickScreen &k, int i)
+// a sphere the fast path did not clear, with its three squared terms (the
+// caller's full test goes on from them: no second pass over its rows)
+struct Unscreened {
+  int i;
+  double d2, v2, a2;
+};
+
+// the test of one sphere whose velocity is kicked already: true if cleared;
+// u gets its terms
+inline bool screen_cleared(const KickScreen &k, int i, Unscreened &u)
 {
   const double *xi = k.x + 3 * (size_t) i, *xr = k.xref + 3 * (size_t) i;
   const double *vi = k.v + 3 * (size_t) i, *fi = k.f + 3 * (size_t) i;
@@ -61,6 +69,7 @@ inline bool screen_cleared(const KickScreen &k, int i)
   const double d2 = dx * dx + dy * dy + dz * dz;
   const double v2 = k.t2 * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
   const double a2 = k.h4 * im * im * (fi[0] * fi[0] + fi[1] * fi[1] + fi[2] * fi[2]);
+  u = {i, d2, v2, a2};
   // (LAMMPS' MIN(gap, skin / 2), as the caller's full test)
   const double g = k.gap[i] < k.half_skin ? k.gap[i] : k.half_skin;
   const double s3 = 3.0 * (d2 + v2 + a2);
@@ -72,7 +81,7 @@ inline bool screen_cleared(const KickScreen &k, int i)
 
 // spheres [i0, i1): kick those of the group, append those not cleared to
 // todo (not in the group: no kick, not listed)
-inline void kick_clear_scalar(const KickScreen &k, int i0, int i1, std::vector<int> &todo)
+inline void kick_clear_scalar(const KickScreen &k, int i0, int i1, std::vector<Unscreened> &todo)
 {
   for (int i = i0; i < i1; i++) {
     k.active[i] = 0.0;
@@ -85,7 +94,8 @@ inline void kick_clear_scalar(const KickScreen &k, int i0, int i1, std::vector<i
       vi[1] += dtfm * fi[1];
       vi[2] += dtfm * fi[2];
     }
-    if (!screen_cleared(k, i)) todo.push_back(i);
+    Unscreened u;
+    if (!screen_cleared(k, i, u)) todo.push_back(u);
   }
 }
 
@@ -111,7 +121,7 @@ namespace detail {
 }    // namespace detail
 
 __attribute__((target("avx2"))) inline void kick_clear_avx2(const KickScreen &k, int i0, int i1,
-                                                            std::vector<int> &todo)
+                                                            std::vector<Unscreened> &todo)
 {
   const __m256d dtf = _mm256_set1_pd(k.dtf), t2 = _mm256_set1_pd(k.t2),
                 h4 = _mm256_set1_pd(k.h4), hs = _mm256_set1_pd(k.half_skin),
@@ -171,16 +181,21 @@ __attribute__((target("avx2"))) inline void kick_clear_avx2(const KickScreen &k,
       ok &= _mm256_movemask_pd(_mm256_cmp_pd(gm, _mm256_setzero_pd(), _CMP_GT_OQ)) &
           _mm256_movemask_pd(_mm256_cmp_pd(s3m, _mm256_mul_pd(gm, gm), _CMP_LE_OQ));
     }
-    if (ok != 0xF)
+    if (ok != 0xF) {
+      alignas(32) double t[3][4];
+      _mm256_store_pd(t[0], d2);
+      _mm256_store_pd(t[1], v2);
+      _mm256_store_pd(t[2], a2);
       for (int l = 0; l < 4; l++)
-        if (!(ok >> l & 1)) todo.push_back(i + l);
+        if (!(ok >> l & 1)) todo.push_back({i + l, t[0][l], t[1][l], t[2][l]});
+    }
   }
   kick_clear_scalar(k, i, i1, todo);
 }
 #endif
 
 // kick_clear_avx2() where the processor has AVX2, else kick_clear_scalar()
-inline void kick_clear(const KickScreen &k, int n, std::vector<int> &todo)
+inline void kick_clear(const KickScreen &k, int n, std::vector<Unscreened> &todo)
 {
 #ifdef HS_SCREEN_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2");

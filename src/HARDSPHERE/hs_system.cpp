@@ -421,6 +421,12 @@ template <bool LIST> inline int HSSystem::screen_atom(int i, double t2, double h
   const double d2 = dx * dx + dy * dy + dz * dz;
   const double v2 = t2 * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
   const double a2 = h4 * im * im * (f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2]);
+  return screen_terms<LIST>(i, d2, v2, a2);
+}
+
+// screen_atom() from its three squared terms (hs_screen.h's kernel has them)
+template <bool LIST> inline int HSSystem::screen_terms(int i, double d2, double v2, double a2)
+{
   // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
   const double g = MIN(gap[i], 0.5 * skin);
   const double s3 = 3.0 * (d2 + v2 + a2);
@@ -493,7 +499,7 @@ int HSSystem::screen(double tleft)
   if (fast_screen(k, t2, h4, false, false)) {
     unscreened.clear();
     HardSphere::kick_clear(k, nlocal, unscreened);
-    for (int i : unscreened) flags |= screen_atom(i, t2, h4, ftm2v_mass[type[i]]);
+    for (const auto &u : unscreened) flags |= screen_terms(u.i, u.d2, u.v2, u.a2);
     return flags;
   }
 
@@ -935,9 +941,9 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
   if (fast_screen(k, t2, h4, LIST, true)) {
     unscreened.clear();
     HardSphere::kick_clear(k, nlocal, unscreened);
-    for (int i : unscreened) {
-      const int fl = screen_atom<LIST>(i, t2, h4, ftm2v_mass[type[i]]);
-      if (LIST && (fl & NEAR)) near_atoms.push_back(i);
+    for (const auto &u : unscreened) {
+      const int fl = screen_terms<LIST>(u.i, u.d2, u.v2, u.a2);
+      if (LIST && (fl & NEAR)) near_atoms.push_back(u.i);
       flags |= fl & ~NEAR;
     }
     return flags;

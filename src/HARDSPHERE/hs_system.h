@@ -16,15 +16,12 @@
 #define LMP_HS_SYSTEM_H
 
 #include "atom.h"
+#include "hs_screen.h"
 #include "hs_types.h"
 #include "pointers.h"
 
 #include <string>
 #include <vector>
-
-namespace HardSphere {
-struct KickScreen;
-}
 
 namespace LAMMPS_NS {
 
@@ -138,6 +135,7 @@ class HSSystem : protected Pointers, public HSTypes {
   int screen(double tleft);
   // LIST: also the NEAR bit for near_atoms (closing_kick())
   template <bool LIST = false> int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
+  template <bool LIST = false> int screen_terms(int i, double d2, double v2, double a2);
   // the closing kick's list of the owned atoms that the local engine's
   // quick first guess may find flagged at step near_step: every atom the
   // screen does not clear with its free gap less near_margin (set by the
@@ -203,7 +201,8 @@ class HSSystem : protected Pointers, public HSTypes {
   void closing_kick();
   template <bool LIST> int kick_and_screen(double t2, double h4);
   bool fast_screen(HardSphere::KickScreen &k, double t2, double h4, bool list, bool kick);
-  std::vector<int> unscreened;    // kick_and_screen(): spheres its fast path did not clear
+  // kick_and_screen(), screen(): the spheres the fast path did not clear
+  std::vector<HardSphere::Unscreened> unscreened;
   int moved_half_skin();
   // moved: this rank's moved_half_skin() if the caller has it (else computed)
   void request_rebuild(int moved = -1);

@@ -50,8 +50,8 @@ struct Data {
   }
 };
 
-// the sphere's s3 after its kick, one operation at a time
-double s3_of(const Data &d, int i, const double *vk)
+// the sphere's three squared terms after its kick, one operation at a time
+void terms_of(const Data &d, int i, const double *vk, double *t)
 {
   volatile double dx = d.x[3 * i] - d.xref[3 * i], dy = d.x[3 * i + 1] - d.xref[3 * i + 1],
                   dz = d.x[3 * i + 2] - d.xref[3 * i + 2];
@@ -69,8 +69,17 @@ double s3_of(const Data &d, int i, const double *vk)
   volatile double c = d.k.h4 * d.im[d.type[i]];
   c = c * d.im[d.type[i]];
   volatile double a2 = c * ff;
-  volatile double s = d2 + v2;
-  s = s + a2;
+  t[0] = d2;
+  t[1] = v2;
+  t[2] = a2;
+}
+
+double s3_of(const Data &d, int i, const double *vk)
+{
+  double t[3];
+  terms_of(d, i, vk, t);
+  volatile double s = t[0] + t[1];
+  s = s + t[2];
   return 3.0 * s;
 }
 
@@ -135,14 +144,26 @@ void compare(Data &d, const char *what)
     d.active.assign(d.n, 1.0);
     d.k.v = d.v.data();
     d.k.active = d.active.data();
-    std::vector<int> got;
+    std::vector<HardSphere::Unscreened> listed;
 #ifdef HS_SCREEN_AVX2
     if (kernel == 1 && !__builtin_cpu_supports("avx2")) continue;
-    if (kernel == 1) HardSphere::kick_clear_avx2(d.k, 0, d.n, got);
+    if (kernel == 1) HardSphere::kick_clear_avx2(d.k, 0, d.n, listed);
 #else
     if (kernel == 1) continue;
 #endif
-    if (kernel == 0) HardSphere::kick_clear_scalar(d.k, 0, d.n, got);
+    if (kernel == 0) HardSphere::kick_clear_scalar(d.k, 0, d.n, listed);
+    std::vector<int> got;
+    for (const auto &u : listed) {
+      got.push_back(u.i);
+      // the terms handed on are the sphere's own, bit for bit
+      const int i = u.i;
+      const double *vk = &vref[3 * i];
+      double t[3];
+      terms_of(d, i, vk, t);
+      EXPECT_EQ(u.d2, t[0]) << what << " sphere " << i;
+      EXPECT_EQ(u.v2, t[1]) << what << " sphere " << i;
+      EXPECT_EQ(u.a2, t[2]) << what << " sphere " << i;
+    }
     ASSERT_EQ(got, want) << what << (kernel ? " avx2" : " scalar") << " n " << d.n;
     for (int q = 0; q < 3 * d.n; q++)
       ASSERT_EQ(d.v[q], vref[q]) << what << (kernel ? " avx2" : " scalar") << " v entry " << q;
