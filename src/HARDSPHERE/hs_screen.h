@@ -58,6 +58,26 @@ struct Unscreened {
   double d2, v2, a2;
 };
 
+// the screen's test from a sphere's three squared terms, without a square
+// root ((a+b+c)^2 <= 3(a^2+b^2+c^2)): CLEARED; CLEARED_NEAR (cleared with
+// its gap, not with the smaller gap - margin: only when listing); OPEN (the
+// full test decides). The one statement of it: HSSystem::screen_terms()
+// and both kernels below
+enum { CLEARED = 0, CLEARED_NEAR = 1, OPEN = 2 };
+inline int screen_fast_test(double d2, double v2, double a2, double gap, double half_skin,
+                            bool list, double margin)
+{
+  // (LAMMPS' MIN(gap, skin / 2))
+  const double g = gap < half_skin ? gap : half_skin;
+  const double s3 = 3.0 * (d2 + v2 + a2);
+  if (!(s3 <= g * g)) return OPEN;
+  if (!list) return CLEARED;
+  // (a relative 1e-12 more than the round-off between this a^2 and one
+  // from HSSystem::acc_of())
+  const double gm = gap - margin;
+  return (gm > 0.0 && s3 * (1.0 + 1.0e-12) <= gm * gm) ? CLEARED : CLEARED_NEAR;
+}
+
 // the test of one sphere whose velocity is kicked already: true if cleared;
 // u gets its terms
 inline bool screen_cleared(const KickScreen &k, int i, Unscreened &u)
@@ -70,13 +90,7 @@ inline bool screen_cleared(const KickScreen &k, int i, Unscreened &u)
   const double v2 = k.t2 * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
   const double a2 = k.h4 * im * im * (fi[0] * fi[0] + fi[1] * fi[1] + fi[2] * fi[2]);
   u = {i, d2, v2, a2};
-  // (LAMMPS' MIN(gap, skin / 2), as the caller's full test)
-  const double g = k.gap[i] < k.half_skin ? k.gap[i] : k.half_skin;
-  const double s3 = 3.0 * (d2 + v2 + a2);
-  if (!(s3 <= g * g)) return false;
-  if (!k.list) return true;
-  const double gm = k.gap[i] - k.margin;
-  return gm > 0.0 && s3 * (1.0 + 1.0e-12) <= gm * gm;
+  return screen_fast_test(d2, v2, a2, k.gap[i], k.half_skin, k.list, k.margin) == CLEARED;
 }
 
 // spheres [i0, i1): kick those of the group, append those not cleared to

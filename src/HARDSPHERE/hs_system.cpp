@@ -427,16 +427,10 @@ template <bool LIST> inline int HSSystem::screen_atom(int i, double t2, double h
 // screen_atom() from its three squared terms (hs_screen.h's kernel has them)
 template <bool LIST> inline int HSSystem::screen_terms(int i, double d2, double v2, double a2)
 {
-  // (a+b+c)^2 <= 3(a^2+b^2+c^2): most spheres are cleared without a sqrt
-  const double g = MIN(gap[i], 0.5 * skin);
-  const double s3 = 3.0 * (d2 + v2 + a2);
-  if (s3 <= g * g) {
-    if (!LIST) return 0;
-    // cleared with the smaller gap too? (a relative 1e-12 more than the
-    // round-off between this a^2 and one from HSSystem::acc_of())
-    const double gm = gap[i] - near_margin;
-    return (gm > 0.0 && s3 * (1.0 + 1.0e-12) <= gm * gm) ? 0 : NEAR;
-  }
+  // most spheres are cleared without a sqrt (hs_screen.h)
+  const int fast =
+      HardSphere::screen_fast_test(d2, v2, a2, gap[i], 0.5 * skin, LIST, near_margin);
+  if (fast != HardSphere::OPEN) return fast == HardSphere::CLEARED ? 0 : NEAR;
   const int listed = LIST ? NEAR : 0;
   const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
   int flags = ((w > 0.5 * skin) ? FAR : 0) | listed;
