@@ -70,6 +70,21 @@ namespace detail {
     static const NearLUT lut;
     return lut;
   }
+  // rows p0 .. p3 (3 doubles each) as the x, y, z of four lanes: (x, y) of
+  // rows 0 and 2, of rows 1 and 3, two at a time; z one by one (no read
+  // past the last row). Also hs_screen.h's
+  __attribute__((target("avx2"))) inline void rows4(const double *p0, const double *p1,
+                                                    const double *p2, const double *p3,
+                                                    __m256d &X, __m256d &Y, __m256d &Z)
+  {
+    const __m256d a02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p0)),
+                                             _mm_loadu_pd(p2), 1);
+    const __m256d a13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p1)),
+                                             _mm_loadu_pd(p3), 1);
+    X = _mm256_unpacklo_pd(a02, a13);
+    Y = _mm256_unpackhi_pd(a02, a13);
+    Z = _mm256_setr_pd(p0[2], p1[2], p2[2], p3[2]);
+  }
 }    // namespace detail
 
 __attribute__((target("avx2"))) inline int near_avx2(const int *jlist, int n, int mask,
@@ -85,15 +100,8 @@ __attribute__((target("avx2"))) inline int near_avx2(const int *jlist, int n, in
               j3 = jlist[k + 3] & mask;
     const double *p0 = x + 3 * (size_t) j0, *p1 = x + 3 * (size_t) j1,
                  *p2 = x + 3 * (size_t) j2, *p3 = x + 3 * (size_t) j3;
-    // (x, y) of rows 0 and 2, of rows 1 and 3; z one by one (no read past
-    // the last row)
-    const __m256d a02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p0)),
-                                             _mm_loadu_pd(p2), 1);
-    const __m256d a13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p1)),
-                                             _mm_loadu_pd(p3), 1);
-    const __m256d px = _mm256_unpacklo_pd(a02, a13);    // x0 x1 x2 x3
-    const __m256d py = _mm256_unpackhi_pd(a02, a13);
-    const __m256d pz = _mm256_setr_pd(p0[2], p1[2], p2[2], p3[2]);
+    __m256d px, py, pz;
+    detail::rows4(p0, p1, p2, p3, px, py, pz);
     const __m256d dx = _mm256_sub_pd(vx, px), dy = _mm256_sub_pd(vy, py),
                   dz = _mm256_sub_pd(vz, pz);
     const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),

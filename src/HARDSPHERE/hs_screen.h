@@ -13,7 +13,7 @@
    screen alone, HSSystem::screen()) and lists the ones it does
    not clear (ascending) with their three squared terms; the caller's full
    test goes on from those. kick_clear_avx2() does four spheres at a time (rows
-   loaded two doubles at a time, as hs_near.h) and gives the same
+   loaded by hs_near.h's detail::rows4()) and gives the same
    velocities and marks bit for bit: the same products and sums in the same
    order (no fused multiply-add), the same division for dtf / m, the same
    comparisons. kick_clear_scalar() is the reference; kick_clear() picks one
@@ -25,11 +25,12 @@
 #ifndef LMP_HS_SCREEN_H
 #define LMP_HS_SCREEN_H
 
+#include "hs_near.h"
+
 #include <cstddef>
 #include <vector>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
+#ifdef HS_NEAR_AVX2    // (hs_near.h's row loader)
 #define HS_SCREEN_AVX2 1
 #endif
 
@@ -115,17 +116,11 @@ inline void kick_clear_scalar(const KickScreen &k, int i0, int i1, std::vector<U
 
 #ifdef HS_SCREEN_AVX2
 namespace detail {
-  // rows i .. i+3 of p (3 doubles each) as x, y, z of four lanes
+  // four consecutive rows of p (3 doubles each) as x, y, z of four lanes
   __attribute__((target("avx2"))) inline void load4(const double *p, __m256d &X, __m256d &Y,
                                                     __m256d &Z)
   {
-    const __m256d a02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p)),
-                                             _mm_loadu_pd(p + 6), 1);
-    const __m256d a13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p + 3)),
-                                             _mm_loadu_pd(p + 9), 1);
-    X = _mm256_unpacklo_pd(a02, a13);
-    Y = _mm256_unpackhi_pd(a02, a13);
-    Z = _mm256_setr_pd(p[2], p[5], p[8], p[11]);
+    rows4(p, p + 3, p + 6, p + 9, X, Y, Z);
   }
   __attribute__((target("avx2"))) inline __m256d sq3(__m256d X, __m256d Y, __m256d Z)
   {
