@@ -127,6 +127,8 @@ class ClusterSet {
       epoch_ = 1;
     }
     touched_.clear();
+    keyed_.clear();
+    sorted_ = 0;
     new_members_.clear();
     nc_ = 0;    // (the per-cluster vectors keep their storage: see build())
     built_ = false;
@@ -144,7 +146,12 @@ class ClusterSet {
   // dense ids of atom IDs, replicated on every MPI rank, orders by ID so
   // that every rank numbers the clusters alike); nullptr: by i. The caller
   // keeps the vector alive.
-  void set_order(const std::vector<int64_t> *order) { order_ = order; }
+  void set_order(const std::vector<int64_t> *order)
+  {
+    order_ = order;
+    keyed_.clear();    // (the next build sorts every touched atom by the new order)
+    sorted_ = 0;
+  }
   // sphere i collides in this step (it is a member of C)
   void add_member(int i)
   {
@@ -216,13 +223,20 @@ class ClusterSet {
       // (by (order, i) pairs: a comparison that reads order[] at two random
       // places cost twice as much; the orders are distinct, so the result
       // is the same)
+      // touched_[0, sorted_) is in order since the last build (growth only
+      // appends): sort the atoms added since and merge (keyed_ keeps the
+      // sorted pairs), not the whole set again at every growth round
       const std::vector<int64_t> &o = *order_;
-      keyed_.clear();
-      for (int i : touched_) keyed_.emplace_back(o[i], i);
-      std::sort(keyed_.begin(), keyed_.end());
+      for (size_t k = sorted_; k < touched_.size(); ++k)
+        keyed_.emplace_back(o[touched_[k]], touched_[k]);
+      std::sort(keyed_.begin() + sorted_, keyed_.end());
+      std::inplace_merge(keyed_.begin(), keyed_.begin() + sorted_, keyed_.end());
       for (size_t k = 0; k < keyed_.size(); ++k) touched_[k] = keyed_[k].second;
-    } else
-      std::sort(touched_.begin(), touched_.end());
+    } else {
+      std::sort(touched_.begin() + sorted_, touched_.end());
+      std::inplace_merge(touched_.begin(), touched_.begin() + sorted_, touched_.end());
+    }
+    sorted_ = touched_.size();
     int nc = 0;
     for (int i : touched_) {
       const int r = uf_.find(i);
@@ -362,7 +376,8 @@ class ClusterSet {
   std::vector<int> touched_, new_members_;
   std::vector<std::vector<int>> members_, atoms_;    // [0, nc_) are the clusters
   int nc_ = 0;
-  std::vector<std::pair<int64_t, int>> keyed_;
+  std::vector<std::pair<int64_t, int>> keyed_;    // (order, atom) of touched_[0, sorted_)
+  size_t sorted_ = 0;                             // touched_[0, sorted_) in order (build())
   bool built_ = false, counted_ = false;
   bool partners_join_ = true;
   const std::vector<int64_t> *order_ = nullptr;

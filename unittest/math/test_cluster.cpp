@@ -453,3 +453,97 @@ TEST(Clusters, DenseIdsOrderedByAtomIDs)
     cs.set_order(nullptr);
   }
 }
+
+// the same, grown in rounds as the local engine grows it (contacts naming new
+// ids after a build, then rebuild()): build() sorts only the atoms added
+// since the last build and merges them into the sorted rest. Each round's
+// clusters equal the brute force on the contacts so far, numbered by
+// smallest ID, members ascending; and rebuild() redoes exactly the clusters
+// that differ from the previous round's
+TEST(Clusters, GrownInRoundsOrderedByAtomIDs)
+{
+  std::mt19937 rng(2027);
+  ClusterSet cs;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Case k = random_case(rng);
+    std::vector<int> idof(k.n, -1);
+    std::vector<int64_t> order;
+    // IDs in a random order of the indices, so that ids handed out later
+    // often sort before earlier ones
+    std::vector<int64_t> idval(k.n);
+    for (int t = 0; t < k.n; ++t) idval[t] = 5 + 3 * (int64_t) t;
+    std::shuffle(idval.begin(), idval.end(), rng);
+    cs.set_partners_join(false);
+    cs.reset(0);
+    cs.set_order(&order);
+    auto id = [&](int t) {
+      if (t < 0) return -1;
+      if (idof[t] < 0) {
+        idof[t] = (int) order.size();
+        order.push_back(idval[t]);
+        cs.grow((int) order.size());
+      }
+      return idof[t];
+    };
+    auto add_terms = [&]() {
+      for (auto &t : k.terms) {
+        std::vector<int> ids;
+        for (int a : t)
+          if (idof[a] >= 0 && cs.is_member(idof[a])) ids.push_back(idof[a]);
+        if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
+      }
+    };
+    // the clusters as sets of indices, in numbering order, checked sorted
+    auto clusters = [&]() {
+      std::vector<std::vector<int>> out;
+      int64_t last_key = -1;
+      for (int c = 0; c < cs.nclusters(); ++c) {
+        std::vector<int64_t> ids;
+        std::vector<int> m;
+        for (int i : cs.members(c)) {
+          ids.push_back(order[i]);
+          for (int t = 0; t < k.n; ++t)
+            if (idof[t] == i) m.push_back(t);
+        }
+        EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end())) << "trial " << trial;
+        EXPECT_GT(ids[0], last_key) << "trial " << trial;
+        last_key = ids[0];
+        std::sort(m.begin(), m.end());
+        out.push_back(m);
+      }
+      return out;
+    };
+    const int nc = (int) k.contacts.size();
+    const int rounds = 1 + (int) (rng() % 4);
+    std::vector<std::vector<int>> prev;
+    int done = 0;
+    for (int r = 0; r < rounds; ++r) {
+      const int upto = (r == rounds - 1) ? nc : done + (int) (rng() % (nc - done + 1));
+      for (; done < upto; ++done) {
+        const auto &c = k.contacts[done];
+        const int a = id(c.first);
+        if (r == 0) cs.add_contact(a, id(c.second));
+        else cs.grow_contact(a, id(c.second));
+      }
+      add_terms();
+      std::vector<int> redo;
+      if (r == 0) cs.build();
+      else redo = cs.rebuild();
+      const std::vector<std::pair<int, int>> so_far(k.contacts.begin(), k.contacts.begin() + done);
+      Groups want;
+      for (auto &g : brute(k.n, so_far, k.terms, false)) want.insert(g);
+      const auto got = clusters();
+      Groups gg;
+      for (auto &m : got) gg.insert({m, m});
+      ASSERT_EQ(gg, want) << "trial " << trial << " round " << r;
+      if (r > 0) {
+        std::vector<int> want_redo;
+        for (int c = 0; c < (int) got.size(); ++c)
+          if (std::find(prev.begin(), prev.end(), got[c]) == prev.end()) want_redo.push_back(c);
+        ASSERT_EQ(redo, want_redo) << "trial " << trial << " round " << r;
+      }
+      prev = got;
+    }
+    cs.set_order(nullptr);
+  }
+}
