@@ -81,6 +81,9 @@ void HSLocalForces::init()
         "forces would also add their torques)");
   initialized_ = 1;
   built_ncalls_ = -1;
+  // Neighbor::init() sets neighbor->ncalls back to 0 at every run: the
+  // run's number keeps the builds of two runs apart (list_epoch())
+  ++run_epoch_;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -147,9 +150,9 @@ void HSLocalForces::build_index(bool pair)
 {
   const int nall = atom->nlocal + atom->nghost;
   NeighList *L = force->pair ? force->pair->list : nullptr;
-  if (neighbor->ncalls != built_ncalls_ || nall != built_nall_ || L != built_list_) {
+  if (list_epoch() != built_ncalls_ || nall != built_nall_ || L != built_list_) {
     build_bonded_index();
-    built_ncalls_ = neighbor->ncalls;
+    built_ncalls_ = list_epoch();
     built_nall_ = nall;
     built_list_ = L;
     pair_index_ = false;
@@ -215,12 +218,16 @@ void HSLocalForces::build_bonded_index()
 void HSLocalForces::set_reference(double **xb)
 {
   ref_ = xb;
-  ref_ncalls_ = neighbor->ncalls;
+  ref_ncalls_ = list_epoch();
 }
 
-int64_t HSLocalForces::neighbor_ncalls() const
+// a number of the current neighbor list build, distinct for every build of
+// every run: what the caches below are keyed by (neighbor->ncalls alone
+// restarts at each run, so a second run's build could pass for the first
+// run's with the same count, and rows of the old lists would be reused)
+int64_t HSLocalForces::list_epoch() const
 {
-  return neighbor->ncalls;
+  return (run_epoch_ << 32) + (int64_t) neighbor->ncalls;
 }
 
 // the row of local atom a: every local atom within the neighbor cutoff at
@@ -455,13 +462,13 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   fold_.clear();
   if (rows_ && L) {
     // on-demand rows of C's copies in tag order (hs_local_forces.h)
-    if (ref_ncalls_ != neighbor->ncalls)
+    if (ref_ncalls_ != list_epoch())
       error->one(FLERR, "{}: interaction rows asked for without the positions of this neighbor "
                  "list build (set_reference)", owner_);
-    if (cells_ncalls_ != neighbor->ncalls) {
+    if (cells_ncalls_ != list_epoch()) {
       rows_cache_.rebuild(ref_, nall, neighbor->cutneighmax, 2);
       near_.forget(nall);
-      cells_ncalls_ = neighbor->ncalls;
+      cells_ncalls_ = list_epoch();
     }
     std::vector<int> starts;
     for (size_t q = 0; q < ctag.size(); q++) {
@@ -662,7 +669,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   }
 
   run_styles(L, present);
-  last_ncalls_ = neighbor->ncalls;
+  last_ncalls_ = list_epoch();
   last_nc_ = nc;
   ncalls += 1.0;
 }
@@ -732,7 +739,7 @@ void HSLocalForces::terms(const int *c, int nc)
 
 void HSLocalForces::recompute()
 {
-  if ((comm->nprocs > 1 && !rows_) || last_ncalls_ != neighbor->ncalls || last_nc_ < 0)
+  if ((comm->nprocs > 1 && !rows_) || last_ncalls_ != list_epoch() || last_nc_ < 0)
     error->all(FLERR, "{}: local forces recomputed without a compute() on this list", owner_);
   for (int j : zero_list_) fl_[j][0] = fl_[j][1] = fl_[j][2] = 0.0;
   bool present[4];
@@ -776,7 +783,7 @@ void HSLocalForces::save(Snapshot &sn) const
 
 void HSLocalForces::recompute(const Snapshot &sn)
 {
-  if ((comm->nprocs > 1 && !sn.rows) || sn.ncalls != neighbor->ncalls)
+  if ((comm->nprocs > 1 && !sn.rows) || sn.ncalls != list_epoch())
     error->all(FLERR, "{}: local forces recomputed from a snapshot of another list", owner_);
   rows_ = sn.rows;
   fold_ = sn.fold;

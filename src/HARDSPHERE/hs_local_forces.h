@@ -164,7 +164,7 @@ class HSLocalForces : protected Pointers {
   }
   const int *near_row(int a, int &n) const
   {
-    if (near_cut2_ < 0.0 || cells_ncalls_ != neighbor_ncalls()) return nullptr;
+    if (near_cut2_ < 0.0 || cells_ncalls_ != list_epoch()) return nullptr;
     return near_.built(a, n);
   }
 
@@ -228,7 +228,7 @@ class HSLocalForces : protected Pointers {
   bool inC(int i) const { return in_c_[i] == epoch_; }
   void next_epoch();    // a new epoch_ for every stamp array kept with it
 
-  // inverse indices, rebuilt when the lists change (neighbor->ncalls)
+  // inverse indices, rebuilt when the lists change (list_epoch())
   int64_t built_ncalls_ = -1;
   int built_nall_ = -1;
   class NeighList *built_list_ = nullptr;
@@ -269,7 +269,8 @@ class HSLocalForces : protected Pointers {
   int near_groupbit_ = 0;
   HardSphere::CellRows<int> near_;    // (its grid unused: rows_cache_'s scan fills it)
   std::vector<std::pair<tagint, int>> near_excl_;    // scratch: bonded partners left out
-  int64_t neighbor_ncalls() const;
+  int64_t list_epoch() const;
+  int64_t run_epoch_ = 0;    // init() calls: one per run (list_epoch())
   // how LAMMPS' lists carry the pair (a, tj) (a local, tj a tag): 0 plain,
   // 1-3 a special pair with its bits, -1 a special pair left out
   // (special_flag 0)

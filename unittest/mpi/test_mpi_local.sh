@@ -4,6 +4,7 @@
 # collision, clusters, growth rounds) exactly, and energies equal to RTOL.
 #   bash test_mpi_local.sh <lmp> <source dir>
 # Systems: the hard-core LJ fluid (density 0.6) at 500 atoms over 200 steps
+# (and as three runs of 100, 3 and 200 steps)
 # and at 4000 atoms over 300 steps; the same 500 hot (T 3) with a small skin,
 # so that atoms change rank between the two halves of a step; the 500 with
 # fix viscous (held forces, deterministic); a bead-spring melt with bonds,
@@ -32,10 +33,17 @@ fluid() {
 fluid 5 > in.local_fluid500
 fluid 10 > in.local_fluid4000
 fluid 5 | sed 's/create 1.5/create 3.0/; s/neighbor    0.3 bin/neighbor    0.2 bin/' > in.local_hot
+# three runs (LAMMPS counts the list builds from 0 again at each run: a run
+# with collisions and no rebuild after its set-up, the 3 steps, once left
+# the next run with its rows, "a collision was missed" on every rank count)
+fluid 5 | sed 's/^run \+\${nsteps}$/run         100\nrun         3\nrun         ${nsteps}/' > in.local_runs
+grep -q "^run         3$" in.local_runs || { echo "FAIL: in.local_runs has no short run"; exit 1; }
 
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 echo "hard-core LJ fluid, 500 atoms, 200 steps, default engine, 1, 2, 4 ranks:"
 check_system fluid500 in.local_fluid500 "2 4" -var nsteps 200
+echo "the same as three runs, 100 steps, 3 and 200:"
+check_system runs in.local_runs "2 4" -var nsteps 200
 echo "the same at 4000 atoms, 300 steps:"
 check_system fluid4000 in.local_fluid4000 "2 4" -var nsteps 300
 echo "500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 200 steps:"
