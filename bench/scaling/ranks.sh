@@ -7,6 +7,12 @@
 # ranks_parse.py writes the table (ranks.md): per method and repeat the
 # ratios m(1)/m(2) (speed-up), m/nve on 1 and on 2 ranks, medians and
 # spreads, collisions per step on 1, 2, 4 ranks.
+# Each timed run follows WARMUP untimed steps in the same process (default
+# 5; WARMUP=0: none, the figures of before 2026-11-27 21:00): a run's first
+# steps touch every per-copy array for the first time, ~80000 page faults
+# at 256000 atoms, ~0.5 s of kernel time on one rank, as long as several
+# steps, and on each of 2 ranks ~0.35 s, so that a short cold run
+# understates the steady 2-rank speed-up.
 #   bash bench/scaling/ranks.sh                       # SIZES="32000 256000" REPEATS=3
 #   SIZES=32000 REPEATS=5 bash bench/scaling/ranks.sh
 set -euo pipefail
@@ -15,6 +21,7 @@ ROOT=$(cd "$HERE/../.." && pwd)
 LMP=${LMP:-$ROOT/build/lmp}
 SIZES=${SIZES:-"32000 256000"}
 REPEATS=${REPEATS:-3}
+WARMUP=${WARMUP:-5}
 SCR=$HERE/scratch
 LOGS=$SCR/ranks-logs
 mkdir -p "$SCR" "$LOGS"
@@ -26,7 +33,8 @@ run() {    # run <np> <log> <N> <steps> <fix command>
   local np=$1 log=$2 N=$3 n=$4 fixcmd=$5 counts=no
   [[ "$fixcmd" == *hardsphere* ]] && counts=yes
   mpirun -np "$np" --oversubscribe "$LMP" -screen none -in "$HERE/in.run" -var system fluid \
-    -var data "$SCR/fluid.$N.data" -var steps "$n" -var counts $counts -var fixcmd "$fixcmd" -log "$log"
+    -var data "$SCR/fluid.$N.data" -var steps "$n" -var counts $counts -var fixcmd "$fixcmd" \
+    -var warmup "$WARMUP" -log "$log"
   grep -E "^Loop time|^BENCH" "$log" | tr '\n' ' '; echo
 }
 for N in $SIZES; do

@@ -12,6 +12,7 @@ import numpy as np
 
 out, logdir = sys.argv[1:3]
 R = {}
+WARM = set()    # untimed steps before the timed run (ranks.sh WARMUP), as the logs show
 for p in glob.glob(os.path.join(logdir, "log.*")):
     _, N, k, c, np_ = os.path.basename(p).split(".")
     txt = open(p).read()
@@ -19,8 +20,13 @@ for p in glob.glob(os.path.join(logdir, "log.*")):
     if not m:
         continue
     t, _, n = m[-1]
+    WARM.add(int(m[0][2]) if len(m) > 1 else 0)
     b = re.search(r"^BENCH collisions (\S+)", txt, re.M)
-    R[(int(N), int(k), c, int(np_))] = dict(tps=float(t) / int(n), coll=float(b.group(1)) / int(n) if b else 0.0)
+    # the slowest rank's time in the pair style (the same work in every run
+    # of a contender at a rank count: LAMMPS' own lj/cut over the same atoms)
+    pr = re.findall(r"^Pair\s+\|\s*\S+\s*\|\s*\S+\s*\|\s*(\S+)", txt, re.M)
+    R[(int(N), int(k), c, int(np_))] = dict(tps=float(t) / int(n), coll=float(b.group(1)) / int(n) if b else 0.0,
+                                            pair=float(pr[-1]) / int(n) if pr else float("nan"))
 
 def stat(a):
     a = np.array(a)
@@ -28,12 +34,15 @@ def stat(a):
 
 L = ["## bench/scaling: the local engine on 1 and 2 MPI ranks", "",
      f"{datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')}, `bash bench/scaling/ranks.sh` "
-     "(hard-core LJ fluid of in.make-fluid, the methods' default engine; 2 cores, shared).", "",
+     "(hard-core LJ fluid of in.make-fluid, the methods' default engine; 2 cores, shared; "
+     f"untimed warm-up steps before each timed run: {', '.join(map(str, sorted(WARM)))}).", "",
      "| N | method | repeats | nve ms/step 1 / 2 ranks | method ms/step 1 / 2 ranks | speed-up, 2 ranks over 1 | "
      "nve speed-up | method/nve 1 rank | method/nve 2 ranks | (m/nve 2) / (m/nve 1) | "
      "fastest repeats: speed-up, nve speed-up, (m/nve 2) / (m/nve 1) | "
+     "quiet repeats: n, speed-up, nve speed-up | "
      "collisions/step 1 / 2 / 4 ranks |",
-     "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+     "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+QUIET = 1.10
 for N in sorted({k[0] for k in R}):
     for m in ("cva", "pcva"):
         ks = sorted({k[1] for k in R if k[0] == N and all((N, k[1], c, p) in R for c in ("nve", m) for p in (1, 2))})
@@ -50,13 +59,23 @@ for N in sorted({k[0] for k in R}):
         b = {(c, p): min(g(c, p)) for c in ("nve", m) for p in (1, 2)}
         best = (f"{b[(m, 1)] / b[(m, 2)]:.3g}, {b[('nve', 1)] / b[('nve', 2)]:.3g}, "
                 f"{(b[(m, 2)] / b[('nve', 2)]) / (b[(m, 1)] / b[('nve', 1)]):.3g}")
+        # quiet repeats: each of the repeat's four runs spent at most QUIET
+        # times the least pair-style time of its contender and rank count
+        # (a slowed core shows there: the pair work is the same in each run)
+        pmin = {(c, p): min(R[(N, k, c, p)]["pair"] for k in ks) for c in ("nve", m) for p in (1, 2)}
+        qk = [i for i, k in enumerate(ks)
+              if all(R[(N, k, c, p)]["pair"] <= QUIET * pmin[(c, p)] for c in ("nve", m) for p in (1, 2))]
+        quiet = (f"{len(qk)}, {stat([sp[i] for i in qk])}, {stat([spn[i] for i in qk])}" if qk else "0")
         L.append(f"| {N} | {m} | {len(ks)} | {1e3*np.median(g('nve',1)):.1f} / {1e3*np.median(g('nve',2)):.1f} | "
                  f"{1e3*np.median(g(m,1)):.1f} / {1e3*np.median(g(m,2)):.1f} | {stat(sp)} | {stat(spn)} | "
-                 f"{stat(r1)} | {stat(r2)} | {stat(q)} | {best} | {coll[0]:.6g} / {coll[1]:.6g} / {c4:.6g} |")
+                 f"{stat(r1)} | {stat(r2)} | {stat(q)} | {best} | {quiet} | {coll[0]:.6g} / {coll[1]:.6g} / {c4:.6g} |")
 L += ["", "Targets (issue 20): 2 ranks >= 1.8x faster than 1 at 256000 atoms; cva/nve on 2 ranks "
       "within 1.2x of its serial ratio (the (m/nve 2) / (m/nve 1) column). The fastest-repeats "
       "column divides the fastest run of each contender (the host's other jobs only add time, "
-      "2-rank runs more of it). 4 ranks run "
+      "2-rank runs more of it). The quiet-repeats column keeps the repeats in which each of the "
+      "four runs spent at most 1.10 times the least time in the pair style of its contender and "
+      "rank count (the same lj/cut work in every such run: a core slowed by another job shows "
+      "there; the slowest rank's time is taken). 4 ranks run "
       "oversubscribed on 2 cores: their collisions are the check, not their time. nve's own "
       "speed-up bounds what the shared 2-core machine allows."]
 text = "\n".join(L)
