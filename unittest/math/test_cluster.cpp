@@ -402,6 +402,45 @@ TEST(Clusters, FrozenPartnersRandomAgainstBFS)
   cs.set_partners_join(true);
 }
 
+// a case's atoms as dense ids handed out in order of first use (as contacts
+// name atoms), ordered by their atom IDs idval[t] (set_order), for one step
+// of cs: the local engine's form
+struct OrderedIds {
+  ClusterSet &cs;
+  std::vector<int64_t> idval;    // the atom ID of the case's index t
+  std::vector<int> idof;         // the dense id of index t, -1 before its first use
+  std::vector<int64_t> order;    // the atom ID of each dense id
+  OrderedIds(ClusterSet &c, std::vector<int64_t> ids) :
+      cs(c), idval(std::move(ids)), idof(idval.size(), -1)
+  {
+    cs.set_partners_join(false);
+    cs.reset(0);
+    cs.set_order(&order);
+  }
+  OrderedIds(const OrderedIds &) = delete;    // (cs keeps &order)
+  ~OrderedIds() { cs.set_order(nullptr); }
+  int id(int t)
+  {
+    if (t < 0) return -1;
+    if (idof[t] < 0) {
+      idof[t] = (int) order.size();
+      order.push_back(idval[t]);
+      cs.grow((int) order.size());
+    }
+    return idof[t];
+  }
+  // every term with a member so far, restricted to its members
+  void add_member_terms(const Case &k)
+  {
+    for (auto &t : k.terms) {
+      std::vector<int> ids;
+      for (int a : t)
+        if (idof[a] >= 0 && cs.is_member(idof[a])) ids.push_back(idof[a]);
+      if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
+    }
+  }
+};
+
 // the local engine's form (issue 20): a set over dense ids given in any
 // order (as contacts name atoms), grown within the step, numbered and
 // sorted by the atoms' IDs (set_order) so that every MPI rank agrees: the
@@ -413,31 +452,16 @@ TEST(Clusters, DenseIdsOrderedByAtomIDs)
   ClusterSet cs;
   for (int trial = 0; trial < 3000; ++trial) {
     const Case k = random_case(rng);
-    // IDs are the case's indices; ids are handed out in order of first use
-    std::vector<int> idof(k.n, -1);
-    std::vector<int64_t> order;
-    cs.set_partners_join(false);
-    cs.reset(0);
-    cs.set_order(&order);
-    auto id = [&](int t) {
-      if (t < 0) return -1;
-      if (idof[t] < 0) {
-        idof[t] = (int) order.size();
-        order.push_back(1000 + 7 * (int64_t) t);    // any increasing map of the IDs
-        cs.grow((int) order.size());
-      }
-      return idof[t];
-    };
+    // IDs: any increasing map of the case's indices
+    std::vector<int64_t> idval(k.n);
+    for (int t = 0; t < k.n; ++t) idval[t] = 1000 + 7 * (int64_t) t;
+    OrderedIds ids(cs, idval);
+    const std::vector<int64_t> &order = ids.order;
     for (auto &c : k.contacts) {
-      const int a = id(c.first);
-      cs.add_contact(a, id(c.second));
+      const int a = ids.id(c.first);
+      cs.add_contact(a, ids.id(c.second));
     }
-    for (auto &t : k.terms) {
-      std::vector<int> ids;
-      for (int a : t)
-        if (idof[a] >= 0 && cs.is_member(idof[a])) ids.push_back(idof[a]);
-      if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
-    }
+    ids.add_member_terms(k);
     cs.build();
     Groups got;
     int64_t last_key = -1;
@@ -450,7 +474,6 @@ TEST(Clusters, DenseIdsOrderedByAtomIDs)
       got.insert({m, m});
     }
     ASSERT_EQ(got, brute(k.n, k.contacts, k.terms, false)) << "trial " << trial;
-    cs.set_order(nullptr);
   }
 }
 
@@ -466,33 +489,14 @@ TEST(Clusters, GrownInRoundsOrderedByAtomIDs)
   ClusterSet cs;
   for (int trial = 0; trial < 2000; ++trial) {
     const Case k = random_case(rng);
-    std::vector<int> idof(k.n, -1);
-    std::vector<int64_t> order;
     // IDs in a random order of the indices, so that ids handed out later
     // often sort before earlier ones
     std::vector<int64_t> idval(k.n);
     for (int t = 0; t < k.n; ++t) idval[t] = 5 + 3 * (int64_t) t;
     std::shuffle(idval.begin(), idval.end(), rng);
-    cs.set_partners_join(false);
-    cs.reset(0);
-    cs.set_order(&order);
-    auto id = [&](int t) {
-      if (t < 0) return -1;
-      if (idof[t] < 0) {
-        idof[t] = (int) order.size();
-        order.push_back(idval[t]);
-        cs.grow((int) order.size());
-      }
-      return idof[t];
-    };
-    auto add_terms = [&]() {
-      for (auto &t : k.terms) {
-        std::vector<int> ids;
-        for (int a : t)
-          if (idof[a] >= 0 && cs.is_member(idof[a])) ids.push_back(idof[a]);
-        if (!ids.empty()) cs.add_term(ids.data(), (int) ids.size());
-      }
-    };
+    OrderedIds ids(cs, idval);
+    const std::vector<int> &idof = ids.idof;
+    const std::vector<int64_t> &order = ids.order;
     // the clusters as sets of indices, in numbering order, checked sorted
     auto clusters = [&]() {
       std::vector<std::vector<int>> out;
@@ -521,11 +525,11 @@ TEST(Clusters, GrownInRoundsOrderedByAtomIDs)
       const int upto = (r == rounds - 1) ? nc : done + (int) (rng() % (nc - done + 1));
       for (; done < upto; ++done) {
         const auto &c = k.contacts[done];
-        const int a = id(c.first);
-        if (r == 0) cs.add_contact(a, id(c.second));
-        else cs.grow_contact(a, id(c.second));
+        const int a = ids.id(c.first);
+        if (r == 0) cs.add_contact(a, ids.id(c.second));
+        else cs.grow_contact(a, ids.id(c.second));
       }
-      add_terms();
+      ids.add_member_terms(k);
       std::vector<int> redo;
       if (r == 0) cs.build();
       else redo = cs.rebuild();
@@ -544,6 +548,5 @@ TEST(Clusters, GrownInRoundsOrderedByAtomIDs)
       }
       prev = got;
     }
-    cs.set_order(nullptr);
   }
 }
