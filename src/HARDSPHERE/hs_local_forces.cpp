@@ -112,7 +112,8 @@ double HSLocalForces::memory_usage() const
   // fl_ (3 doubles), numneigh_, firstneigh_ per copy
   double b = (double) nmax_ * (3 * sizeof(double) + sizeof(int) + sizeof(int *));
   b += bytes(in_c_) + bytes(zeroed_) + bytes(has_row_) + bytes(pinv_off_) + bytes(pinv_row_) +
-      bytes(pinv_val_) + bytes(ilist_) + bytes(neigh_) + bytes(zero_list_) + bytes(term_atoms_);
+      bytes(pinv_val_) + bytes(ilist_) + bytes(neigh_) + bytes(zero_list_) + bytes(term_local_) +
+      bytes(term_off_) + bytes(term_extra_);
   return b;
 }
 
@@ -422,7 +423,6 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   }
 
   zero_list_.clear();
-  term_atoms_.clear();
   term_local_.clear();
   term_extra_.clear();
   term_off_.assign(1, 0);
@@ -441,11 +441,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
     if (!terms_only_)
       for (int t = 0; t < k; t++) zero(a[t]);
     if (!record) return;
-    for (int t = 0; t < k; t++) {
-      term_atoms_.push_back(owner_of(a[t]));
-      term_local_.push_back(a[t]);
-    }
-    term_off_.push_back((int) term_atoms_.size());
+    for (int t = 0; t < k; t++) term_local_.push_back(a[t]);
+    term_off_.push_back((int) term_local_.size());
     term_extra_.push_back(extra);
   };
 
@@ -720,7 +717,7 @@ void HSLocalForces::collect_topology(const std::vector<tagint> &ids, std::vector
 }
 
 /* ----------------------------------------------------------------------
-   the terms of C only (term_atoms(), term_local(), npair_last()), without
+   the terms of C only (term_local(), npair_last()), without
    building the restricted lists or evaluating them
 ------------------------------------------------------------------------- */
 

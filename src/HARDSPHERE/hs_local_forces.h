@@ -91,7 +91,7 @@ class HSLocalForces : protected Pointers {
     label_ = label;
     mode_ = mode;
   }
-  // record_terms false: term_atoms() etc. are not filled (faster)
+  // record_terms false: term_local() etc. are not filled (faster)
   void compute(const int *c, int nc, bool record_terms = true);
   double **forces() const { return fl_; }
   // while set, each evaluation also sums the styles' own energy tallies of
@@ -104,7 +104,7 @@ class HSLocalForces : protected Pointers {
   // its restricted lists (one rank; no list build since): O(its terms)
   // without the bookkeeping of compute()
   void recompute();
-  // only the terms of C (term_atoms(), term_local(), npair_last()): no
+  // only the terms of C (term_local(), npair_last()): no
   // lists are built, no forces evaluated (invalidates recompute())
   void terms(const int *c, int nc);
   // the restricted lists of the last compute(), kept by the caller to
@@ -203,14 +203,24 @@ class HSLocalForces : protected Pointers {
   // {4, ID, n12, n13, n14, IDs...} per special list
   void collect_topology(const std::vector<tagint> &ids, std::vector<double> &out);
 
-  // the terms of V_C of the last compute(), each as its atoms (local
-  // indices, ghosts mapped to their owned copy on a single rank; -1 for a
-  // ghost owned elsewhere): term t is terms()[off[t] .. off[t+1])
-  const std::vector<int> &term_atoms() const { return term_atoms_; }
+  // the terms of V_C of the last compute() as their atoms' local indices
+  // (images as they are): term t is term_local()[off[t] .. off[t+1]); and
+  // how many of them (the first ones) are pair terms
   const std::vector<int> &term_offsets() const { return term_off_; }
-  // the same terms as local indices (images as they are), and how many of
-  // them (the first ones) are pair terms
   const std::vector<int> &term_local() const { return term_local_; }
+  // the same three arrays handed over (swapped with the caller's, whose old
+  // contents this object then holds as scratch: the accessors above are
+  // empty until the next compute() that records terms); no copy of a
+  // whole step's terms (a pcva step lists every member's)
+  void take_terms(std::vector<int> &local, std::vector<int> &off, std::vector<int> &extra)
+  {
+    local.swap(term_local_);
+    off.swap(term_off_);
+    extra.swap(term_extra_);
+    term_local_.clear();
+    term_off_.assign(1, 0);
+    term_extra_.clear();
+  }
   int npair_last() const { return npair_last_; }
   // per term: a pair's special index (j >> SBBITS & 3), a bonded term's type
   const std::vector<int> &term_extra() const { return term_extra_; }
@@ -254,7 +264,7 @@ class HSLocalForces : protected Pointers {
   bool keep_energy_ = false;
   double energy_ = 0.0;
 
-  std::vector<int> zero_list_, touched_owned_, term_atoms_, term_off_, term_local_, term_extra_;
+  std::vector<int> zero_list_, touched_owned_, term_off_, term_local_, term_extra_;
   int npair_last_ = 0;
   // rows mode: the cell list of all local atoms (per list build) and the
   // folds (image j -> copy k) of the last compute_rows()

@@ -200,10 +200,8 @@ void HSLocalModified::list_terms(HSStepView &eng)
   HSLocalForces &lf = eng.local_forces();
   lf.set_labels(nullptr);
   lf.terms(mem.data(), (int) mem.size());
-  tloc = lf.term_local();
-  toff = lf.term_offsets();
-  textra = lf.term_extra();
   npair = lf.npair_last();
+  lf.take_terms(tloc, toff, textra);
   terms_ncalls = neighbor->ncalls;
 
   // each copy in a term once, by stamp (not a sort of the ~2 x terms
