@@ -27,6 +27,7 @@
 #include "neighbor.h"
 #include "pair.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -68,6 +69,14 @@ struct HSPotential::Impl : protected Pointers {
   int pair_single = 0, bond_single = 0;
   int pair_lj = 0;          // lj/cut: phi'', phi''', phi'''' analytic
   double **lj_eps = nullptr, **lj_sig = nullptr;
+  // lj/cut: phi and phi' by PairLJCut::single()'s own arithmetic inline,
+  // with its coefficients lj1..lj4 and offset rebuilt as its init_one()
+  // builds them (5 per type pair, [itype * (ntypes + 1) + jtype]); used
+  // only if they reproduce single() bit for bit at init (inline_lj()): the
+  // virtual call and its table reads were half the cost of a term in
+  // pcva's local projection
+  int lj_inline = 0;
+  std::vector<double> ljc;
   // lj/smooth/linear (no extract()): phi' = -A r^-13 + B r^-7 + C per type
   // pair, fitted to single() at init and verified over [lo, cutoff) (fit_lj())
   int pair_ljfit = 0;
@@ -438,7 +447,17 @@ struct HSPotential::Impl : protected Pointers {
   {
     Pair *pair = force->pair;
     double fforce = 0.0;
-    phi[0] = pair->single(i, j, itype, jtype, rsq, fc, fl, fforce);
+    if (lj_inline) {
+      // PairLJCut::single(), operation for operation
+      const double *c = &ljc[5 * ((size_t) itype * (atom->ntypes + 1) + jtype)];
+      const double r2inv = 1.0 / rsq;
+      const double r6inv = r2inv * r2inv * r2inv;
+      const double forcelj = r6inv * (c[0] * r6inv - c[1]);
+      fforce = fl * forcelj * r2inv;
+      const double philj = r6inv * (c[2] * r6inv - c[3]) - c[4];
+      phi[0] = fl * philj;
+    } else
+      phi[0] = pair->single(i, j, itype, jtype, rsq, fc, fl, fforce);
     const double r = sqrt(rsq);
     phi[1] = -fforce * r;
     phi[2] = phi[3] = phi[4] = 0.0;
@@ -475,6 +494,64 @@ struct HSPotential::Impl : protected Pointers {
     // not at or beyond the cutoff, where a style may have no values (table)
     HardSphere::radial_derivs_fd(dphi, r, phi[1], r / 16.0, order, phi,
                                  sqrt(pair->cutsq[itype][jtype]));
+  }
+
+  // lj/cut: PairLJCut::init_one()'s coefficients from epsilon, sigma and
+  // the cutoff (sqrt(cutsq): exact for a square of a double), the energy
+  // shift of pair_modify shift yes or none (Pair::offset_flag is not
+  // public: the one that matches single() is taken), kept if single()
+  // returns the same bits for energy and force at radii across [0.3, 1) x
+  // cutoff with special factors 1, 0.5 and 0.125 for every type pair
+  // (another version's single() or init_one() would fail this)
+  void inline_lj()
+  {
+    for (int shifted : {1, 0}) {
+      inline_lj(shifted);
+      if (lj_inline) return;
+    }
+  }
+  void inline_lj(int shifted)
+  {
+    Pair *pair = force->pair;
+    const int nt = atom->ntypes;
+    lj_inline = 0;
+    ljc.assign(5 * (size_t) (nt + 1) * (nt + 1), 0.0);
+    for (int it = 1; it <= nt; it++)
+      for (int jt = 1; jt <= nt; jt++) {
+        // (init_one(i, j) runs for i <= j and mirrors its results)
+        const int lo = std::min(it, jt), hi = std::max(it, jt);
+        const double eps = lj_eps[lo][hi], sig = lj_sig[lo][hi];
+        const double cutsq = pair->cutsq[lo][hi], cut = sqrt(cutsq);
+        double *c = &ljc[5 * ((size_t) it * (nt + 1) + jt)];
+        c[0] = 48.0 * eps * pow(sig, 12.0);
+        c[1] = 24.0 * eps * pow(sig, 6.0);
+        c[2] = 4.0 * eps * pow(sig, 12.0);
+        c[3] = 4.0 * eps * pow(sig, 6.0);
+        if (shifted && (cut > 0.0)) {
+          const double ratio = sig / cut;
+          c[4] = 4.0 * eps * (pow(ratio, 12.0) - pow(ratio, 6.0));
+        } else
+          c[4] = 0.0;
+      }
+    lj_inline = 1;
+    for (int it = 1; it <= nt && lj_inline; it++)
+      for (int jt = 1; jt <= nt && lj_inline; jt++) {
+        const double rc = sqrt(pair->cutsq[it][jt]);
+        if (!(rc > 0.0)) continue;
+        for (int k = 0; k < 16 && lj_inline; k++)
+          for (double fl : {1.0, 0.5, 0.125}) {
+            const double r = rc * (0.3 + 0.7 * k / 16.0), rsq = r * r;
+            double f1 = 0.0, p[5];
+            const double e1 = pair->single(0, 0, it, jt, rsq, 1.0, fl, f1);
+            pair_phi(0, 0, it, jt, rsq, 1.0, fl, 1, p);
+            const double p1 = -f1 * r;    // (pair_phi()'s phi' from single()'s)
+            if (!(memcmp(&e1, &p[0], sizeof(double)) == 0 &&
+                  memcmp(&p1, &p[1], sizeof(double)) == 0)) {
+              lj_inline = 0;
+              break;
+            }
+          }
+      }
   }
 
   // lj/smooth/linear: A, B, C of phi'(r) = -A r^-13 + B r^-7 + C (A = 48 eps
@@ -729,7 +806,7 @@ void HSPotential::init(Mode mode)
 {
   Impl &m = *impl;
   m.mode = mode;
-  m.pair_single = m.bond_single = m.pair_lj = m.pair_ljfit = m.bond_harm = 0;
+  m.pair_single = m.bond_single = m.pair_lj = m.pair_ljfit = m.bond_harm = m.lj_inline = 0;
   m.fd_pair = m.fd_bond = m.fd_angle = m.fd_dihedral = m.fd_improper = m.fd_kspace = 0;
   m.efix.clear();
   const bool molecular = atom->molecular != Atom::ATOMIC;
@@ -768,6 +845,7 @@ void HSPotential::init(Mode mode)
         m.lj_eps = (double **) pair->extract("epsilon", dim);
         m.lj_sig = (double **) pair->extract("sigma", dim);
         m.pair_lj = (m.lj_eps && m.lj_sig) ? 1 : 0;
+        if (m.pair_lj) m.inline_lj();
       } else if (ps == "lj/smooth/linear" || ps == "lj/smooth/linear/omp")
         m.fit_lj();
     } else if (mode == SINGLE)
@@ -1221,6 +1299,11 @@ void HSPotential::bond_term(int btype, int i, int j, double rsq, double phi[3])
   double p[5];
   impl->bond_phi(btype, i, j, rsq, 2, p);
   for (int k = 0; k < 3; k++) phi[k] = p[k];
+}
+
+bool HSPotential::lj_inline() const
+{
+  return impl->lj_inline != 0;
 }
 
 bool HSPotential::radial_only() const

@@ -146,6 +146,9 @@ class HSPotential : protected Pointers {
   // with special index sb (0: none), resp. of a bond of type btype
   void pair_term(int i, int j, int sb, double rsq, double phi[3]);
   void bond_term(int btype, int i, int j, double rsq, double phi[3]);
+  // lj/cut's phi and phi' are single()'s arithmetic inline (its
+  // coefficients rebuilt and checked bit for bit against single() at init)
+  bool lj_inline() const;
 
   // number of force evaluations done so far: evaluate(), energy() and those
   // of the FDIFF differences (for the owners' counters)

@@ -286,6 +286,52 @@ TEST(PotentialDerivs, SinglePairAndBond)
   EXPECT_EQ(pot->nevals(), n0) << "the single path needs no force evaluation";
 }
 
+// lj/cut's terms are single()'s bits: the inline path (HSPotential::
+// lj_inline(): single()'s arithmetic with PairLJCut::init_one()'s
+// coefficients rebuilt) against LAMMPS' own single(), two types with a
+// mixed and an explicit cross pair, shift yes and no, every special factor
+TEST(PotentialDerivs, LJCutTermsAreSinglesBits)
+{
+  for (const char *shift : {"yes", "no"}) {
+    HSLammps h;
+    std::string s = "units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
+                    "region box block -4 4 -4 4 -4 4\ncreate_box 3 box\nmass * 1.0\n"
+                    "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.1 0.0 0.0\n"
+                    "create_atoms 3 single 0.0 1.3 0.0\n"
+                    "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+                    "pair_coeff 2 2 0.7 1.15 2.2\npair_coeff 3 3 1.3 0.9\n"
+                    "pair_coeff 1 3 0.45 0.8 1.9\npair_modify mix arithmetic shift ";
+    s += shift;
+    s += "\nspecial_bonds lj 0.0 0.5 0.25\n"
+         "compute hm all hamiltonian/modified path single\nrun 0\n";
+    h.lines(s);
+    HSPotential *pot = compute_potential(h, "hm");
+    ASSERT_NE(pot, nullptr);
+    EXPECT_TRUE(pot->lj_inline()) << "shift " << shift;
+    auto *pair = h.lmp->force->pair;
+    for (int it = 1; it <= 3; it++)
+      for (int jt = 1; jt <= 3; jt++) {
+        // atoms 0, 1, 2 have types 1, 2, 3 (single() of lj/cut reads only types)
+        const int i = it - 1, j = jt - 1;
+        const double rc2 = pair->cutsq[it][jt];
+        for (int k = 1; k < 40; k++) {
+          const double rsq = rc2 * (0.05 + 0.95 * k / 40.0);
+          for (int sb = 0; sb < 4; sb++) {
+            double phi[3], ff = 0.0;
+            pot->pair_term(i, j, sb, rsq, phi);
+            const double fl = sb ? h.lmp->force->special_lj[sb] : 1.0;
+            const double e = pair->single(i, j, it, jt, rsq, 1.0, fl, ff);
+            const double d1 = -ff * std::sqrt(rsq);
+            EXPECT_EQ(0, std::memcmp(&e, &phi[0], sizeof(double)))
+                << it << "-" << jt << " rsq " << rsq << " sb " << sb << ": " << e << " vs " << phi[0];
+            EXPECT_EQ(0, std::memcmp(&d1, &phi[1], sizeof(double)))
+                << it << "-" << jt << " rsq " << rsq << " sb " << sb << ": " << d1 << " vs " << phi[1];
+          }
+        }
+      }
+  }
+}
+
 TEST(PotentialDerivs, SingleGroupSubset)
 {
   HSLammps h;
