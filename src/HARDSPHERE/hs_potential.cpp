@@ -465,7 +465,10 @@ struct HSPotential::Impl : protected Pointers {
     if (pair_lj) {
       // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor:
       // d^k/dr^k r^-n = (-n)(-n-1)...(-n-k+1) r^-n-k
-      const double eps = lj_eps[itype][jtype], sig = lj_sig[itype][jtype];
+      // (init_one() sets epsilon and sigma for itype <= jtype only: the
+      // other half of the arrays is never written)
+      const int lo = std::min(itype, jtype), hi = std::max(itype, jtype);
+      const double eps = lj_eps[lo][hi], sig = lj_sig[lo][hi];
       const double s2 = sig * sig / rsq, s6 = s2 * s2 * s2;
       const double c12 = 4.0 * eps * fl * s6 * s6, c6 = -4.0 * eps * fl * s6;
       const double rinv = 1.0 / r;

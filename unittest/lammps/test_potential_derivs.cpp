@@ -332,6 +332,47 @@ TEST(PotentialDerivs, LJCutTermsAreSinglesBits)
   }
 }
 
+// lj/cut's phi'' for every ordered type pair: the same for (i, j) and
+// (j, i), and phi' differenced in r (LAMMPS' init_one() fills epsilon and
+// sigma for i <= j only)
+TEST(PotentialDerivs, LJCutSecondDerivativeBothTypeOrders)
+{
+  HSLammps h;
+  h.lines("units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
+          "region box block -4 4 -4 4 -4 4\ncreate_box 3 box\nmass * 1.0\n"
+          "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.1 0.0 0.0\n"
+          "create_atoms 3 single 0.0 1.3 0.0\n"
+          "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+          "pair_coeff 2 2 0.7 1.15 2.2\npair_coeff 3 3 1.3 0.9\n"
+          "pair_coeff 1 3 0.45 0.8 1.9\npair_modify mix arithmetic shift yes\n"
+          "compute hm all hamiltonian/modified path single\nrun 0\n");
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  auto *pair = h.lmp->force->pair;
+  for (int it = 1; it <= 3; it++)
+    for (int jt = 1; jt <= 3; jt++) {
+      const int i = it - 1, j = jt - 1;
+      const double rc = std::sqrt(pair->cutsq[it][jt]);
+      for (int k = 1; k < 10; k++) {
+        const double r = rc * (0.3 + 0.65 * k / 10.0), hh = 1e-3 * r;
+        double a[3], b[3];
+        pot->pair_term(i, j, 0, r * r, a);
+        pot->pair_term(j, i, 0, r * r, b);
+        // phi'' from phi' by the O(h^4) central stencil
+        double d1[5];
+        for (int s = -2; s <= 2; s++) {
+          double q[3];
+          pot->pair_term(i, j, 0, (r + s * hh) * (r + s * hh), q);
+          d1[s + 2] = q[1];
+        }
+        const double fd = (-d1[4] + 8.0 * d1[3] - 8.0 * d1[1] + d1[0]) / (12.0 * hh);
+        EXPECT_NEAR(a[2], b[2], 1e-12 * std::fabs(a[2])) << it << "-" << jt << " r " << r;
+        EXPECT_NEAR(a[2], fd, 1e-7 * (std::fabs(a[2]) + std::fabs(a[1]) / r))
+            << it << "-" << jt << " r " << r;
+      }
+    }
+}
+
 TEST(PotentialDerivs, SingleGroupSubset)
 {
   HSLammps h;
