@@ -71,11 +71,12 @@ struct HSPotential::Impl : protected Pointers {
   double **lj_eps = nullptr, **lj_sig = nullptr;
   // lj/cut: phi and phi' by PairLJCut::single()'s own arithmetic inline,
   // with its coefficients lj1..lj4 and offset rebuilt as its init_one()
-  // builds them (5 per type pair, [itype * (ntypes + 1) + jtype]); used
+  // builds them (LJC per type pair, [itype * (ntypes + 1) + jtype]); used
   // only if they reproduce single() bit for bit at init (inline_lj()): the
   // virtual call and its table reads were half the cost of a term in
   // pcva's local projection
   int lj_inline = 0;
+  static constexpr int LJC = 7;    // lj1, lj2, lj3, lj4, offset; epsilon, sigma they came from
   std::vector<double> ljc;
   // lj/smooth/linear (no extract()): phi' = -A r^-13 + B r^-7 + C per type
   // pair, fitted to single() at init and verified over [lo, cutoff) (fit_lj())
@@ -447,9 +448,16 @@ struct HSPotential::Impl : protected Pointers {
   {
     Pair *pair = force->pair;
     double fforce = 0.0;
+    const double *c = nullptr;
     if (lj_inline) {
+      // (epsilon or sigma changed since init, e.g. by fix adapt, whose
+      // reinit() recomputes single()'s coefficients: single() itself)
+      const int lo = std::min(itype, jtype), hi = std::max(itype, jtype);
+      c = &ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)];
+      if (!(lj_eps[lo][hi] == c[5] && lj_sig[lo][hi] == c[6])) c = nullptr;
+    }
+    if (c) {
       // PairLJCut::single(), operation for operation
-      const double *c = &ljc[5 * ((size_t) itype * (atom->ntypes + 1) + jtype)];
       const double r2inv = 1.0 / rsq;
       const double r6inv = r2inv * r2inv * r2inv;
       const double forcelj = r6inv * (c[0] * r6inv - c[1]);
@@ -518,14 +526,16 @@ struct HSPotential::Impl : protected Pointers {
     Pair *pair = force->pair;
     const int nt = atom->ntypes;
     lj_inline = 0;
-    ljc.assign(5 * (size_t) (nt + 1) * (nt + 1), 0.0);
+    ljc.assign(LJC * (size_t) (nt + 1) * (nt + 1), 0.0);
     for (int it = 1; it <= nt; it++)
       for (int jt = 1; jt <= nt; jt++) {
         // (init_one(i, j) runs for i <= j and mirrors its results)
         const int lo = std::min(it, jt), hi = std::max(it, jt);
         const double eps = lj_eps[lo][hi], sig = lj_sig[lo][hi];
         const double cutsq = pair->cutsq[lo][hi], cut = sqrt(cutsq);
-        double *c = &ljc[5 * ((size_t) it * (nt + 1) + jt)];
+        double *c = &ljc[LJC * ((size_t) it * (nt + 1) + jt)];
+        c[5] = eps;
+        c[6] = sig;
         c[0] = 48.0 * eps * pow(sig, 12.0);
         c[1] = 24.0 * eps * pow(sig, 6.0);
         c[2] = 4.0 * eps * pow(sig, 12.0);

@@ -332,6 +332,39 @@ TEST(PotentialDerivs, LJCutTermsAreSinglesBits)
   }
 }
 
+// fix adapt changes lj/cut's epsilon during a run (and single()'s
+// coefficients with it): the terms still are single()'s, not those of the
+// coefficients at init
+TEST(PotentialDerivs, LJCutTermsFollowFixAdapt)
+{
+  HSLammps h;
+  h.lines("units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
+          "region box block -4 4 -4 4 -4 4\ncreate_box 2 box\nmass * 1.0\n"
+          "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.6 0.0 0.0\n"
+          "pair_style lj/cut 2.5\npair_coeff * * 1.0 1.0\npair_modify shift yes\n"
+          "compute hm all hamiltonian/modified path single\n"
+          "variable e equal 1.0+0.01*step\n"
+          "fix ad all adapt 1 pair lj/cut epsilon 1 2 v_e\n"
+          "thermo_style custom step pe c_hm[1]\nrun 0\nrun 20\n");
+  HSPotential *pot = compute_potential(h, "hm");
+  ASSERT_NE(pot, nullptr);
+  auto *pair = h.lmp->force->pair;
+  int dim = 0;
+  const double eps12 = ((double **) pair->extract("epsilon", dim))[1][2];
+  ASSERT_GT(eps12, 1.1) << "fix adapt did not change epsilon 1 2";
+  for (int k = 1; k < 20; k++) {
+    const double rsq = pair->cutsq[1][2] * (0.1 + 0.9 * k / 20.0);
+    for (int ij : {0, 1}) {
+      double phi[3], ff = 0.0;
+      pot->pair_term(ij, 1 - ij, 0, rsq, phi);
+      const double e = pair->single(ij, 1 - ij, 1 + ij, 2 - ij, rsq, 1.0, 1.0, ff);
+      EXPECT_EQ(0, std::memcmp(&e, &phi[0], sizeof(double))) << rsq << ": " << e << " vs " << phi[0];
+      const double d1 = -ff * std::sqrt(rsq);
+      EXPECT_EQ(0, std::memcmp(&d1, &phi[1], sizeof(double))) << rsq;
+    }
+  }
+}
+
 // lj/cut's phi'' for every ordered type pair: the same for (i, j) and
 // (j, i), and phi' differenced in r (LAMMPS' init_one() fills epsilon and
 // sigma for i <= j only)
