@@ -84,6 +84,7 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
   static const double zero[3] = {0.0, 0.0, 0.0};
   E = Q = Qbb = 0.0;
   zero_red();
+  pot->begin_terms();
   const int nterm = (int) toff.size() - 1;
   // the terms come cluster by cluster, their copies' rows all over memory;
   // the order is fixed (the sums' round-off), so the rows of the term

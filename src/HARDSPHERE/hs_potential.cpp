@@ -448,16 +448,10 @@ struct HSPotential::Impl : protected Pointers {
   {
     Pair *pair = force->pair;
     double fforce = 0.0;
-    const double *c = nullptr;
     if (lj_inline) {
-      // (epsilon or sigma changed since init, e.g. by fix adapt, whose
-      // reinit() recomputes single()'s coefficients: single() itself)
-      const int lo = std::min(itype, jtype), hi = std::max(itype, jtype);
-      c = &ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)];
-      if (!(lj_eps[lo][hi] == c[5] && lj_sig[lo][hi] == c[6])) c = nullptr;
-    }
-    if (c) {
-      // PairLJCut::single(), operation for operation
+      // PairLJCut::single(), operation for operation (lj_current() checked
+      // at the start of the pass that the coefficients still hold)
+      const double *c = &ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)];
       const double r2inv = 1.0 / rsq;
       const double r6inv = r2inv * r2inv * r2inv;
       const double forcelj = r6inv * (c[0] * r6inv - c[1]);
@@ -497,6 +491,16 @@ struct HSPotential::Impl : protected Pointers {
         return;
       }
     }
+    pair_phi_fd(i, j, itype, jtype, r, fc, fl, order, phi);
+  }
+
+  // the other styles' phi'', ... : differences of single()'s phi' in r (out
+  // of line: pair_phi() stays small enough to be inlined in the loops over
+  // every term, where the analytic forms are taken)
+  __attribute__((noinline)) void pair_phi_fd(int i, int j, int itype, int jtype, double r,
+                                             double fc, double fl, int order, double phi[5])
+  {
+    Pair *pair = force->pair;
     auto dphi = [&](double rr) {
       double ff = 0.0;
       pair->single(i, j, itype, jtype, rr * rr, fc, fl, ff);
@@ -514,6 +518,24 @@ struct HSPotential::Impl : protected Pointers {
   // returns the same bits for energy and force at radii across [0.3, 1) x
   // cutoff with special factors 1, 0.5 and 0.125 for every type pair
   // (another version's single() or init_one() would fail this)
+  // at the start of a pass over terms: epsilon and sigma as the inline
+  // coefficients were built from? fix adapt changes them during a run (and
+  // single()'s coefficients with them, through the style's reinit()): then
+  // they are built and checked again. O(ntypes^2)
+  void lj_current()
+  {
+    if (!pair_lj || ljc.empty()) return;
+    const int nt = atom->ntypes;
+    for (int it = 1; it <= nt; it++)
+      for (int jt = it; jt <= nt; jt++) {
+        const double *c = &ljc[LJC * ((size_t) it * (nt + 1) + jt)];
+        if (!(lj_eps[it][jt] == c[5] && lj_sig[it][jt] == c[6])) {
+          inline_lj();
+          return;
+        }
+      }
+  }
+
   void inline_lj()
   {
     for (int shifted : {1, 0}) {
@@ -643,6 +665,7 @@ struct HSPotential::Impl : protected Pointers {
   // or ghost with newton, summed to the owner by reverse communication)
   template <class Fn> void for_each_radial(int order, Fn fn)
   {
+    lj_current();
     double **x = atom->x;
     const int *mask = atom->mask;
     const int *type = atom->type;
@@ -1317,6 +1340,11 @@ void HSPotential::bond_term(int btype, int i, int j, double rsq, double phi[3])
 bool HSPotential::lj_inline() const
 {
   return impl->lj_inline != 0;
+}
+
+void HSPotential::begin_terms()
+{
+  impl->lj_current();
 }
 
 bool HSPotential::radial_only() const

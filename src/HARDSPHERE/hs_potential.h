@@ -144,6 +144,10 @@ class HSPotential : protected Pointers {
   // one radial term of the single path at squared distance rsq (no cutoff
   // test: the caller's): phi[0..2] = phi, phi'(r), phi''(r) of pair (i, j)
   // with special index sb (0: none), resp. of a bond of type btype
+  // pair_term() and bond_term() come in passes over terms: begin_terms()
+  // first (pair coefficients changed since the last pass, e.g. by fix
+  // adapt, are taken up there)
+  void begin_terms();
   void pair_term(int i, int j, int sb, double rsq, double phi[3]);
   void bond_term(int btype, int i, int j, double rsq, double phi[3]);
   // lj/cut's phi and phi' are single()'s arithmetic inline (its

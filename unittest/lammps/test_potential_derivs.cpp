@@ -308,6 +308,7 @@ TEST(PotentialDerivs, LJCutTermsAreSinglesBits)
     HSPotential *pot = compute_potential(h, "hm");
     ASSERT_NE(pot, nullptr);
     EXPECT_TRUE(pot->lj_inline()) << "shift " << shift;
+    pot->begin_terms();
     auto *pair = h.lmp->force->pair;
     for (int it = 1; it <= 3; it++)
       for (int jt = 1; jt <= 3; jt++) {
@@ -352,6 +353,8 @@ TEST(PotentialDerivs, LJCutTermsFollowFixAdapt)
   int dim = 0;
   const double eps12 = ((double **) pair->extract("epsilon", dim))[1][2];
   ASSERT_GT(eps12, 1.1) << "fix adapt did not change epsilon 1 2";
+  pot->begin_terms();    // (a pass over terms starts: the new coefficients taken up)
+  EXPECT_TRUE(pot->lj_inline());
   for (int k = 1; k < 20; k++) {
     const double rsq = pair->cutsq[1][2] * (0.1 + 0.9 * k / 20.0);
     for (int ij : {0, 1}) {
@@ -381,6 +384,7 @@ TEST(PotentialDerivs, LJCutSecondDerivativeBothTypeOrders)
           "compute hm all hamiltonian/modified path single\nrun 0\n");
   HSPotential *pot = compute_potential(h, "hm");
   ASSERT_NE(pot, nullptr);
+  pot->begin_terms();
   auto *pair = h.lmp->force->pair;
   for (int it = 1; it <= 3; it++)
     for (int jt = 1; jt <= 3; jt++) {
