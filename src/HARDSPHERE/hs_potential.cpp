@@ -511,13 +511,6 @@ struct HSPotential::Impl : protected Pointers {
                                  sqrt(pair->cutsq[itype][jtype]));
   }
 
-  // lj/cut: PairLJCut::init_one()'s coefficients from epsilon, sigma and
-  // the cutoff (sqrt(cutsq): exact for a square of a double), the energy
-  // shift of pair_modify shift yes or none (Pair::offset_flag is not
-  // public: the one that matches single() is taken), kept if single()
-  // returns the same bits for energy and force at radii across [0.3, 1) x
-  // cutoff with special factors 1, 0.5 and 0.125 for every type pair
-  // (another version's single() or init_one() would fail this)
   // at the start of a pass over terms: epsilon and sigma as the inline
   // coefficients were built from? fix adapt changes them during a run (and
   // single()'s coefficients with them, through the style's reinit()): then
@@ -536,6 +529,13 @@ struct HSPotential::Impl : protected Pointers {
       }
   }
 
+  // lj/cut: PairLJCut::init_one()'s coefficients from epsilon, sigma and
+  // the cutoff (sqrt(cutsq): exact for a square of a double), the energy
+  // shift of pair_modify shift yes or none (Pair::offset_flag is not
+  // public: the one that matches single() is taken), kept if single()
+  // returns the same bits for energy and force at radii across [0.3, 1) x
+  // cutoff with special factors 1, 0.5 and 0.125 for every type pair
+  // (another version's single() or init_one() would fail this)
   void inline_lj()
   {
     for (int shifted : {1, 0}) {

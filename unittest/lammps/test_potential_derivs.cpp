@@ -286,6 +286,23 @@ TEST(PotentialDerivs, SinglePairAndBond)
   EXPECT_EQ(pot->nevals(), n0) << "the single path needs no force evaluation";
 }
 
+// three atoms of types 1, 2, 3 under lj/cut: explicit 1-1, 2-2, 3-3 and 1-3
+// coefficients, 1-2 and 2-3 mixed (arithmetic), shift yes or no, special
+// factors 0 0.5 0.25, compute hm on the single path
+static std::string three_type_lj(const char *shift)
+{
+  return std::string("units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
+                     "region box block -4 4 -4 4 -4 4\ncreate_box 3 box\nmass * 1.0\n"
+                     "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.1 0.0 0.0\n"
+                     "create_atoms 3 single 0.0 1.3 0.0\n"
+                     "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+                     "pair_coeff 2 2 0.7 1.15 2.2\npair_coeff 3 3 1.3 0.9\n"
+                     "pair_coeff 1 3 0.45 0.8 1.9\npair_modify mix arithmetic shift ") +
+      shift +
+      "\nspecial_bonds lj 0.0 0.5 0.25\n"
+      "compute hm all hamiltonian/modified path single\nrun 0\n";
+}
+
 // lj/cut's terms are single()'s bits: the inline path (HSPotential::
 // lj_inline(): single()'s arithmetic with PairLJCut::init_one()'s
 // coefficients rebuilt) against LAMMPS' own single(), two types with a
@@ -294,17 +311,7 @@ TEST(PotentialDerivs, LJCutTermsAreSinglesBits)
 {
   for (const char *shift : {"yes", "no"}) {
     HSLammps h;
-    std::string s = "units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
-                    "region box block -4 4 -4 4 -4 4\ncreate_box 3 box\nmass * 1.0\n"
-                    "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.1 0.0 0.0\n"
-                    "create_atoms 3 single 0.0 1.3 0.0\n"
-                    "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
-                    "pair_coeff 2 2 0.7 1.15 2.2\npair_coeff 3 3 1.3 0.9\n"
-                    "pair_coeff 1 3 0.45 0.8 1.9\npair_modify mix arithmetic shift ";
-    s += shift;
-    s += "\nspecial_bonds lj 0.0 0.5 0.25\n"
-         "compute hm all hamiltonian/modified path single\nrun 0\n";
-    h.lines(s);
+    h.lines(three_type_lj(shift));
     HSPotential *pot = compute_potential(h, "hm");
     ASSERT_NE(pot, nullptr);
     EXPECT_TRUE(pot->lj_inline()) << "shift " << shift;
@@ -374,14 +381,7 @@ TEST(PotentialDerivs, LJCutTermsFollowFixAdapt)
 TEST(PotentialDerivs, LJCutSecondDerivativeBothTypeOrders)
 {
   HSLammps h;
-  h.lines("units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
-          "region box block -4 4 -4 4 -4 4\ncreate_box 3 box\nmass * 1.0\n"
-          "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.1 0.0 0.0\n"
-          "create_atoms 3 single 0.0 1.3 0.0\n"
-          "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
-          "pair_coeff 2 2 0.7 1.15 2.2\npair_coeff 3 3 1.3 0.9\n"
-          "pair_coeff 1 3 0.45 0.8 1.9\npair_modify mix arithmetic shift yes\n"
-          "compute hm all hamiltonian/modified path single\nrun 0\n");
+  h.lines(three_type_lj("yes"));
   HSPotential *pot = compute_potential(h, "hm");
   ASSERT_NE(pot, nullptr);
   pot->begin_terms();
