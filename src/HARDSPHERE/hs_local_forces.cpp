@@ -9,6 +9,7 @@
 
 #include "angle.h"
 #include "atom.h"
+#include "atom_vec.h"
 #include "bond.h"
 #include "comm.h"
 #include "dihedral.h"
@@ -52,6 +53,7 @@ HSLocalForces::~HSLocalForces()
   memory->destroy(numneigh_);
   memory->sfree(firstneigh_);
   memory->destroy(fl_);
+  memory->destroy(tq_);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -76,9 +78,16 @@ void HSLocalForces::init()
       if (has_suffix(ps, suf))
         add(std::string("pair style ") + ps + " (accelerator variant: thread-private forces)");
   }
-  if (comm->nprocs > 1 && atom->torque_flag)
-    add("atom style with torque on several ranks (the reverse communication of the ghosts' "
-        "forces would also add their torques)");
+  // on several ranks a restricted evaluation without rows (held forces of
+  // pcva's projection, newton_pair off) sums the ghosts' forces with
+  // comm->reverse_comm(), which also sums what else the atom style reverses
+  // (torques are saved and restored in run_styles(); electron's or spin's
+  // extra force arrays are not)
+  const int size_reverse = atom->avec->size_reverse;
+  if (comm->nprocs > 1 && size_reverse != 3 && !(size_reverse == 6 && atom->torque_flag))
+    add(fmt::format("atom style {} on several ranks (its reverse communication carries more "
+                    "than forces and torques)",
+                    atom->atom_style));
   initialized_ = 1;
   built_ncalls_ = -1;
   // Neighbor::init() sets neighbor->ncalls back to 0 at every run: the
@@ -94,11 +103,13 @@ void HSLocalForces::grow()
     memory->destroy(numneigh_);
     memory->sfree(firstneigh_);
     memory->destroy(fl_);
+    memory->destroy(tq_);
     nmax_ = atom->nmax;
     memory->create(numneigh_, nmax_, "hs_local_forces:numneigh");
     firstneigh_ = (int **) memory->smalloc(nmax_ * sizeof(int *), "hs_local_forces:firstneigh");
     memory->create(fl_, nmax_, 3, "hs_local_forces:f");
   }
+  if (atom->torque_flag && !tq_ && nmax_ > 0) memory->create(tq_, nmax_, 3, "hs_local_forces:torque");
   const size_t nall = atom->nlocal + atom->nghost;
   if (in_c_.size() < nall) {
     in_c_.resize(nall, 0);
@@ -109,8 +120,8 @@ void HSLocalForces::grow()
 double HSLocalForces::memory_usage() const
 {
   const auto bytes = [](const auto &vec) { return HardSphere::capacity_bytes(vec); };
-  // fl_ (3 doubles), numneigh_, firstneigh_ per copy
-  double b = (double) nmax_ * (3 * sizeof(double) + sizeof(int) + sizeof(int *));
+  // fl_ (3 doubles), numneigh_, firstneigh_ per copy; tq_ (3) with torques
+  double b = (double) nmax_ * ((tq_ ? 6 : 3) * sizeof(double) + sizeof(int) + sizeof(int *));
   b += bytes(in_c_) + bytes(zeroed_) + bytes(has_row_) + bytes(pinv_off_) + bytes(pinv_row_) +
       bytes(pinv_val_) + bytes(ilist_) + bytes(neigh_) + bytes(zero_list_) + bytes(term_local_) +
       bytes(term_off_) + bytes(term_extra_);
@@ -849,6 +860,22 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     memcpy(&fl_[0][0], &atom->f[0][0], nbytes);
     memset(&atom->f[0][0], 0, nbytes);
   }
+  // torques (atom style sphere, ...): the fix moves the spheres' centres
+  // only, and LAMMPS' torques of the step must stay as LAMMPS computed them.
+  // A style that writes torques writes the restricted terms' into tq_ (a
+  // pointer swap; swap_f), or, where reverse_comm() sums the atom style's
+  // torque array too, into atom->torque zeroed and restored after
+  double **t_saved = atom->torque;
+  const bool torque = atom->torque_flag && t_saved;
+  if (torque) {
+    if (!tq_) grow();
+    if (swap_f)
+      atom->torque = tq_;
+    else if (nall) {
+      memcpy(&tq_[0][0], &t_saved[0][0], nbytes);
+      memset(&t_saved[0][0], 0, nbytes);
+    }
+  }
   if (L) {
     const int inum0 = L->inum;
     int *ilist0 = L->ilist, *numneigh0 = L->numneigh;
@@ -887,11 +914,17 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
   if (swap_f)
     atom->f = f_saved;
   else if (nall) {
-    // NOTE: reverse_comm() also sums the atom style's torque and extra
-    // per-atom force arrays into the owners: point particles only
+    // (reverse_comm() also sums the atom style's torque, restored below;
+    // other per-atom force arrays are refused by init())
     if (force->newton_pair || force->newton_bond) comm->reverse_comm();
     for (int i = 0; i < nall; i++)
       for (int k = 0; k < 3; k++) std::swap(fl_[i][k], atom->f[i][k]);
+  }
+  if (torque) {
+    if (swap_f)
+      atom->torque = t_saved;
+    else if (nall)
+      memcpy(&t_saved[0][0], &tq_[0][0], nbytes);
   }
 
   if (keep_energy_) {

@@ -261,6 +261,9 @@ class HSLocalForces : protected Pointers {
   int *numneigh_ = nullptr;
   int **firstneigh_ = nullptr;
   double **fl_ = nullptr;
+  // atom styles with torque (sphere): what a style writes there during a
+  // restricted evaluation (run_styles())
+  double **tq_ = nullptr;
   bool keep_energy_ = false;
   double energy_ = 0.0;
 

@@ -166,6 +166,115 @@ method_cases vci 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/
   '' "bonds, angles, dihedrals"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
+# polydisperse spheres with per-atom radii and masses (atom style sphere:
+# diameters 1.0 and 1.5, a 70:30 mixture at T 2, lj/cut 2.5), the way
+# colloid and polydisperse hard-sphere inputs give radii. Atom styles with
+# torques fell back to the global engine on several ranks until the
+# restricted evaluations kept LAMMPS' torques apart (hs_local_forces.cpp):
+# the same collisions and clusters on 1, 2, 4 ranks, no fall-back warning;
+# pcva also with fix viscous (held forces: the projection's conservative
+# forces through the reverse communication, which carries the torques)
+poly_input() {
+  cat <<EOF2
+units       lj
+atom_style  sphere
+atom_modify map array
+lattice     sc 0.22
+region      box block 0 10 0 10 0 10
+create_box  2 box
+create_atoms 1 box
+set         group all type/fraction 2 0.3 4821
+set         type 1 diameter 1.0
+set         type 2 diameter 1.5
+set         group all density 1.9099
+velocity    all create 2.0 4928 mom yes rot no dist gaussian loop geom
+pair_style  lj/cut 2.5
+pair_coeff  * * 1.0 1.0 2.5
+pair_modify shift yes
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         hs all hardsphere/cva
+timestep    0.005
+thermo      50
+run         \${nsteps}
+EOF2
+  result_line 6 9
+}
+no_fallback() {    # no_fallback <name> <rank counts>: no rank count took substep global
+  local np
+  for np in $2; do
+    if grep -q "falls back to substep global" "out.$1.$np"; then
+      echo "  FAIL: $1 on $np ranks fell back to substep global:"; grep "falls back" "out.$1.$np" | head -1
+      fail=1
+    fi
+  done
+}
+poly_input > in.local_poly
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+echo "polydisperse spheres (atom style sphere), 1000 atoms, 200 steps:"
+check_system poly in.local_poly "2 4" -var nsteps 200
+no_fallback poly "2 4"
+sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/; s/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/' \
+  in.local_poly > in.local_pcvapoly
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
+echo "pcva: the same with fix viscous 0.2 (held forces), 200 steps:"
+check_system pcvapoly in.local_pcvapoly "2 4" -var nsteps 200
+no_fallback pcvapoly "2 4"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+
+# torques stay LAMMPS' own: dipolar spheres (lj/cut/dipole/cut writes
+# torques) with fix langevin (held forces: conservative forces evaluated
+# after LAMMPS' own at the step's end). The torques after a run must be
+# those a fresh evaluation at the same positions gives (run 0); the
+# restricted evaluations once added their terms' torques to them
+if "$LMP" -h | grep -q "lj/cut/dipole/cut"; then
+  cat > in.local_dipole <<'EOF2'
+units       lj
+atom_style  hybrid sphere dipole
+atom_modify map array
+lattice     sc 0.3
+region      box block 0 8 0 8 0 8
+create_box  1 box
+create_atoms 1 box
+set         type 1 diameter 1.0
+set         type 1 density 1.9099
+set         type 1 dipole/random 2917 1.0
+velocity    all create 2.0 4928 mom yes rot no dist gaussian loop geom
+pair_style  lj/cut/dipole/cut 2.5
+pair_coeff  * * 1.0 1.0 2.5
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         hs all hardsphere/cva
+fix         lg all langevin 1.5 1.5 0.5 4431
+timestep    0.005
+compute     tq all property/atom tqx tqy tqz
+variable    t2 atom c_tq[1]^2+c_tq[2]^2+c_tq[3]^2
+compute     st all reduce sum v_t2
+thermo_style custom step temp etotal f_hs[1] c_st
+thermo      50
+run         200
+variable    after equal c_st
+variable    a equal ${after}
+variable    nc equal f_hs[6]
+variable    ncl equal ${nc}
+run         0
+print "RESULT ${a} $(c_st:%.17g) ${ncl}"
+EOF2
+  echo "torques of dipolar spheres (lj/cut/dipole/cut) after 200 steps with fix langevin, 1 and 2 ranks:"
+  for np in 1 2; do
+    got=$(run dipole "$np" in.local_dipole) || { fail=1; continue; }
+    read -r ta tb ncl <<< "$got"
+    if python3 -c "import sys; a, b, n = $ta, $tb, $ncl; sys.exit(0 if abs(a - b) <= 1e-12 * abs(b) and b > 0 and n > 0 else 1)"; then
+      echo "  dipole np=$np torques^2 after the run $ta, recomputed $tb, clusters $ncl: ok"
+    else
+      echo "  FAIL: dipole np=$np torques^2 after the run $ta, recomputed $tb, clusters $ncl"; fail=1
+    fi
+  done
+  no_fallback dipole 2
+else
+  echo "SKIPPED (torque case): this LAMMPS has no pair style lj/cut/dipole/cut (DIPOLE package)"
+fi
+
 # a thermostat on 2 ranks: fix langevin's random forces differ with the
 # rank count, so the check is statistical: the mean temperature of the
 # 500 atoms over 30 time units (after 5 of equilibration) in 20 blocks,
