@@ -27,6 +27,7 @@ class HSMethodPCVA : public HSMethod {
   ~HSMethodPCVA() override;
 
   int needs_derivatives() const override { return 1; }
+  void init() override;
   std::string local_limits() override;
 
   void begin_collisional_step() override;

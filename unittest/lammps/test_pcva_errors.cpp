@@ -106,3 +106,21 @@ TEST(PCVAErrors, NoRealScalingLocalIsCountedAndWarned)
   EXPECT_EQ(std::stod(m[1]), 1.0);
   EXPECT_EQ(std::stod(m[2]), 0.0);
 }
+
+// another fix moving atoms outside the group (a solvent under fix nve beside
+// the hard spheres): the projection would scale the group's momenta to undo
+// their changes of H_[2,VV] (substep global: +31 % energy in 300 steps on
+// hard colloids in a solvent). An error naming the other fix, on either
+// engine; with pcva on every moving atom it runs
+TEST(PCVAErrors, AnotherIntegratorOutsideTheGroupIsAnError)
+{
+  for (const char *substep : {"global", "local"})
+    expect_error(two_atoms(std::string("group one id 1\ngroup two id 2\n"
+                                       "fix hs one hardsphere/pcva diameter 1.0 substep ") +
+                           substep + "\nfix sv two nve"),
+                 {"Fix hardsphere/pcva: fix sv nve time-integrates atoms outside group one",
+                  "closed system", "use hardsphere/cva"});
+  RunResult r = run_lmp(two_atoms("group one id 1\nfix hs one hardsphere/pcva diameter 1.0"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+}
