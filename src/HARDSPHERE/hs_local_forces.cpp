@@ -865,13 +865,15 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
   // A style that writes torques writes the restricted terms' into tq_ (a
   // pointer swap; swap_f), or, where reverse_comm() sums the atom style's
   // torque array too, into atom->torque zeroed and restored after
+  // (tq_ is sized with fl_ by grow(), which evaluate() called)
   double **t_saved = atom->torque;
-  const bool torque = atom->torque_flag && t_saved;
+  const bool torque = atom->torque_flag && t_saved && nall;
+  if (torque && !tq_)
+    error->one(FLERR, "{}: internal error: no torque buffer for {} atoms", owner_, nall);
   if (torque) {
-    if (!tq_) grow();
     if (swap_f)
       atom->torque = tq_;
-    else if (nall) {
+    else {
       memcpy(&tq_[0][0], &t_saved[0][0], nbytes);
       memset(&t_saved[0][0], 0, nbytes);
     }
@@ -923,7 +925,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
   if (torque) {
     if (swap_f)
       atom->torque = t_saved;
-    else if (nall)
+    else
       memcpy(&t_saved[0][0], &tq_[0][0], nbytes);
   }
 
