@@ -147,8 +147,7 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     }
   }
   red_rows.insert(red_rows.end(), tcopies.begin(), tcopies.end());
-  if (flags)
-    for (int l : tcopies) red[l][6] = 1.0;
+  if (flags) mark_copies();
   sys->reverse_columns(red, flags ? 7 : 6, &red_rows);
 }
 
@@ -226,6 +225,7 @@ void HSLocalModified::owners_from_flags()
   HardSphere::bump_epoch(oepoch, ostamp);
   owners.clear();
   is_mem.clear();
+  ghosted.clear();
   for (int m : mem)
     if (ostamp[m] != oepoch) {
       ostamp[m] = oepoch;
@@ -246,16 +246,26 @@ void HSLocalModified::owners_from_flags()
       owners.push_back(p);
       is_mem.push_back(0);
     }
+  for (int o : owners)
+    if (red[o][6] >= GHOST_COPY) ghosted.push_back(o);
+}
+
+// the flag of each copy in this rank's terms (red column 6, reversed into
+// the owners by the caller): 1 for an owned copy, GHOST_COPY for a ghost
+// one, so that the sum an owner gets says both that it is in a term
+// somewhere and whether a ghost copy of it is (forward_state() sends it)
+void HSLocalModified::mark_copies()
+{
+  const int nlocal = atom->nlocal;
+  for (int l : tcopies) red[l][6] = l < nlocal ? 1.0 : GHOST_COPY;
 }
 
 void HSLocalModified::find_terms(HSStepView &eng)
 {
   list_terms(eng);
   zero_red();
-  for (int l : tcopies) {
-    red[l][6] = 1.0;
-    red_rows.push_back(l);
-  }
+  red_rows.insert(red_rows.end(), tcopies.begin(), tcopies.end());
+  mark_copies();
   sys->reverse_columns(red, 7, &red_rows);
   owners_from_flags();
   zero_red();
@@ -275,9 +285,11 @@ void HSLocalModified::forward_state(bool with_rel)
       fwd[i][3 + d] = (with_rel && is_mem[s]) ? rel[s][d] : 0.0;
     }
   }
-  // only the rows of atoms in a term (owners on every rank): a ghost read
-  // by terms_eval() is a copy of one of them (sparse forward, hs_system.h)
-  sys->forward_columns(fwd, 6, nullptr, 0, &owners);
+  // only the rows of owners with a ghost copy in a term (owners_from_flags()):
+  // the ghosts terms_eval() reads are copies of them (sparse forward,
+  // hs_system.h). Sending every owner's row, about half of all atoms at the
+  // fluid's collision rate, cost as much as a full forward
+  sys->forward_columns(fwd, 6, nullptr, 0, &ghosted);
 }
 
 /* ---------------------------------------------------------------------- */

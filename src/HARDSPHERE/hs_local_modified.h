@@ -116,6 +116,11 @@ class HSLocalModified : protected Pointers {
   bigint terms_ncalls = -1;           // neighbor->ncalls when they were found
   std::vector<int> owners;
   std::vector<char> is_mem;           // per owner
+  std::vector<int> ghosted;           // the owners with a ghost copy in a term
+  // a ghost copy's flag in red column 6 (an owned copy's is 1): exact in a
+  // sum over any number of copies
+  static constexpr double GHOST_COPY = 1048576.0;
+  void mark_copies();
   std::vector<uint32_t> ostamp;
   uint32_t oepoch = 0;
   std::vector<Vec> rel;               // per member: b of the projection
