@@ -31,6 +31,8 @@
 #endif
 #endif
 
+#include "atom.h"
+#include "atom_vec.h"
 #include "comm.h"
 #include "force.h"
 #include "lammps.h"
@@ -177,6 +179,16 @@ namespace HSCompat {
   inline int n_pre_reverse(const Modify *m)
   {
     return m->n_pre_reverse;
+  }
+
+  // comm->reverse_comm() sums every array the atom style reverses into the
+  // owners. The package saves and restores f, and torque where the style has
+  // it, around its own calls; any other array (electron's erforce, spin's
+  // fm) would be summed a second time
+  inline bool reverse_is_force_and_torque(const Atom *atom)
+  {
+    const int n = atom->avec->size_reverse;
+    return n == 3 || (n == 6 && atom->torque_flag);
   }
 
 }    // namespace HSCompat

@@ -4,12 +4,12 @@
 ------------------------------------------------------------------------- */
 
 #include "hs_local_forces.h"
+#include "hs_compat.h"
 #include "hs_mpi.h"
 #include "hs_stamp.h"
 
 #include "angle.h"
 #include "atom.h"
-#include "atom_vec.h"
 #include "bond.h"
 #include "comm.h"
 #include "dihedral.h"
@@ -83,8 +83,7 @@ void HSLocalForces::init()
   // comm->reverse_comm(), which also sums what else the atom style reverses
   // (torques are saved and restored in run_styles(); electron's or spin's
   // extra force arrays are not)
-  const int size_reverse = atom->avec->size_reverse;
-  if (comm->nprocs > 1 && size_reverse != 3 && !(size_reverse == 6 && atom->torque_flag))
+  if (comm->nprocs > 1 && !HSCompat::reverse_is_force_and_torque(atom))
     add(fmt::format("atom style {} on several ranks (its reverse communication carries more "
                     "than forces and torques)",
                     atom->atom_style));

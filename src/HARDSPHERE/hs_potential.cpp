@@ -858,9 +858,7 @@ void HSPotential::init(Mode mode)
   // through atom->f (saved and restored with the torque); an atom style
   // whose reverse communication carries other per-atom arrays (e.g.
   // electron, spin) would have them summed too
-  const int size_reverse = atom->avec->size_reverse;
-  const bool reverse_ok = !force->newton || size_reverse == 3 ||
-      (size_reverse == 6 && atom->torque_flag);
+  const bool reverse_ok = !force->newton || HSCompat::reverse_is_force_and_torque(atom);
   auto no_reverse = [&](const std::string &what) {
     error->all(FLERR,
                "{}: path single for {} needs newton off with atom style {} (its reverse "
