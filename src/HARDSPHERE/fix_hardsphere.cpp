@@ -342,11 +342,11 @@ void FixHardSphere::check_other_integrators()
 {
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
-  S.others_integrate = 0;
+  S.other_integrator = nullptr;
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == this || !other->time_integrate) continue;
-    S.others_integrate = 1;
+    if (!S.other_integrator) S.other_integrator = other;
     int shared = 0;
     for (int i = 0; i < nlocal; i++)
       if ((mask[i] & S.groupbit) && (mask[i] & other->groupbit)) shared = 1;

@@ -176,7 +176,7 @@ void HSGlobalEngine::end_held_split()
 void HSGlobalEngine::save_other_forces()
 {
   fother.clear();
-  if (!S.others_integrate) return;
+  if (!S.other_integrator) return;
   double **f = atom->f;
   const int *mask = atom->mask;
   for (int i = 0; i < atom->nlocal; i++)
@@ -185,7 +185,7 @@ void HSGlobalEngine::save_other_forces()
 
 void HSGlobalEngine::restore_other_forces()
 {
-  if (!S.others_integrate) return;
+  if (!S.other_integrator) return;
   double **f = atom->f;
   const int *mask = atom->mask;
   size_t m = 0;

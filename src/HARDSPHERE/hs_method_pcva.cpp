@@ -15,7 +15,6 @@
 #include "error.h"
 #include "fix.h"
 #include "group.h"
-#include "modify.h"
 #include "force.h"
 #include "hs_compat.h"
 #include "neigh_request.h"
@@ -49,16 +48,14 @@ HSMethodPCVA::~HSMethodPCVA()
 
 void HSMethodPCVA::init()
 {
-  for (int k = 0; k < modify->nfix; k++) {
-    Fix *other = modify->fix[k];
-    if (other == S.host || !other->time_integrate) continue;
+  // (the fix's init() found it: FixHardSphere::check_other_integrators())
+  if (Fix *other = S.other_integrator)
     error->all(FLERR,
                "Fix {}: fix {} {} time-integrates atoms outside group {}: the projection "
                "keeps H_[2,VV] of a closed system, which their motion changes (it would feed "
                "their energy changes into the group); use hardsphere/cva, mcva or vci, or one "
                "hardsphere/pcva for every moving atom",
                S.style_name, other->id, other->style, group->names[S.host->igroup]);
-  }
 }
 
 /* ----------------------------------------------------------------------

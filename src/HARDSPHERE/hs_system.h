@@ -127,7 +127,7 @@ class HSSystem : protected Pointers, public HSTypes {
   // at the current x with atom->f = f_c + f_h: ftot = that, fcons = f_c
   // (left in atom->f), fheld = f_h
   void split_held_forces();
-  int others_integrate = 0;    // another fix integrates atoms outside the group
+  Fix *other_integrator = nullptr;    // a fix that integrates atoms outside the group
 
   // screening (screened ahead by the closing kick, see closing_kick())
   bigint screened_step = -1;
