@@ -1195,9 +1195,9 @@ void HSLocalEngine::grow_clusters(std::vector<Hit> &hits)
   // redone too: the terms between them are cross terms now
   for (int m : newm)
     for (int l = atom->map((tagint) idtag[m]); l >= 0; l = atom->sametag[l])
-      for (tagint key : atom_runs[l]) {
+      atom_runs.for_each(l, [&](tagint key) {
         Run *r = run_of(key);
-        if (!r || !r->mine || r->members.empty()) continue;
+        if (!r || !r->mine || r->members.empty()) return;
         retire(key);
         const int *id = idof.find(key);
         if (!id)
@@ -1205,7 +1205,7 @@ void HSLocalEngine::grow_clusters(std::vector<Hit> &hits)
                      sys->style_name, key);
         const int c = cs.cluster_of(*id);
         if (c >= 0) workA.push_back(key_of(c));
-      }
+      });
   for (int c : redo) {
     label_cluster(c);
     workA.push_back(key_of(c));
@@ -2149,8 +2149,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   const double dt = F.dtv;
 
   // per-copy bookkeeping of the previous step
-  for (int a : runs_used) atom_runs[a].clear();
-  runs_used.clear();
+  atom_runs.clear();
   for (int l : mid_set) mid[l] = -1;
   mid_set.clear();
   for (int l : labelled) lab[l] = -1;
@@ -2183,8 +2182,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   locf->set_labels(lab.data());
 
   auto enroll = [&](int a, tagint key) {
-    if (atom_runs[a].empty()) runs_used.push_back(a);
-    atom_runs[a].push_back(key);
+    atom_runs.append(a, key);
   };
   auto mine = [&](tagint key) {
     const int l = atom->map(key);
@@ -2282,13 +2280,13 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     // Phi_H1(dt/2) of the clusters whose start or surroundings changed
     if (b_ran)    // (the first time there is nothing to invalidate)
       for (int a : ddirty)
-        for (tagint key : atom_runs[a]) {
+        atom_runs.for_each(a, [&](tagint key) {
           Run *r = run_of(key);
           if (r && r->mine && r->b_done) {
             r->b_done = false;
             workB.push_back(key);
           }
-        }
+        });
     b_ran = true;
     bump_epoch(depoch, dstamp);
     ddirty.clear();
@@ -2391,7 +2389,7 @@ double HSLocalEngine::memory_usage() const
     b += (double) nmax * a.second * sizeof(double);
   b += bytes(mid) + bytes(lab) + bytes(estamp) + bytes(astamp) + bytes(wstamp) +
       bytes(dstamp_sa) + bytes(in_used) + bytes(dstamp) + bytes(hstampv) + bytes(kstamp) +
-      bytes(atom_runs) + bytes(pathv) + bytes(flagv) + bytes(awayv) + bytes(adj_off) +
+      atom_runs.bytes() + bytes(pathv) + bytes(flagv) + bytes(awayv) + bytes(adj_off) +
       bytes(adj) + bytes(cand_ghosts) + bytes(cand_slack) + bytes(pstamp);
   return b + locf->memory_usage();
 }

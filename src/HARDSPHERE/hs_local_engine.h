@@ -327,8 +327,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   uint32_t heldepoch = 0;
   std::vector<uint32_t> kstamp;     // owned members at the closing kick
   uint32_t kepoch = 0;
-  std::vector<std::vector<tagint>> atom_runs;    // runner: keys of the runs whose flows saw a copy
-  std::vector<int> runs_used;
+  HardSphere::RowLists<tagint> atom_runs;    // runner: keys of the runs whose flows saw a copy
   bool drifted = false;
   std::vector<uint32_t> estamp;    // owned atoms with a row in sb at the step's end
   uint32_t eepoch = 0;

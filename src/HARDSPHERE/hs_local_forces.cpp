@@ -394,7 +394,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   build_index(!rows_);
 
   // ---- C and every image of it (all ranks: C's tags are gathered)
-  std::vector<int> marked;
+  std::vector<int> &marked = marked_;
+  marked.clear();
   auto mark_chain = [&](int i) {
     for (; i >= 0; i = atom->sametag[i])
       if (in_c_[i] != epoch_) {
@@ -477,7 +478,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       near_.forget(nall);
       cells_ncalls_ = list_epoch();
     }
-    std::vector<int> starts;
+    std::vector<int> &starts = starts_;
+    starts.clear();
     for (size_t q = 0; q < ctag.size(); q++) {
       const auto &ta = ctag[q];
       const int a = ta.second;
@@ -561,7 +563,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
       }
     }
     std::sort(extra_.begin(), extra_.end());
-    std::vector<int> starts;
+    std::vector<int> &starts = starts_;
+    starts.clear();
     for (size_t k = 0; k < extra_.size(); k++) {
       const int i = extra_[k].first;
       if (k == 0 || extra_[k - 1].first != i) {

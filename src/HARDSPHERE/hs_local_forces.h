@@ -268,6 +268,7 @@ class HSLocalForces : protected Pointers {
   double energy_ = 0.0;
 
   std::vector<int> zero_list_, touched_owned_, term_off_, term_local_, term_extra_;
+  std::vector<int> marked_, starts_;    // evaluate()'s scratch (no allocation per call)
   int npair_last_ = 0;
   // rows mode: the cell list of all local atoms (per list build) and the
   // folds (image j -> copy k) of the last compute_rows()

@@ -4,7 +4,8 @@
    between passes; the stamps are cleared only when the counter wraps. And
    the memory-order helpers of the local engine: RowSet, a bitmap that
    reads listed rows back in index order, and prefetch_row() for loops
-   whose order is fixed; capacity_bytes() for memory_usage(). LAMMPS-free.
+   whose order is fixed; RowLists, per-row lists in one flat array;
+   capacity_bytes() for memory_usage(). LAMMPS-free.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_STAMP_H
@@ -57,6 +58,60 @@ class RowSet {
  private:
   int n_ = 0;
   std::vector<uint64_t> bits_;
+};
+
+// short lists of values per row (e.g. the runs that saw an atom), each
+// read back in the order appended: one flat array of nodes and a head and
+// tail per row, so appending allocates nothing once the arrays have grown
+// (a vector per row reallocated ~7000 times per step at 32000 atoms).
+// clear() costs the rows used, not n
+template <class V> class RowLists {
+ public:
+  // rows 0 <= i < n (keeps what was appended to rows below n)
+  void resize(int n)
+  {
+    if ((int) head_.size() < n) {
+      head_.resize(n, -1);
+      tail_.resize(n, -1);
+    }
+  }
+  void append(int i, V v)
+  {
+    const int k = (int) nodes_.size();
+    nodes_.push_back({v, -1});
+    if (head_[i] < 0) {
+      head_[i] = k;
+      used_.push_back(i);
+    } else
+      nodes_[tail_[i]].next = k;
+    tail_[i] = k;
+  }
+  bool empty(int i) const { return head_[i] < 0; }
+  // fn(v) for row i's values in the order appended (fn may append to
+  // other rows, not to row i)
+  template <class F> void for_each(int i, F fn) const
+  {
+    for (int k = head_[i]; k >= 0; k = nodes_[k].next) fn(nodes_[k].v);
+  }
+  void clear()
+  {
+    for (int i : used_) head_[i] = tail_[i] = -1;
+    used_.clear();
+    nodes_.clear();
+  }
+  double bytes() const
+  {
+    return capacity_bytes(head_) + capacity_bytes(tail_) + capacity_bytes(used_) +
+        capacity_bytes(nodes_);
+  }
+
+ private:
+  struct Node {
+    V v;
+    int next;
+  };
+  std::vector<int> head_, tail_, used_;
+  std::vector<Node> nodes_;
 };
 
 // loops over rows listed cluster by cluster (all over memory) whose order

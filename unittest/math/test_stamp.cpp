@@ -12,6 +12,7 @@
 #include <vector>
 
 using HardSphere::bump_epoch;
+using HardSphere::RowLists;
 using HardSphere::RowSet;
 
 TEST(Stamp, NewEpochForgetsEveryMark)
@@ -73,4 +74,48 @@ TEST(RowSet, ResetForgetsEveryRow)
   rs.for_each([&](int) { seen++; });
   EXPECT_EQ(seen, 0);
   for (int i = 0; i < 100; i++) EXPECT_FALSE(rs.has(i));
+}
+
+TEST(RowLists, EachRowInTheOrderAppended)
+{
+  // against a vector per row (what the local engine kept before): random
+  // appends to 500 rows over three rounds, cleared between rounds
+  std::mt19937 rng(2026);
+  const int n = 500;
+  std::uniform_int_distribution<int> pick(0, n - 1);
+  RowLists<long> rl;
+  rl.resize(n);
+  for (int round = 0; round < 3; round++) {
+    std::vector<std::vector<long>> ref(n);
+    for (int k = 0; k < 4000; k++) {
+      const int i = pick(rng);
+      const long v = (long) rng();
+      rl.append(i, v);
+      ref[i].push_back(v);
+    }
+    for (int i = 0; i < n; i++) {
+      std::vector<long> got;
+      rl.for_each(i, [&](long v) { got.push_back(v); });
+      EXPECT_EQ(got, ref[i]) << "row " << i << ", round " << round;
+      EXPECT_EQ(rl.empty(i), ref[i].empty());
+    }
+    rl.clear();
+    for (int i = 0; i < n; i++) EXPECT_TRUE(rl.empty(i));
+  }
+}
+
+TEST(RowLists, ResizeKeepsTheRowsBelow)
+{
+  RowLists<int> rl;
+  rl.resize(4);
+  rl.append(3, 7);
+  rl.append(3, 8);
+  rl.resize(1000);
+  rl.append(999, 1);
+  rl.append(3, 9);
+  std::vector<int> got;
+  rl.for_each(3, [&](int v) { got.push_back(v); });
+  EXPECT_EQ(got, (std::vector<int>{7, 8, 9}));
+  EXPECT_TRUE(rl.empty(500));
+  EXPECT_FALSE(rl.empty(999));
 }
