@@ -2369,8 +2369,15 @@ double HSLocalEngine::counter(int k)
       return c.max_members;
     case 3:
       return nrounds;
-    case 5:
+    case 5: {
+      // every rank's since the last call (output is computed on every
+      // rank, as fix langevin's compute_scalar() sums over them)
+      double nc = ncompute_here;
+      if (nprocs > 1) MPI_Allreduce(&ncompute_here, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
+      ncompute += nc;
+      ncompute_here = 0.0;
       return ncompute;
+    }
     case 6:
       return ncoll_steps > 0.0 ? ncollective / ncoll_steps : 0.0;
     case 7:
@@ -2544,12 +2551,9 @@ int HSLocalEngine::step_clusters()
     for (int id : cs.members(c)) end_mtags.push_back((tagint) idtag[id]);
   end_ncalls = neighbor->ncalls;
   cs.flush_counters();
-  // the restricted evaluations of every rank
-  double nc = ncompute_here;
-  if (nprocs > 1) MPI_Allreduce(&ncompute_here, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
-  ncollective += 1.0;
-  ncompute += nc;
-  ncompute_here = 0.0;
+  // (the restricted evaluations are summed over the ranks when the output
+  // asks, counter(): a reduction here, every step, would be one more point
+  // where the ranks wait for each other)
   return 1;
 }
 
@@ -2623,12 +2627,6 @@ void HSLocalEngine::final_kick()
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - sb[i][d]);
     } else
       for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
-  }
-  if (nprocs > 1 && F.nheld) {
-    double nc = ncompute_here;
-    MPI_Allreduce(&ncompute_here, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
-    ncompute += nc;
-    ncompute_here = 0.0;
   }
 }
 
