@@ -412,7 +412,11 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc;
   std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
   std::vector<int> scratch_mi;
-  std::vector<std::pair<tagint, int>> scratch_te;    // flow(): the environment by (ID, index)
+  // flow(): one copy per atom of a cluster's environment, by the slot of
+  // atom->map()'s copy (stamped this epoch: its copy of lowest index so far)
+  std::vector<uint32_t> envstamp;
+  std::vector<int> envbest, scratch_slots;
+  uint32_t envepoch = 0;
   std::vector<double> scratch_im;
   bool settle(std::vector<Hit> &hits);
   // cluster labels (the key's dense id) on every local copy of the members
