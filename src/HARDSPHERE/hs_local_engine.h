@@ -393,6 +393,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void retire(tagint key);
   // full: every owned atom's w; else only where the sums or membership changed
   void h2_velocities(bool full);
+  // h2_velocities(true)'s largest deviation of a line from fix nve's on
+  // this rank, for the h2_check(true) that follows it
+  double line_dev = 0.0;
+  bool line_dev_valid = false;
   std::vector<int> scratch_wrows, scratch_wsend;
   HardSphere::RowSet rowset;    // listed rows in index order (h2_velocities(), step_clusters())
   std::vector<uint32_t> wstamp;    // rows done by this h2_velocities()
