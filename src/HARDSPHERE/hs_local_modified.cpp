@@ -378,6 +378,10 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
   grow();
+  cons_direct = !sys->nheld;
+  cons_start = at_start;
+  cons_view = &eng;
+  if (cons_direct) return;    // (cons(), vcons())
   HardSphere::bump_epoch(cepoch, cstamp);
   std::vector<int> atoms;
   auto note = [&](int i) {
@@ -393,7 +397,6 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
       fcons_[i][d] = f[i][d];
       vcons_[i][d] = at_start ? eng.start_v(i)[d] : v[i][d];
     }
-  if (!sys->nheld) return;
 
   // F_cons of the group's owners: a restricted evaluation of all their
   // terms (collective: every rank calls it, with its own part)
@@ -427,6 +430,17 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   }
   for (size_t k = 0; k < moved.size(); k++)
     for (int d = 0; d < 3; d++) x[moved[k]][d] = saved[k][d];
+}
+
+const double *HSLocalModified::cons(int i) const
+{
+  return cons_direct ? atom->f[i] : fcons_[i].data();
+}
+
+const double *HSLocalModified::vcons(int i) const
+{
+  if (!cons_direct) return vcons_[i].data();
+  return cons_start ? cons_view->start_v(i) : atom->v[i];
 }
 
 /* ----------------------------------------------------------------------
