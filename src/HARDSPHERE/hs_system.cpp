@@ -491,9 +491,9 @@ int HSSystem::screen(double tleft)
   // four spheres at a time where it applies (hs_screen.h; the same decisions)
   HardSphere::KickScreen k;
   if (fast_screen(k, t2, h4, false, false)) {
-    unscreened.clear();
-    HardSphere::kick_clear(k, nlocal, unscreened);
-    for (const auto &u : unscreened) flags |= screen_terms(u.i, u.d2, u.v2, u.a2);
+    HardSphere::kick_clear_chunked(k, nlocal, unscreened, [&](const HardSphere::Unscreened &u) {
+      flags |= screen_terms(u.i, u.d2, u.v2, u.a2);
+    });
     return flags;
   }
 
@@ -933,13 +933,11 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
   // only for the spheres it does not clear
   HardSphere::KickScreen k;
   if (fast_screen(k, t2, h4, LIST, true)) {
-    unscreened.clear();
-    HardSphere::kick_clear(k, nlocal, unscreened);
-    for (const auto &u : unscreened) {
+    HardSphere::kick_clear_chunked(k, nlocal, unscreened, [&](const HardSphere::Unscreened &u) {
       const int fl = screen_terms<LIST>(u.i, u.d2, u.v2, u.a2);
       if (LIST && (fl & NEAR)) near_atoms.push_back(u.i);
       flags |= fl & ~NEAR;
-    }
+    });
     return flags;
   }
   for (int i = 0; i < nlocal; i++) {

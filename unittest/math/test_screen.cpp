@@ -222,3 +222,37 @@ TEST(KickScreen, OnTheBoundsToTheLastBit)
   }
   EXPECT_GT(on, 50) << "too few spheres exactly on the bound";
 }
+
+// kick_clear_chunked(): over lengths around and across its chunks, the
+// spheres handed on are the reference's, in order, with their own terms,
+// and every velocity is kicked as in one call over all of them
+TEST(KickScreen, ChunkedAsOneCall)
+{
+  std::mt19937 rng(777);
+  size_t listed = 0, total = 0;
+  for (int n : {1, 4095, 4096, 4097, 10003}) {
+    Data d = random_spheres(rng, n, n > 4096);
+    d.bind(n % 2 == 1);
+    std::vector<double> vref;
+    std::vector<int> want;
+    reference(d, vref, want);
+    std::vector<HardSphere::Unscreened> buf;
+    std::vector<int> got;
+    HardSphere::kick_clear_chunked(d.k, d.n, buf, [&](const HardSphere::Unscreened &u) {
+      got.push_back(u.i);
+      double t[3];
+      terms_of(d, u.i, &vref[3 * u.i], t);
+      EXPECT_EQ(u.d2, t[0]) << "n " << n << " sphere " << u.i;
+      EXPECT_EQ(u.v2, t[1]) << "n " << n << " sphere " << u.i;
+      EXPECT_EQ(u.a2, t[2]) << "n " << n << " sphere " << u.i;
+    });
+    ASSERT_EQ(got, want) << "n " << n;
+    listed += want.size();
+    total += n;
+    for (int q = 0; q < 3 * d.n; q++) ASSERT_EQ(d.v[q], vref[q]) << "n " << n << " entry " << q;
+    for (int i = 0; i < d.n; i++) ASSERT_EQ(d.active[i], 0.0) << "n " << n;
+  }
+  // (both kinds in every chunk's worth: the order across chunks is tested)
+  EXPECT_GT(listed, total / 10);
+  EXPECT_LT(listed, total - total / 10);
+}
