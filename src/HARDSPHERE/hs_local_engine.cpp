@@ -1884,18 +1884,30 @@ void HSLocalEngine::h2_velocities(bool full)
       add_changes(l);
       rows.push_back(l);
     });
+  bump_epoch(dsepoch, dstamp_sa);
+  dsa_rows.clear();
   wchanged.clear();
   // owned row i of w: velocity and "may touch" flag (a row with partner
-  // sums is in sa_used: in_used first, so a full pass reads sa only there)
-  auto w_row = [&](int i, double *wn) {
+  // sums is in sa_used: in_used first, so a full pass reads sa only there);
+  // dev: the largest deviation of a line with sums from fix nve's,
+  // |w - (v0 + dtfm f)|, so far
+  auto w_row = [&](int i, double *wn, double *dev) {
     const bool sums = in_used[i] && sa[i][6] > 0.0;
     if (!(mask[i] & F.groupbit) || is_member(i))
       wn[0] = wn[1] = wn[2] = 0.0;
     else {
       const double dtfm = F.dtf / F.mass_of(i);
-      if (sums)
+      if (sums) {
         for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * (f[i][d] - sa[i][d]) + sa[i][3 + d];
-      else
+        if (dev) {
+          double d2 = 0.0;
+          for (int d = 0; d < 3; d++) {
+            const double e = wn[d] - (v0[i][d] + dtfm * f[i][d]);
+            d2 += e * e;
+          }
+          *dev = std::max(*dev, sqrt(d2));
+        }
+      } else
         for (int d = 0; d < 3; d++) wn[d] = v0[i][d] + dtfm * f[i][d];
     }
     return (cols[i][1] != 0.0 || sums || is_member(i)) ? 1.0 : 0.0;
@@ -1913,27 +1925,14 @@ void HSLocalEngine::h2_velocities(bool full)
     for (int i = 0; i < nlocal; i++) {
       if (rowset.has(i)) add_changes(i);
       double *wi = wq[i];
-      wi[3] = w_row(i, wi);
-      if (in_used[i] && sa[i][6] != 0.0 && !is_member(i) && (mask[i] & F.groupbit)) {
-        const double dtfm = F.dtf / F.mass_of(i);
-        double d2 = 0.0;
-        for (int d = 0; d < 3; d++) {
-          const double e = wi[d] - (v0[i][d] + dtfm * f[i][d]);
-          d2 += e * e;
-        }
-        dev = std::max(dev, sqrt(d2));
-      }
+      wi[3] = w_row(i, wi, &dev);
     }
-    bump_epoch(dsepoch, dstamp_sa);
-    dsa_rows.clear();
     line_dev = dev;
     line_dev_valid = true;
     F.forward_columns(wq, 4);
     ncollective += 1.0;
     return;
   }
-  bump_epoch(dsepoch, dstamp_sa);
-  dsa_rows.clear();
   rows.insert(rows.end(), moved.begin(), moved.end());    // new members: w = 0
   std::vector<int> &send = scratch_wsend;
   send.clear();
@@ -1944,7 +1943,7 @@ void HSLocalEngine::h2_velocities(bool full)
     wstamp[i] = wepoch;
     double *wi = wq[i];
     double wn[3];
-    const double flag = w_row(i, wn);
+    const double flag = w_row(i, wn, nullptr);
     bool ch = flag != wi[3];
     wi[3] = flag;
     if (wn[0] != wi[0] || wn[1] != wi[1] || wn[2] != wi[2]) {

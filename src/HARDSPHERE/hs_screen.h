@@ -216,10 +216,6 @@ inline void kick_clear(const KickScreen &k, int i0, int i1, std::vector<Unscreen
 #endif
   kick_clear_scalar(k, i0, i1, todo);
 }
-inline void kick_clear(const KickScreen &k, int n, std::vector<Unscreened> &todo)
-{
-  kick_clear(k, 0, n, todo);
-}
 
 // kick_clear() over spheres [0, n) in chunks, each chunk's spheres not
 // cleared handed to fn(u) in increasing index before the next chunk: the
