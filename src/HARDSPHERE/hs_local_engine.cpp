@@ -22,6 +22,7 @@
 #include "hs_local_forces.h"
 #include "hs_mpi.h"
 #include "hs_method.h"
+#include "hs_potential.h"
 #include "hs_system.h"
 
 #include "atom.h"
@@ -2466,6 +2467,9 @@ int HSLocalEngine::step_clusters()
     return 0;
   }
   ncoll_steps += 1.0;
+  // lj/cut: the restricted evaluations by its kernel (hs_ljcut.h), with
+  // the coefficients of this step (fix adapt may change them)
+  locf->set_lj_table(F.pot->lj_cut_table());
 
   double **x = atom->x, **v = atom->v;
   const int *mask = atom->mask;

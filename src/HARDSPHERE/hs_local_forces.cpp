@@ -88,6 +88,8 @@ void HSLocalForces::init()
                     "than forces and torques)",
                     atom->atom_style));
   initialized_ = 1;
+  lj_ = HardSphere::LJCutTable();    // (set again by the caller, checked again in every run)
+  lj_state_ = -1;
   built_ncalls_ = -1;
   // Neighbor::init() sets neighbor->ncalls back to 0 at every run: the
   // run's number keeps the builds of two runs apart (list_epoch())
@@ -819,6 +821,47 @@ void HSLocalForces::recompute(const Snapshot &sn)
 }
 
 /* ----------------------------------------------------------------------
+   the pair style's forces on the restricted list L (swapped in), into
+   atom->f, whose rows in zero_list_ are zero (every row a term writes is
+   there): compute(), or lj/cut's kernel (hs_ljcut.h) once it gave the
+   same bits as compute() in this run
+------------------------------------------------------------------------- */
+
+void HSLocalForces::pair_forces(NeighList *L, int eflag)
+{
+  if (eflag || !lj_.coef || lj_state_ == 0) {
+    force->pair->compute(eflag, 0);
+    return;
+  }
+  auto kernel = [&]() {
+    HardSphere::lj_cut_forces<NEIGHMASK, SBBITS>(
+        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
+        force->special_lj, atom->nlocal, force->newton_pair != 0, force->pair->cutsq, lj_);
+  };
+  kernel();
+  if (lj_state_ == 1) return;
+  // the first evaluation of the run: compute() again from the same zero
+  // rows; the kernel stays only if every row agrees to the bit
+  double **f = atom->f;
+  lj_check_.resize(3 * zero_list_.size());
+  for (size_t k = 0; k < zero_list_.size(); k++)
+    for (int d = 0; d < 3; d++) {
+      lj_check_[3 * k + d] = f[zero_list_[k]][d];
+      f[zero_list_[k]][d] = 0.0;
+    }
+  force->pair->compute(0, 0);
+  bool same = true, forces = false;
+  for (size_t k = 0; k < zero_list_.size() && same; k++) {
+    const double *fk = f[zero_list_[k]];
+    same = memcmp(&lj_check_[3 * k], fk, 3 * sizeof(double)) == 0;
+    forces = forces || fk[0] != 0.0 || fk[1] != 0.0 || fk[2] != 0.0;
+  }
+  // (decided on an evaluation with forces; else asked again next time)
+  if (!same) lj_state_ = 0;
+  else if (forces) lj_state_ = 1;
+}
+
+/* ----------------------------------------------------------------------
    the styles' own compute() on the restricted lists, then the ghosts'
    forces to their owners
 ------------------------------------------------------------------------- */
@@ -888,7 +931,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     L->ilist = ilist_.data();
     L->numneigh = numneigh_;
     L->firstneigh = firstneigh_;
-    force->pair->compute(ef, 0);
+    pair_forces(L, ef);
     L->inum = inum0;
     L->ilist = ilist0;
     L->numneigh = numneigh0;

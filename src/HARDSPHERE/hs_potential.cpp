@@ -1345,6 +1345,34 @@ void HSPotential::begin_terms()
   impl->lj_current();
 }
 
+HardSphere::LJCutTable HSPotential::lj_cut_table()
+{
+  HardSphere::LJCutTable t;
+  // (lj/cut/opt and lj/cut/omp share single(), not compute()'s order of sums)
+  const bool ljcut = force->pair && strcmp(force->pair_style, "lj/cut") == 0;
+  Impl &m = *impl;
+  if (!m.initialized) {
+    // a method without derivatives (cva) never initialises this layer: the
+    // coefficients alone, built and checked against single() every time
+    // (O(ntypes^2), from the pair style of now: a new one frees the old
+    // arrays)
+    m.pair_lj = m.lj_inline = 0;
+    if (!ljcut || !force->pair->single_enable) return t;
+    int dim = 0;
+    m.lj_eps = (double **) force->pair->extract("epsilon", dim);
+    m.lj_sig = (double **) force->pair->extract("sigma", dim);
+    if (!m.lj_eps || !m.lj_sig) return t;
+    m.pair_lj = 1;
+    m.inline_lj();
+  } else
+    m.lj_current();
+  if (!m.lj_inline || !ljcut) return t;
+  t.coef = impl->ljc.data();
+  t.stride = Impl::LJC;
+  t.ntp1 = atom->ntypes + 1;
+  return t;
+}
+
 bool HSPotential::radial_only() const
 {
   return !impl->fd_any;

@@ -23,6 +23,7 @@
 #ifndef LMP_HS_POTENTIAL_H
 #define LMP_HS_POTENTIAL_H
 
+#include "hs_ljcut.h"
 #include "pointers.h"
 
 #include <functional>
@@ -153,6 +154,11 @@ class HSPotential : protected Pointers {
   // lj/cut's phi and phi' are single()'s arithmetic inline (its
   // coefficients rebuilt and checked bit for bit against single() at init)
   bool lj_inline() const;
+  // the same coefficients for a kernel of lj/cut's forces (hs_ljcut.h), as
+  // PairLJCut holds them; coef nullptr unless the pair style is lj/cut and
+  // they passed the check. Taken up to date first (as begin_terms()); valid
+  // until the next call or init()
+  HardSphere::LJCutTable lj_cut_table();
 
   // number of force evaluations done so far: evaluate(), energy() and those
   // of the FDIFF differences (for the owners' counters)

@@ -638,6 +638,82 @@ TEST(LocalForcesRows, SameAsListRestrictionOnOneRank)
   remove(data.c_str());
 }
 
+// lj/cut's kernel (hs_ljcut.h) in the restricted evaluations: the same
+// forces, bit for bit, as the style's compute() on the same restricted
+// lists (fluid; melt with special_bonds lj 0 1 1), in compute_rows() and in
+// recompute() after a move; the table built here as PairLJCut::init_one()
+// builds its lj1 and lj2. A wrong table (lj1 one part in 1e12 off) is
+// refused at the first evaluation, whose forces are then compute()'s
+TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
+{
+  const std::string data = melt_data(scratch_name("melt_ljk.data"));
+  for (bool melt : {false, true})
+    for (bool wrong : {false, true}) {
+      HSLammps h;
+      h.lines(melt ? melt_input(data, true) : fluid_input(true));
+      auto *atom = h.lmp->atom;
+      auto *pair = h.lmp->force->pair;
+      const int nt = atom->ntypes, ntp1 = nt + 1;
+      int dim = 0;
+      auto **eps = (double **) pair->extract("epsilon", dim);
+      auto **sig = (double **) pair->extract("sigma", dim);
+      ASSERT_TRUE(eps && sig);
+      std::vector<double> coef(7 * ntp1 * ntp1, 0.0);
+      for (int it = 1; it <= nt; it++)
+        for (int jt = 1; jt <= nt; jt++) {
+          const int lo = std::min(it, jt), hi = std::max(it, jt);
+          coef[7 * (it * ntp1 + jt)] = 48.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
+          coef[7 * (it * ntp1 + jt) + 1] = 24.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
+          if (wrong) coef[7 * (it * ntp1 + jt)] *= 1.0 + 1e-12;
+        }
+      HardSphere::LJCutTable t;
+      t.coef = coef.data();
+      t.stride = 7;
+      t.ntp1 = ntp1;
+      HSLocalForces a(h.lmp, "test"), b(h.lmp, "test");
+      a.init();
+      b.init();
+      b.set_lj_table(t);
+      EXPECT_EQ(a.lj_kernel(), -1);
+      Reference ref(h.lmp);
+      a.set_reference(ref.get());
+      b.set_reference(ref.get());
+      auto same = [&](const std::string &what) {
+        ASSERT_EQ(a.touched(), b.touched()) << what;
+        double **fa = a.forces(), **fb = b.forces();
+        int nonzero = 0;
+        for (int i : a.touched()) {
+          ASSERT_EQ(0, memcmp(fa[i], fb[i], 3 * sizeof(double)))
+              << what << " tag " << atom->tag[i] << ": " << fa[i][0] << " vs " << fb[i][0];
+          nonzero += fa[i][0] != 0.0;
+        }
+        EXPECT_GT(nonzero, 0) << what;
+      };
+      const std::string sys = std::string(melt ? "melt" : "fluid") + (wrong ? " wrong" : "");
+      for (int n : {1, 3, 20})
+        for (unsigned seed = 1; seed <= 3; seed++) {
+          const auto c = random_c(h.lmp, n, seed * 17 + n, seed == 2);
+          a.compute_rows(c.data(), (int) c.size());
+          b.compute_rows(c.data(), (int) c.size());
+          same(sys + " |C| " + std::to_string(n));
+          EXPECT_EQ(b.lj_kernel(), wrong ? 0 : 1) << sys;
+        }
+      const auto c = random_c(h.lmp, 10, 5, true);
+      a.compute_rows(c.data(), (int) c.size());
+      b.compute_rows(c.data(), (int) c.size());
+      for (size_t k = 0; k < c.size(); k++)
+        for (int d = 0; d < 3; d++)
+          for (int j = c[k]; j >= 0; j = atom->sametag[j]) atom->x[j][d] += 0.02 * (d + 1);
+      a.recompute();
+      b.recompute();
+      same(sys + " recompute after a move");
+      for (size_t k = 0; k < c.size(); k++)
+        for (int d = 0; d < 3; d++)
+          for (int j = c[k]; j >= 0; j = atom->sametag[j]) atom->x[j][d] -= 0.02 * (d + 1);
+    }
+  remove(data.c_str());
+}
+
 TEST(LocalForcesRows, SaysWhatItCannotDo)
 {
   {

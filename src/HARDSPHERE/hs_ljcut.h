@@ -1,0 +1,86 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the forces of pair style lj/cut on a (restricted)
+   neighbor list, as PairLJCut::compute(0, 0) computes them, operation for
+   operation: the same list order, the same products, quotient and sums
+   (rsq = dx*dx + dy*dy + dz*dz; forcelj = r6inv (lj1 r6inv - lj2); fpair =
+   factor_lj forcelj r2inv), f[i] += and f[j] -= in the same order, so the
+   same bits (no fused multiply-add: the package is built without -mfma).
+
+   Why: the local engine evaluates each cluster's terms ~6 times per step
+   through the styles' own compute() on restricted lists (hs_local_forces.h);
+   for lj/cut a call costs ~56 instructions per list entry there (the
+   two-level coefficient and force-row reads of a general loop). Here f[i]
+   is summed in registers (the same additions in the same order: j != i)
+   and the coefficients come from one table. HSLocalForces checks the
+   kernel against the style's compute() on the first restricted evaluation
+   of each run and falls back to compute() for the run if a bit differs.
+
+   coef: lj1 and lj2 of type pair (itype, jtype) at coef[stride * (itype *
+   ntp1 + jtype)] and the next double (ntp1 = ntypes + 1), as HSPotential
+   rebuilds and checks them against PairLJCut::single(). LAMMPS-free
+   (unit-tested alone: unittest/math/test_ljcut.cpp).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_LJCUT_H
+#define LMP_HS_LJCUT_H
+
+#include <cstddef>
+
+namespace HardSphere {
+
+struct LJCutTable {
+  const double *coef = nullptr;    // lj1, lj2 per type pair (above); nullptr: none
+  int stride = 0, ntp1 = 0;
+};
+
+// PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
+// entries carry the special bits above SB (factor special_lj[j >> SB & 3])
+// and the index in MASK (LAMMPS' SBBITS and NEIGHMASK); f[j] -= only if
+// newton_pair or j < nlocal
+template <int MASK, int SB>
+inline void lj_cut_forces(int inum, const int *ilist, const int *numneigh,
+                          int *const *firstneigh, const double *const *x, double *const *f,
+                          const int *type, const double *special_lj, int nlocal,
+                          bool newton_pair, const double *const *cutsq, const LJCutTable &t)
+{
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double xtmp = x[i][0], ytmp = x[i][1], ztmp = x[i][2];
+    const int itype = type[i];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    const double *cuti = cutsq[itype];
+    const double *ci = t.coef + (size_t) t.stride * itype * t.ntp1;
+    double fx = f[i][0], fy = f[i][1], fz = f[i][2];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int jr = jlist[jj];
+      const int j = jr & MASK;
+      const double delx = xtmp - x[j][0], dely = ytmp - x[j][1], delz = ztmp - x[j][2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      const int jtype = type[j];
+      if (rsq < cuti[jtype]) {
+        const double factor_lj = special_lj[jr >> SB & 3];
+        const double *c = ci + (size_t) t.stride * jtype;
+        const double r2inv = 1.0 / rsq;
+        const double r6inv = r2inv * r2inv * r2inv;
+        const double forcelj = r6inv * (c[0] * r6inv - c[1]);
+        const double fpair = factor_lj * forcelj * r2inv;
+        fx += delx * fpair;
+        fy += dely * fpair;
+        fz += delz * fpair;
+        if (newton_pair || j < nlocal) {
+          f[j][0] -= delx * fpair;
+          f[j][1] -= dely * fpair;
+          f[j][2] -= delz * fpair;
+        }
+      }
+    }
+    f[i][0] = fx;
+    f[i][1] = fy;
+    f[i][2] = fz;
+  }
+}
+
+}    // namespace HardSphere
+
+#endif

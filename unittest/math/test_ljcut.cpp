@@ -1,0 +1,204 @@
+// hs_ljcut.h: lj/cut's forces on a neighbor list, against a reference
+// written here as PairLJCut::compute(0, 0) is written (LAMMPS 29Sep2021 and
+// 4Feb2025): f[i] and f[j] updated in memory pair by pair, every operation
+// forced one at a time. The kernel sums f[i] in registers; the forces must
+// agree to the bit: random lists with special bits, several types with
+// their own cutoffs and coefficients, pairs beyond the cutoff, ghosts
+// (j >= nlocal) with newton on and off, rows that start nonzero.
+
+#include "hs_ljcut.h"
+
+#include "gtest/gtest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+namespace {
+
+constexpr int SB = 30;
+constexpr int MASK = 0x1FFFFFFF;
+
+struct System {
+  int nall = 0, nlocal = 0, ntypes = 0;
+  std::vector<double> xs, fs;
+  std::vector<double *> f;
+  std::vector<const double *> x;
+  std::vector<int> type;
+  std::vector<std::vector<int>> rows;
+  std::vector<int> ilist, numneigh;
+  std::vector<int *> firstneigh;
+  std::vector<double> cutsq_s, coef;
+  std::vector<const double *> cutsq;
+  double special[4] = {1.0, 0.0, 0.5, 0.25};
+};
+
+System make(std::mt19937 &g, int nall, int ntypes)
+{
+  System s;
+  s.nall = nall;
+  s.nlocal = nall - nall / 3;
+  s.ntypes = ntypes;
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  s.xs.resize(3 * nall);
+  for (auto &v : s.xs) v = 4.0 * U(g);
+  s.fs.resize(3 * nall);
+  for (auto &v : s.fs) v = U(g) < 0.5 ? 0.0 : U(g) - 0.5;
+  for (int i = 0; i < nall; i++) {
+    s.x.push_back(&s.xs[3 * i]);
+    s.f.push_back(&s.fs[3 * i]);
+    s.type.push_back(1 + (int) (U(g) * ntypes));
+  }
+  const int ntp1 = ntypes + 1;
+  s.cutsq_s.assign(ntp1 * ntp1, 0.0);
+  s.coef.assign(7 * ntp1 * ntp1, 0.0);
+  for (int a = 1; a <= ntypes; a++)
+    for (int b = a; b <= ntypes; b++) {
+      const double eps = 0.5 + U(g), sig = 0.8 + 0.4 * U(g), cut = 1.5 + U(g);
+      for (auto [p, q] : {std::pair<int, int>{a, b}, {b, a}}) {
+        s.cutsq_s[p * ntp1 + q] = cut * cut;
+        s.coef[7 * (p * ntp1 + q)] = 48.0 * eps * std::pow(sig, 12.0);
+        s.coef[7 * (p * ntp1 + q) + 1] = 24.0 * eps * std::pow(sig, 6.0);
+      }
+    }
+  for (int t = 0; t < ntp1; t++) s.cutsq.push_back(&s.cutsq_s[t * ntp1]);
+  // rows (LAMMPS' per-atom numneigh, firstneigh) of a random subset of the
+  // atoms (owned or ghost) in random order, entries any other atom, some
+  // with special bits
+  std::vector<int> order(nall);
+  for (int i = 0; i < nall; i++) order[i] = i;
+  std::shuffle(order.begin(), order.end(), g);
+  const int nrow = 1 + (int) (U(g) * nall / 2);
+  s.rows.resize(nall);
+  for (int r = 0; r < nrow; r++) {
+    const int i = order[r];
+    s.ilist.push_back(i);
+    const int len = (int) (U(g) * 40);
+    for (int k = 0; k < len; k++) {
+      int j = (int) (U(g) * nall);
+      if (j == i) continue;
+      const int sb = U(g) < 0.2 ? 1 + (int) (U(g) * 3) : 0;
+      s.rows[i].push_back((int) ((unsigned) j | ((unsigned) sb << SB)));
+    }
+  }
+  s.numneigh.resize(nall);
+  s.firstneigh.resize(nall);
+  for (int i = 0; i < nall; i++) {
+    s.numneigh[i] = (int) s.rows[i].size();
+    s.firstneigh[i] = s.rows[i].data();
+  }
+  return s;
+}
+
+// b = a with b's pointers into its own arrays
+void repoint(System &b)
+{
+  for (int i = 0; i < b.nall; i++) {
+    b.x[i] = &b.xs[3 * i];
+    b.f[i] = &b.fs[3 * i];
+    b.firstneigh[i] = b.rows[i].data();
+  }
+  for (int t = 0; t <= b.ntypes; t++) b.cutsq[t] = &b.cutsq_s[t * (b.ntypes + 1)];
+}
+
+void kernel(System &b, bool newton)
+{
+  HardSphere::LJCutTable t;
+  t.coef = b.coef.data();
+  t.stride = 7;
+  t.ntp1 = b.ntypes + 1;
+  HardSphere::lj_cut_forces<MASK, SB>((int) b.ilist.size(), b.ilist.data(), b.numneigh.data(),
+                                      b.firstneigh.data(), b.x.data(), b.f.data(), b.type.data(),
+                                      b.special, b.nlocal, newton, b.cutsq.data(), t);
+}
+
+// PairLJCut::compute(0, 0)'s loop, the list given row by row
+void reference(System &s, bool newton)
+{
+  const int ntp1 = s.ntypes + 1;
+  for (size_t ii = 0; ii < s.ilist.size(); ii++) {
+    const int i = s.ilist[ii];
+    const double xtmp = s.x[i][0], ytmp = s.x[i][1], ztmp = s.x[i][2];
+    const int itype = s.type[i];
+    for (int jj = 0; jj < s.numneigh[i]; jj++) {
+      int j = s.firstneigh[i][jj];
+      const double factor_lj = s.special[j >> SB & 3];
+      j &= MASK;
+      volatile double delx = xtmp - s.x[j][0], dely = ytmp - s.x[j][1], delz = ztmp - s.x[j][2];
+      volatile double a = delx * delx, b = dely * dely, c = delz * delz;
+      volatile double ab = a + b;
+      volatile double rsq = ab + c;
+      const int jtype = s.type[j];
+      if (rsq < s.cutsq[itype][jtype]) {
+        const double *cf = &s.coef[7 * (itype * ntp1 + jtype)];
+        volatile double r2inv = 1.0 / rsq;
+        volatile double r4 = r2inv * r2inv;
+        volatile double r6inv = r4 * r2inv;
+        volatile double t1 = cf[0] * r6inv;
+        volatile double t2 = t1 - cf[1];
+        volatile double forcelj = r6inv * t2;
+        volatile double t3 = factor_lj * forcelj;
+        volatile double fpair = t3 * r2inv;
+        s.f[i][0] += delx * fpair;
+        s.f[i][1] += dely * fpair;
+        s.f[i][2] += delz * fpair;
+        if (newton || j < s.nlocal) {
+          s.f[j][0] -= delx * fpair;
+          s.f[j][1] -= dely * fpair;
+          s.f[j][2] -= delz * fpair;
+        }
+      }
+    }
+  }
+}
+
+}    // namespace
+
+TEST(LJCut, KernelIsComputeBitForBit)
+{
+  std::mt19937 g(20261128);
+  int compared = 0, within = 0;
+  for (int trial = 0; trial < 400; trial++) {
+    const bool newton = trial % 2 == 0;
+    System a = make(g, 2 + trial % 150, 1 + trial % 3);
+    System b = a;
+    repoint(b);
+    reference(a, newton);
+    kernel(b, newton);
+    for (int k = 0; k < 3 * a.nall; k++) {
+      ASSERT_EQ(0, std::memcmp(&a.fs[k], &b.fs[k], sizeof(double)))
+          << "trial " << trial << " atom " << k / 3 << ": " << a.fs[k] << " vs " << b.fs[k];
+      compared++;
+    }
+    for (int i : a.ilist)
+      for (int e : a.rows[i]) {
+        const int j = e & MASK;
+        double d2 = 0.0;
+        for (int d = 0; d < 3; d++) d2 += (a.x[i][d] - a.x[j][d]) * (a.x[i][d] - a.x[j][d]);
+        within += d2 < a.cutsq[a.type[i]][a.type[j]];
+      }
+  }
+  EXPECT_GT(within, 10000);    // (the test exercised the force branch)
+  EXPECT_GT(compared, 10000);
+}
+
+// the kernel differs from a loop that sums f[i] in another order: the
+// comparison above can fail (the same lists, f[i]'s sum from the last
+// entry back)
+TEST(LJCut, TheComparisonSeesTheOrderOfSums)
+{
+  std::mt19937 g(7);
+  int differ = 0;
+  for (int trial = 0; trial < 50; trial++) {
+    System a = make(g, 120, 2);
+    System b = a;
+    for (auto &r : b.rows) std::reverse(r.begin(), r.end());
+    repoint(b);
+    reference(a, true);
+    kernel(b, true);
+    differ += std::memcmp(a.fs.data(), b.fs.data(), sizeof(double) * a.fs.size()) != 0;
+  }
+  EXPECT_GT(differ, 25);
+}
