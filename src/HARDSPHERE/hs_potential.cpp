@@ -1353,9 +1353,12 @@ HardSphere::LJCutTable HSPotential::lj_cut_table()
   Impl &m = *impl;
   if (!m.initialized) {
     // a method without derivatives (cva) never initialises this layer: the
-    // coefficients alone, built and checked against single() every time
-    // (O(ntypes^2), from the pair style of now: a new one frees the old
-    // arrays)
+    // coefficients alone, from the pair style of now (its arrays looked up
+    // again every time: a new style frees the old ones). Built and checked
+    // against single() once, and again when epsilon or sigma change
+    // (lj_current(): the same values give the same coefficients)
+    const size_t n = Impl::LJC * (size_t) (atom->ntypes + 1) * (atom->ntypes + 1);
+    const bool checked = m.lj_inline && m.ljc.size() == n;
     m.pair_lj = m.lj_inline = 0;
     if (!ljcut || !force->pair->single_enable) return t;
     int dim = 0;
@@ -1363,7 +1366,11 @@ HardSphere::LJCutTable HSPotential::lj_cut_table()
     m.lj_sig = (double **) force->pair->extract("sigma", dim);
     if (!m.lj_eps || !m.lj_sig) return t;
     m.pair_lj = 1;
-    m.inline_lj();
+    if (checked) {
+      m.lj_inline = 1;
+      m.lj_current();
+    } else
+      m.inline_lj();
   } else
     m.lj_current();
   if (!m.lj_inline || !ljcut) return t;

@@ -375,6 +375,53 @@ TEST(PotentialDerivs, LJCutTermsFollowFixAdapt)
   }
 }
 
+// the table of lj/cut's force kernel (HSPotential::lj_cut_table(),
+// hs_ljcut.h) for a method that never initialises the derivative layer
+// (cva): PairLJCut's lj1, lj2 for every type pair, so that the kernel's
+// force equals single()'s to the bit, also after fix adapt changed epsilon
+// during a run (a stale table would give the old forces)
+TEST(PotentialDerivs, LJCutKernelTableFollowsFixAdapt)
+{
+  HSLammps h;
+  h.lines("units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
+          "region box block -4 4 -4 4 -4 4\ncreate_box 2 box\nmass * 1.0\n"
+          "create_atoms 1 single 0.0 0.0 0.0\ncreate_atoms 2 single 1.6 0.0 0.0\n"
+          "pair_style lj/cut 2.5\npair_coeff * * 1.0 1.0\npair_coeff 2 2 0.7 1.1\n"
+          "variable e equal 1.0+0.01*step\n"
+          "fix ad all adapt 1 pair lj/cut epsilon 1 2 v_e\nrun 0\n");
+  HSPotential pot(h.lmp, 1, "test");
+  auto *pair = h.lmp->force->pair;
+  auto check = [&](const std::string &what) {
+    const HardSphere::LJCutTable t = pot.lj_cut_table();
+    ASSERT_NE(t.coef, nullptr) << what;
+    ASSERT_EQ(t.ntp1, 3) << what;
+    for (int it = 1; it <= 2; it++)
+      for (int jt = 1; jt <= 2; jt++) {
+        const double *c = t.coef + (size_t) t.stride * (it * t.ntp1 + jt);
+        for (int k = 1; k < 20; k++)
+          for (double fl : {1.0, 0.5}) {
+            const double rsq = pair->cutsq[it][jt] * (0.1 + 0.9 * k / 20.0);
+            double ff = 0.0;
+            pair->single(0, 1, it, jt, rsq, 1.0, fl, ff);
+            const double r2inv = 1.0 / rsq, r6inv = r2inv * r2inv * r2inv;
+            const double forcelj = r6inv * (c[0] * r6inv - c[1]);
+            const double fk = fl * forcelj * r2inv;
+            EXPECT_EQ(0, std::memcmp(&ff, &fk, sizeof(double)))
+                << what << " types " << it << "-" << jt << " rsq " << rsq << ": " << ff
+                << " vs " << fk;
+          }
+      }
+  };
+  check("before the run");
+  h.lines("run 20\n");
+  int dim = 0;
+  ASSERT_GT(((double **) pair->extract("epsilon", dim))[1][2], 1.1) << "fix adapt did nothing";
+  check("after fix adapt");
+  // another pair style: no table
+  h.lines("unfix ad\npair_style soft 1.0\npair_coeff * * 1.0\nrun 0\n");
+  EXPECT_EQ(pot.lj_cut_table().coef, nullptr);
+}
+
 // lj/cut's phi'' for every ordered type pair: the same for (i, j) and
 // (j, i), and phi' differenced in r (LAMMPS' init_one() fills epsilon and
 // sigma for i <= j only)
