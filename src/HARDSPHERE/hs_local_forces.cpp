@@ -833,12 +833,9 @@ void HSLocalForces::pair_forces(NeighList *L, int eflag)
     force->pair->compute(eflag, 0);
     return;
   }
-  auto kernel = [&]() {
-    HardSphere::lj_cut_forces<NEIGHMASK, SBBITS>(
-        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
-        force->special_lj, atom->nlocal, force->newton_pair != 0, force->pair->cutsq, lj_);
-  };
-  kernel();
+  HardSphere::lj_cut_forces<NEIGHMASK, SBBITS>(
+      L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
+      force->special_lj, atom->nlocal, force->newton_pair != 0, force->pair->cutsq, lj_);
   if (lj_state_ == 1) return;
   // the first evaluation of the run: compute() again from the same zero
   // rows; the kernel stays only if every row agrees to the bit
