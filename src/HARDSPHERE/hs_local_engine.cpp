@@ -550,21 +550,46 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // kick reads it: the passes are bound by memory, not arithmetic): the
   // acceleration (HSSystem::set_acc()), the start state (x0, v0: used if
   // anything is hit, which on a dense fluid is nearly every step), the
-  // flag and the path bound
-  auto flagged = [&](int i) {
-    return (mask[i] & F.groupbit) && flagged_atom(i, acc[i], t2, h4, mhalf);
-  };
+  // flag and the path bound. The flag (flagged_atom()), the bound
+  // (path_bound()) and the distance from the list build share their
+  // squares here, computed once by the same expressions (the same bits)
+  const double *rmass = atom->rmass, *mass = atom->mass;
+  const int *type = atom->type;
+  double **f = atom->f;
+  const double *active = F.active, *gap = F.gap;
+  const int groupbit = F.groupbit;
   for (int i = 0; i < nlocal; i++) {
-    F.set_acc_row(i, ftm2v);
+    const double im = ftm2v / (rmass ? rmass[i] : mass[type[i]]);    // (HSSystem::acc_of())
+    const double *xi = x[i], *vi = v[i], *fi = f[i], *xr = xref[i];
+    double *ai = acc[i];
+    ai[0] = fi[0] * im;
+    ai[1] = fi[1] * im;
+    ai[2] = fi[2] * im;
     for (int d = 0; d < 3; d++) {
-      x0[i][d] = x[i][d];
-      v0[i][d] = v[i][d];
+      x0[i][d] = xi[d];
+      v0[i][d] = vi[d];
     }
-    cols[i][0] = F.gap[i];
-    const bool fl = flagged(i);
+    cols[i][0] = gap[i];
+    const double dx = xi[0] - xr[0], dy = xi[1] - xr[1], dz = xi[2] - xr[2];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const double vv = vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2];
+    const double aa = ai[0] * ai[0] + ai[1] * ai[1] + ai[2] * ai[2];
+    const double path = dt * sqrt(vv) + 0.5 * dt * dt * sqrt(aa);    // path_bound()
+    bool fl = false;
+    if (mask[i] & groupbit) {    // flagged_atom()
+      if (active[i] != 0.0) fl = true;
+      else {
+        const double v2 = t2 * vv, a2 = h4 * aa;
+        const double g = gap[i] - mhalf;
+        fl = !(g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) &&
+            !(sqrt(d2) + sqrt(v2) + sqrt(a2) <= g);
+      }
+    }
     cols[i][1] = fl ? 1.0 : 0.0;
     if (fl) act0.push_back(i);
-    bound(i);
+    pathv[i] = path;
+    flagv[i] = fl;
+    awayv[i] = path + sqrt(d2);
   }
   // with v and a, in one exchange
   sys->forward_vel_acc(cols, 2);
