@@ -73,7 +73,7 @@ void HSLocalModified::zero_red()
    reversed into the owners (red)
 ------------------------------------------------------------------------- */
 
-template <class X>
+template <bool WITH_B, class X>
 void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool flags)
 {
   const int *type = atom->type, *mask = atom->mask;
@@ -133,11 +133,13 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     for (int d = 0; d < 3; d++) kvij[d] = phi[2] * e[d] * ev + pr * (vij[d] - e[d] * ev);
     E += w * phi[0];
     Q += w * (phi[2] * ev * ev + pr * (vv - ev * ev));
-    const double *bi = (mask[i] & gb) ? fi + 3 : zero, *bj = (mask[j] & gb) ? fj + 3 : zero;
-    const double bij[3] = {bi[0] - bj[0], bi[1] - bj[1], bi[2] - bj[2]};
-    const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
-    const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
-    Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
+    if (WITH_B) {
+      const double *bi = (mask[i] & gb) ? fi + 3 : zero, *bj = (mask[j] & gb) ? fj + 3 : zero;
+      const double bij[3] = {bi[0] - bj[0], bi[1] - bj[1], bi[2] - bj[2]};
+      const double eb = e[0] * bij[0] + e[1] * bij[1] + e[2] * bij[2];
+      const double bb = bij[0] * bij[0] + bij[1] * bij[1] + bij[2] * bij[2];
+      Qbb += w * (phi[2] * eb * eb + pr * (bb - eb * eb));
+    }
     double *ri = HardSphere::row_at(red[0], 7, i), *rj = HardSphere::row_at(red[0], 7, j);
     for (int d = 0; d < 3; d++) {
       ri[d] -= w * phi[1] * e[d];
@@ -320,7 +322,7 @@ void HSLocalModified::begin(HSStepView &eng)
     find_terms(eng);
     conservative_state(eng, true);
     forward_state(false);
-    terms_eval(xstart, E, Q, Qbb, false);
+    terms_eval<false>(xstart, E, Q, Qbb, false);
   } else {
     // the conservative map starts from v0 itself, which every copy has
     // (the engine forwards v at the step's start): no forward, and the
@@ -331,7 +333,7 @@ void HSLocalModified::begin(HSStepView &eng)
         fwd[l][d] = eng.start_v(l)[d];
         fwd[l][3 + d] = 0.0;
       }
-    terms_eval(xstart, E, Q, Qbb, true);
+    terms_eval<false>(xstart, E, Q, Qbb, true);
     owners_from_flags();
     conservative_state(eng, true);
   }
@@ -554,7 +556,7 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
   relative();
   forward_state(true);
   double E, Q, Qbb;
-  terms_eval([&](int l) { return x[l]; }, E, Q, Qbb, false);
+  terms_eval<true>([&](int l) { return x[l]; }, E, Q, Qbb, false);
   const double mvv2e = force->mvv2e, dt = sys->dtv;
   double T = 0.0;
   for (int m : mem)

@@ -139,10 +139,12 @@ class HSLocalModified : protected Pointers {
   void find_terms(HSStepView &);    // list_terms(), flags reversed, owners_from_flags()
   void forward_state(bool with_rel);
   void remap();
-  // this rank's E = V_CX, Q = sum v^T V_t'' v and Qbb = sum b^T V_t'' b
-  // over its terms at positions xpos(copy); red reversed into the owners
-  // (flags: with the term copies' flags of find_terms() in column 6)
-  template <class X> void terms_eval(X xpos, double &E, double &Q, double &Qbb, bool flags);
+  // this rank's E = V_CX, Q = sum v^T V_t'' v and (WITH_B; else 0) Qbb =
+  // sum b^T V_t'' b over its terms at positions xpos(copy); red reversed
+  // into the owners (flags: with the term copies' flags of find_terms() in
+  // column 6). begin() needs no Qbb (the directions b come at the end)
+  template <bool WITH_B, class X>
+  void terms_eval(X xpos, double &E, double &Q, double &Qbb, bool flags);
   double local_L(double E, double Q, double T);
   // conservative forces and velocities (held forces taken out), per local
   // index. Without held forces they are f and v (v0 at the start) themselves,
