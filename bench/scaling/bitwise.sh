@@ -4,7 +4,8 @@
 # bit as it was; this compares the thermo output (%.15g every 5 steps) and the
 # collision counts of 30 steps on the cases the engine's changes are checked on:
 # the 32000-atom hard-core fluid with cva and pcva, the 4000-bead melt with pcva, and
-# the melt with fix langevin for cva and pcva (held forces), each on NPS ranks.
+# the melt with fix langevin for cva and pcva (held forces), and vci (the flows'
+# energies) on the fluid and the melt, each on NPS ranks.
 #   bash bench/scaling/bitwise.sh /path/to/old/lmp              # against build/lmp
 #   NPS="1 2" bash bench/scaling/bitwise.sh OLD_LMP NEW_LMP
 # Prints one line per case and rank count (same / DIFFERS) and exits 1 if any differs.
@@ -34,7 +35,9 @@ cases=("cvaF|fluid|$SCR/fluid.32000.data|fix hs all hardsphere/cva diameter 1.0|
        "pcvaF|fluid|$SCR/fluid.32000.data|fix hs all hardsphere/pcva diameter 1.0|"
        "pcvaM|melt|$SCR/melt.4000.data|fix hs all hardsphere/pcva diameter 0.9|"
        "cvaL|melt|$SCR/melt.4000.data|fix hs all hardsphere/cva diameter 0.9|$lt"
-       "pcvaL|melt|$SCR/melt.4000.data|fix hs all hardsphere/pcva diameter 0.9|$lt")
+       "pcvaL|melt|$SCR/melt.4000.data|fix hs all hardsphere/pcva diameter 0.9|$lt"
+       "vciF|fluid|$SCR/fluid.32000.data|fix hs all hardsphere/vci diameter 1.0|"
+       "vciM|melt|$SCR/melt.4000.data|fix hs all hardsphere/vci diameter 0.9|")
 fail=0
 for np in $NPS; do
   for c in "${cases[@]}"; do

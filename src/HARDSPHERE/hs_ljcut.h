@@ -15,9 +15,12 @@
    kernel against the style's compute() on the first restricted evaluation
    of each run and falls back to compute() for the run if a bit differs.
 
-   coef: lj1 and lj2 of type pair (itype, jtype) at coef[stride * (itype *
-   ntp1 + jtype)] and the next double (ntp1 = ntypes + 1), as HSPotential
-   rebuilds and checks them against PairLJCut::single(). LAMMPS-free
+   coef: lj1, lj2, lj3, lj4 and offset of type pair (itype, jtype) at
+   coef[stride * (itype * ntp1 + jtype)] and the next four doubles (ntp1 =
+   ntypes + 1), as HSPotential rebuilds and checks them against
+   PairLJCut::single() (force and energy). With the energy tally too
+   (EFLAG): the evaluations of a method that needs the flows' energies
+   (vci), which otherwise take compute(1, 0). LAMMPS-free
    (unit-tested alone: unittest/math/test_ljcut.cpp).
 ------------------------------------------------------------------------- */
 
@@ -29,20 +32,25 @@
 namespace HardSphere {
 
 struct LJCutTable {
-  const double *coef = nullptr;    // lj1, lj2 per type pair (above); nullptr: none
+  const double *coef = nullptr;    // lj1, lj2, lj3, lj4, offset per type pair (above); nullptr: none
   int stride = 0, ntp1 = 0;
 };
 
 // PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
 // entries carry the special bits above SB (factor special_lj[j >> SB & 3])
 // and the index in MASK (LAMMPS' SBBITS and NEIGHMASK); f[j] -= only if
-// newton_pair or j < nlocal
-template <int MASK, int SB>
-inline void lj_cut_forces(int inum, const int *ilist, const int *numneigh,
-                          int *const *firstneigh, const double *const *x, double *const *f,
-                          const int *type, const double *special_lj, int nlocal,
-                          bool newton_pair, const double *const *cutsq, const LJCutTable &t)
+// newton_pair or j < nlocal. EFLAG: compute(1, 0) instead, whose energy
+// tally (Pair::eng_vdwl, from 0) is returned: per pair within the cutoff
+// evdwl = factor_lj (r6inv (lj3 r6inv - lj4) - offset), added as
+// Pair::ev_tally() adds it (whole with newton_pair, else half for each
+// atom below nlocal), in list order; without EFLAG 0
+template <int MASK, int SB, bool EFLAG = false>
+inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
+                            int *const *firstneigh, const double *const *x, double *const *f,
+                            const int *type, const double *special_lj, int nlocal,
+                            bool newton_pair, const double *const *cutsq, const LJCutTable &t)
 {
+  double eng = 0.0;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     const double xtmp = x[i][0], ytmp = x[i][1], ztmp = x[i][2];
@@ -73,12 +81,24 @@ inline void lj_cut_forces(int inum, const int *ilist, const int *numneigh,
           f[j][1] -= dely * fpair;
           f[j][2] -= delz * fpair;
         }
+        if (EFLAG) {
+          double evdwl = r6inv * (c[2] * r6inv - c[3]) - c[4];
+          evdwl *= factor_lj;
+          if (newton_pair)
+            eng += evdwl;
+          else {
+            const double half = 0.5 * evdwl;
+            if (i < nlocal) eng += half;
+            if (j < nlocal) eng += half;
+          }
+        }
       }
     }
     f[i][0] = fx;
     f[i][1] = fy;
     f[i][2] = fz;
   }
+  return eng;
 }
 
 }    // namespace HardSphere

@@ -89,7 +89,7 @@ void HSLocalForces::init()
                     atom->atom_style));
   initialized_ = 1;
   lj_ = HardSphere::LJCutTable();    // (set again by the caller, checked again in every run)
-  lj_state_ = -1;
+  lj_state_ = lj_estate_ = -1;
   built_ncalls_ = -1;
   // Neighbor::init() sets neighbor->ncalls back to 0 at every run: the
   // run's number keeps the builds of two runs apart (list_epoch())
@@ -821,24 +821,39 @@ void HSLocalForces::recompute(const Snapshot &sn)
 }
 
 /* ----------------------------------------------------------------------
-   the pair style's forces on the restricted list L (swapped in), into
-   atom->f, whose rows in zero_list_ are zero (every row a term writes is
-   there): compute(), or lj/cut's kernel (hs_ljcut.h) once it gave the
-   same bits as compute() in this run
+   the pair style's forces (eflag: and its energy tally) on the restricted
+   list L (swapped in), into atom->f, whose rows in zero_list_ are zero
+   (every row a term writes is there): compute(eflag, 0), or lj/cut's kernel
+   (hs_ljcut.h) once it gave the same bits as compute() in this run (with
+   and without the energy: each checked on its own first use)
 ------------------------------------------------------------------------- */
 
 void HSLocalForces::pair_forces(NeighList *L, int eflag)
 {
-  if (eflag || !lj_.coef || lj_state_ == 0) {
-    force->pair->compute(eflag, 0);
+  Pair *pair = force->pair;
+  int &state = eflag ? lj_estate_ : lj_state_;
+  if (!lj_.coef || state == 0) {
+    pair->compute(eflag, 0);
     return;
   }
-  HardSphere::lj_cut_forces<NEIGHMASK, SBBITS>(
-      L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
-      force->special_lj, atom->nlocal, force->newton_pair != 0, force->pair->cutsq, lj_);
-  if (lj_state_ == 1) return;
+  const bool newton = force->newton_pair != 0;
+  double eng = 0.0;
+  if (eflag) {
+    eng = HardSphere::lj_cut_forces<NEIGHMASK, SBBITS, true>(
+        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
+        force->special_lj, atom->nlocal, newton, pair->cutsq, lj_);
+    // (as compute(1, 0) leaves them: its ev_setup() zeroes both, ev_tally()
+    // adds a zero Coulomb energy)
+    pair->eng_vdwl = eng;
+    pair->eng_coul = 0.0;
+  } else
+    HardSphere::lj_cut_forces<NEIGHMASK, SBBITS>(
+        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
+        force->special_lj, atom->nlocal, newton, pair->cutsq, lj_);
+  if (state == 1) return;
   // the first evaluation of the run: compute() again from the same zero
-  // rows; the kernel stays only if every row agrees to the bit
+  // rows; the kernel stays only if every row (and the energy) agrees to
+  // the bit
   double **f = atom->f;
   lj_check_.resize(3 * zero_list_.size());
   for (size_t k = 0; k < zero_list_.size(); k++)
@@ -846,16 +861,21 @@ void HSLocalForces::pair_forces(NeighList *L, int eflag)
       lj_check_[3 * k + d] = f[zero_list_[k]][d];
       f[zero_list_[k]][d] = 0.0;
     }
-  force->pair->compute(0, 0);
+  pair->compute(eflag, 0);
   bool same = true, forces = false;
+  if (eflag) {
+    const double zero = 0.0;
+    same = memcmp(&eng, &pair->eng_vdwl, sizeof(double)) == 0 &&
+        memcmp(&zero, &pair->eng_coul, sizeof(double)) == 0;
+  }
   for (size_t k = 0; k < zero_list_.size() && same; k++) {
     const double *fk = f[zero_list_[k]];
     same = memcmp(&lj_check_[3 * k], fk, 3 * sizeof(double)) == 0;
     forces = forces || fk[0] != 0.0 || fk[1] != 0.0 || fk[2] != 0.0;
   }
   // (decided on an evaluation with forces; else asked again next time)
-  if (!same) lj_state_ = 0;
-  else if (forces) lj_state_ = 1;
+  if (!same) state = 0;
+  else if (forces) state = 1;
 }
 
 /* ----------------------------------------------------------------------

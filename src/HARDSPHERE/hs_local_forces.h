@@ -101,13 +101,15 @@ class HSLocalForces : protected Pointers {
   // (compute_rows(), or compute() on one rank)
   void keep_energy(bool on) { keep_energy_ = on; }
   // lj/cut's forces by hs_ljcut.h's kernel instead of the style's compute()
-  // (evaluations without energy; coef nullptr: compute(); init() forgets
-  // the table). The first evaluation with forces after init() computes both
-  // and keeps the kernel for the run only if every force agrees bit for
-  // bit; lj_kernel(): 1 in use, 0 refused this run, -1 not tried yet or no
-  // table
+  // (coef nullptr: compute(); init() forgets the table). The first
+  // evaluation with forces after init() computes both and keeps the kernel
+  // for the run only if every force agrees bit for bit; lj_kernel(): 1 in
+  // use, 0 refused this run, -1 not tried yet or no table. The same, apart,
+  // for the evaluations that also sum the energy (keep_energy(); the energy
+  // tally must agree too): lj_energy_kernel()
   void set_lj_table(const HardSphere::LJCutTable &t) { lj_ = t; }
   int lj_kernel() const { return lj_.coef ? lj_state_ : -1; }
+  int lj_energy_kernel() const { return lj_.coef ? lj_estate_ : -1; }
   double energy() const { return energy_; }
   // the same again at the current x, for the C of the last compute(), with
   // its restricted lists (one rank; no list build since): O(its terms)
@@ -275,7 +277,7 @@ class HSLocalForces : protected Pointers {
   double **tq_ = nullptr;
   bool keep_energy_ = false;
   HardSphere::LJCutTable lj_;
-  int lj_state_ = -1;
+  int lj_state_ = -1, lj_estate_ = -1;
   std::vector<double> lj_check_;
   void pair_forces(class NeighList *L, int eflag);
   double energy_ = 0.0;

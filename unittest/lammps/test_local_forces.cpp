@@ -664,7 +664,15 @@ TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
           const int lo = std::min(it, jt), hi = std::max(it, jt);
           coef[7 * (it * ntp1 + jt)] = 48.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
           coef[7 * (it * ntp1 + jt) + 1] = 24.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
-          if (wrong) coef[7 * (it * ntp1 + jt)] *= 1.0 + 1e-12;
+          // (energy: both inputs have pair_modify shift yes, as init_one() builds it)
+          coef[7 * (it * ntp1 + jt) + 2] = 4.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
+          coef[7 * (it * ntp1 + jt) + 3] = 4.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
+          const double ratio = sig[lo][hi] / sqrt(pair->cutsq[lo][hi]);
+          coef[7 * (it * ntp1 + jt) + 4] = 4.0 * eps[lo][hi] * (pow(ratio, 12.0) - pow(ratio, 6.0));
+          if (wrong) {
+            coef[7 * (it * ntp1 + jt)] *= 1.0 + 1e-12;
+            coef[7 * (it * ntp1 + jt) + 4] *= 1.0 + 1e-12;
+          }
         }
       HardSphere::LJCutTable t;
       t.coef = coef.data();
@@ -710,6 +718,28 @@ TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
       for (size_t k = 0; k < c.size(); k++)
         for (int d = 0; d < 3; d++)
           for (int j = c[k]; j >= 0; j = atom->sametag[j]) atom->x[j][d] -= 0.02 * (d + 1);
+      // with the energy (vci's evaluations): forces and V_C to the bit, the
+      // energy kernel checked on its own
+      EXPECT_EQ(b.lj_energy_kernel(), -1) << sys;
+      a.keep_energy(true);
+      b.keep_energy(true);
+      for (int n : {1, 4, 20})
+        for (unsigned seed = 1; seed <= 2; seed++) {
+          const auto ce = random_c(h.lmp, n, seed * 29 + n, seed == 2);
+          a.compute_rows(ce.data(), (int) ce.size());
+          b.compute_rows(ce.data(), (int) ce.size());
+          const std::string what = sys + " with energy, |C| " + std::to_string(n);
+          same(what);
+          const double ea = a.energy(), eb = b.energy();
+          EXPECT_NE(ea, 0.0) << what;
+          EXPECT_EQ(0, memcmp(&ea, &eb, sizeof(double))) << what << ": " << ea << " vs " << eb;
+          EXPECT_EQ(b.lj_energy_kernel(), wrong ? 0 : 1) << what;
+          a.recompute();
+          b.recompute();
+          same(what + " recompute");
+          const double ra = a.energy(), rb = b.energy();
+          EXPECT_EQ(0, memcmp(&ra, &rb, sizeof(double))) << what << " recompute";
+        }
     }
   remove(data.c_str());
 }

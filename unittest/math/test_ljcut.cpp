@@ -61,6 +61,12 @@ System make(std::mt19937 &g, int nall, int ntypes)
         s.cutsq_s[p * ntp1 + q] = cut * cut;
         s.coef[7 * (p * ntp1 + q)] = 48.0 * eps * std::pow(sig, 12.0);
         s.coef[7 * (p * ntp1 + q) + 1] = 24.0 * eps * std::pow(sig, 6.0);
+        s.coef[7 * (p * ntp1 + q) + 2] = 4.0 * eps * std::pow(sig, 12.0);
+        s.coef[7 * (p * ntp1 + q) + 3] = 4.0 * eps * std::pow(sig, 6.0);
+        // (pair_modify shift yes for some type pairs)
+        const double ratio = sig / cut;
+        s.coef[7 * (p * ntp1 + q) + 4] =
+            (a + b) % 2 ? 4.0 * eps * (std::pow(ratio, 12.0) - std::pow(ratio, 6.0)) : 0.0;
       }
     }
   for (int t = 0; t < ntp1; t++) s.cutsq.push_back(&s.cutsq_s[t * ntp1]);
@@ -103,20 +109,28 @@ void repoint(System &b)
   for (int t = 0; t <= b.ntypes; t++) b.cutsq[t] = &b.cutsq_s[t * (b.ntypes + 1)];
 }
 
-void kernel(System &b, bool newton)
+// the kernel's forces into b.f; with energy, its tally returned
+double kernel(System &b, bool newton, bool energy = false)
 {
   HardSphere::LJCutTable t;
   t.coef = b.coef.data();
   t.stride = 7;
   t.ntp1 = b.ntypes + 1;
-  HardSphere::lj_cut_forces<MASK, SB>((int) b.ilist.size(), b.ilist.data(), b.numneigh.data(),
-                                      b.firstneigh.data(), b.x.data(), b.f.data(), b.type.data(),
-                                      b.special, b.nlocal, newton, b.cutsq.data(), t);
+  if (energy)
+    return HardSphere::lj_cut_forces<MASK, SB, true>(
+        (int) b.ilist.size(), b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.x.data(),
+        b.f.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
+  return HardSphere::lj_cut_forces<MASK, SB>((int) b.ilist.size(), b.ilist.data(),
+                                             b.numneigh.data(), b.firstneigh.data(), b.x.data(),
+                                             b.f.data(), b.type.data(), b.special, b.nlocal,
+                                             newton, b.cutsq.data(), t);
 }
 
-// PairLJCut::compute(0, 0)'s loop, the list given row by row
-void reference(System &s, bool newton)
+// PairLJCut::compute(eflag, 0)'s loop, the list given row by row; returns
+// Pair::eng_vdwl as ev_tally() sums it from ev_setup()'s zero (eflag 1)
+double reference(System &s, bool newton, bool eflag = false)
 {
+  volatile double eng_vdwl = 0.0;
   const int ntp1 = s.ntypes + 1;
   for (size_t ii = 0; ii < s.ilist.size(); ii++) {
     const int i = s.ilist[ii];
@@ -149,9 +163,26 @@ void reference(System &s, bool newton)
           s.f[j][1] -= dely * fpair;
           s.f[j][2] -= delz * fpair;
         }
+        if (eflag) {
+          // evdwl = r6inv*(lj3*r6inv-lj4) - offset; evdwl *= factor_lj
+          volatile double e1 = cf[2] * r6inv;
+          volatile double e2 = e1 - cf[3];
+          volatile double e3 = r6inv * e2;
+          volatile double evdwl = e3 - cf[4];
+          evdwl = evdwl * factor_lj;
+          // Pair::ev_tally()
+          if (newton)
+            eng_vdwl = eng_vdwl + evdwl;
+          else {
+            volatile double evdwlhalf = 0.5 * evdwl;
+            if (i < s.nlocal) eng_vdwl = eng_vdwl + evdwlhalf;
+            if (j < s.nlocal) eng_vdwl = eng_vdwl + evdwlhalf;
+          }
+        }
       }
     }
   }
+  return eng_vdwl;
 }
 
 }    // namespace
@@ -201,4 +232,33 @@ TEST(LJCut, TheComparisonSeesTheOrderOfSums)
     differ += std::memcmp(a.fs.data(), b.fs.data(), sizeof(double) * a.fs.size()) != 0;
   }
   EXPECT_GT(differ, 25);
+}
+
+// with the energy tally (compute(1, 0), vci's evaluations): forces and
+// energy to the bit, newton on and off, shifted and unshifted type pairs
+TEST(LJCut, KernelWithEnergyIsComputeBitForBit)
+{
+  std::mt19937 g(20261129);
+  int energies = 0;
+  for (int trial = 0; trial < 400; trial++) {
+    const bool newton = trial % 2 == 0;
+    System a = make(g, 2 + trial % 150, 1 + trial % 3);
+    System b = a;
+    repoint(b);
+    const double ea = reference(a, newton, true);
+    const double eb = kernel(b, newton, true);
+    ASSERT_EQ(0, std::memcmp(&ea, &eb, sizeof(double)))
+        << "trial " << trial << ": energy " << ea << " vs " << eb;
+    energies += ea != 0.0;
+    for (int k = 0; k < 3 * a.nall; k++)
+      ASSERT_EQ(0, std::memcmp(&a.fs[k], &b.fs[k], sizeof(double)))
+          << "trial " << trial << " atom " << k / 3 << ": " << a.fs[k] << " vs " << b.fs[k];
+  }
+  EXPECT_GT(energies, 300);
+  // it can fail: a shift missed by one type pair changes the sum
+  System a = make(g, 150, 2), b = a;
+  repoint(b);
+  for (size_t k = 4; k < b.coef.size(); k += 7) b.coef[k] *= 1.0 + 1e-9;
+  const double ea = reference(a, true, true), eb = kernel(b, true, true);
+  EXPECT_NE(0, std::memcmp(&ea, &eb, sizeof(double)));
 }
