@@ -1633,7 +1633,17 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       locf->recompute();    // the same terms: their restricted lists again
       ncompute_here += 1.0;
       fl = locf->forces();
-      for (int k = 0; k < nt; k++) fk1[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
+      // the new forces, and in the same pass the partners, which stay put
+      // and take V_C's momentum (trapezoid over the sub-step)
+      const int *mask = atom->mask, *type = atom->type;
+      const double *rmass = atom->rmass, *mass = atom->mass;    // (HSSystem::mass_of())
+      for (int k = 0; k < nt; k++) {
+        const int p = T[k];
+        fk1[k] = {fl[p][0], fl[p][1], fl[p][2]};
+        if (is_member(p) || !(mask[p] & F.groupbit)) continue;
+        const double dtfm = dtfk / (rmass ? rmass[p] : mass[type[p]]);
+        for (int dd = 0; dd < 3; dd++) dv[k][dd] += dtfm * (fk[k][dd] + fk1[k][dd]);
+      }
       for (int k = 0; k < nm; k++) {
         const int i = M[k];
         const double dtfm = dtfk / F.mass_of(i);
@@ -1641,14 +1651,6 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
                               v[i][1] + dtfm * (fk1[mi[k]][1] + fc[k][1]),
                               v[i][2] + dtfm * (fk1[mi[k]][2] + fc[k][2])};
         set_v(i, vn);
-      }
-      // partners stay put and take V_C's momentum (trapezoid over the sub-step)
-      const int *mask = atom->mask;
-      for (int k = 0; k < nt; k++) {
-        const int p = T[k];
-        if (is_member(p) || !(mask[p] & F.groupbit)) continue;
-        const double dtfm = dtfk / F.mass_of(p);
-        for (int dd = 0; dd < 3; dd++) dv[k][dd] += dtfm * (fk[k][dd] + fk1[k][dd]);
       }
       fk.swap(fk1);
       stuck = 0;
