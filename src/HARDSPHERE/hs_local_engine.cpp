@@ -550,9 +550,9 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // kick reads it: the passes are bound by memory, not arithmetic): the
   // acceleration (HSSystem::set_acc()), the start state (x0, v0: used if
   // anything is hit, which on a dense fluid is nearly every step), the
-  // flag and the path bound. The flag (flagged_atom()), the bound
-  // (path_bound()) and the distance from the list build share their
-  // squares here, computed once by the same expressions (the same bits)
+  // flag and the path bound. The flag, the bound and the distance from the
+  // list build share their squares here (flagged_of(), path_of(): what
+  // flagged_atom() and path_bound() compute from the same squares)
   const double *rmass = atom->rmass, *mass = atom->mass;
   const int *type = atom->type;
   double **f = atom->f;
@@ -574,17 +574,8 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     const double d2 = dx * dx + dy * dy + dz * dz;
     const double vv = vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2];
     const double aa = ai[0] * ai[0] + ai[1] * ai[1] + ai[2] * ai[2];
-    const double path = dt * sqrt(vv) + 0.5 * dt * dt * sqrt(aa);    // path_bound()
-    bool fl = false;
-    if (mask[i] & groupbit) {    // flagged_atom()
-      if (active[i] != 0.0) fl = true;
-      else {
-        const double v2 = t2 * vv, a2 = h4 * aa;
-        const double g = gap[i] - mhalf;
-        fl = !(g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) &&
-            !(sqrt(d2) + sqrt(v2) + sqrt(a2) <= g);
-      }
-    }
+    const double path = path_of(vv, aa, dt);
+    const bool fl = (mask[i] & groupbit) && flagged_of(active[i], d2, vv, aa, gap[i] - mhalf, t2, h4);
     cols[i][1] = fl ? 1.0 : 0.0;
     if (fl) act0.push_back(i);
     pathv[i] = path;
@@ -686,9 +677,8 @@ int HSLocalEngine::guess_wall(int i, int wl, const double *vi, const double *ai,
 // fix nve's path bound over the step, dt |v| + dt^2/2 |a|
 double HSLocalEngine::path_bound(const double *v, const double *a, double dt)
 {
-  const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  const double aa = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  return dt * vv + 0.5 * dt * dt * aa;
+  return path_of(v[0] * v[0] + v[1] * v[1] + v[2] * v[2], a[0] * a[0] + a[1] * a[1] + a[2] * a[2],
+                 dt);
 }
 
 // may owned atom i (in the group, acceleration a) touch something in the
@@ -697,17 +687,11 @@ double HSLocalEngine::path_bound(const double *v, const double *a, double dt)
 bool HSLocalEngine::flagged_atom(int i, const double *a, double t2, double h4,
                                  double mhalf) const
 {
-  if (sys->active[i] != 0.0) return true;
   const double *xi = atom->x[i], *xr = sys->xref[i], *vi = atom->v[i];
-  // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
   const double dx = xi[0] - xr[0], dy = xi[1] - xr[1], dz = xi[2] - xr[2];
-  const double d2 = dx * dx + dy * dy + dz * dz;
-  const double v2 = t2 * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
-  const double a2 = h4 * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double g = sys->gap[i] - mhalf;
-  if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) return false;
-  if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) return false;
-  return true;
+  return flagged_of(sys->active[i], dx * dx + dy * dy + dz * dz,
+                    vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2],
+                    a[0] * a[0] + a[1] * a[1] + a[2] * a[2], sys->gap[i] - mhalf, t2, h4);
 }
 
 /* ----------------------------------------------------------------------

@@ -113,6 +113,7 @@
 #include "pointers.h"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -379,6 +380,22 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   int guess_wall(int i, int wl, const double *vi, const double *ai, double Di);
   static double path_bound(const double *v, const double *a, double dt);
   bool flagged_atom(int i, const double *a, double t2, double h4, double mhalf) const;
+  // both from the squares |v|^2 (vv), |a|^2 (aa), |x - xref|^2 (d2), and g
+  // = the free gap less mhalf (predict_all()'s pass has them at hand)
+  static double path_of(double vv, double aa, double dt)
+  {
+    return dt * sqrt(vv) + 0.5 * dt * dt * sqrt(aa);
+  }
+  static bool flagged_of(double active, double d2, double vv, double aa, double g, double t2,
+                         double h4)
+  {
+    if (active != 0.0) return true;
+    // as HSSystem::screen_atom(): (a+b+c)^2 <= 3(a^2+b^2+c^2)
+    const double v2 = t2 * vv, a2 = h4 * aa;
+    if (g > 0.0 && 3.0 * (d2 + v2 + a2) <= g * g) return false;
+    if (sqrt(d2) + sqrt(v2) + sqrt(a2) <= g) return false;
+    return true;
+  }
   // the first guess of the flagged spheres only, after an empty one
   bool quick_clear();
   bool quick_next = false;
