@@ -553,18 +553,11 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // flag and the path bound. The flag, the bound and the distance from the
   // list build share their squares here (flagged_of(), path_of(): what
   // flagged_atom() and path_bound() compute from the same squares)
-  const double *rmass = atom->rmass, *mass = atom->mass;
-  const int *type = atom->type;
-  double **f = atom->f;
   const double *active = F.active, *gap = F.gap;
   const int groupbit = F.groupbit;
   for (int i = 0; i < nlocal; i++) {
-    const double im = ftm2v / (rmass ? rmass[i] : mass[type[i]]);    // (HSSystem::acc_of())
-    const double *xi = x[i], *vi = v[i], *fi = f[i], *xr = xref[i];
-    double *ai = acc[i];
-    ai[0] = fi[0] * im;
-    ai[1] = fi[1] * im;
-    ai[2] = fi[2] * im;
+    F.set_acc_row(i, ftm2v);
+    const double *xi = x[i], *vi = v[i], *xr = xref[i], *ai = acc[i];
     for (int d = 0; d < 3; d++) {
       x0[i][d] = xi[d];
       v0[i][d] = vi[d];
@@ -1619,13 +1612,12 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       fl = locf->forces();
       // the new forces, and in the same pass the partners, which stay put
       // and take V_C's momentum (trapezoid over the sub-step)
-      const int *mask = atom->mask, *type = atom->type;
-      const double *rmass = atom->rmass, *mass = atom->mass;    // (HSSystem::mass_of())
+      const int *mask = atom->mask;
       for (int k = 0; k < nt; k++) {
         const int p = T[k];
         fk1[k] = {fl[p][0], fl[p][1], fl[p][2]};
         if (is_member(p) || !(mask[p] & F.groupbit)) continue;
-        const double dtfm = dtfk / (rmass ? rmass[p] : mass[type[p]]);
+        const double dtfm = dtfk / F.mass_of(p);
         for (int dd = 0; dd < 3; dd++) dv[k][dd] += dtfm * (fk[k][dd] + fk1[k][dd]);
       }
       for (int k = 0; k < nm; k++) {
