@@ -22,7 +22,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
 PACKAGES=(lammps liblammps0 liblammps-dev libopenmpi-dev openmpi-bin
           libeigen3-dev googletest libgtest-dev python3-numpy python3-matplotlib
-          cmake g++ make dpkg-dev xz-utils)
+          cmake g++ make dpkg-dev xz-utils ccache)
 
 # ---------------------------------------------------------------- packages
 missing=()
@@ -95,11 +95,33 @@ fi
 
 VERSIONS="${HS_LAMMPS_VERSIONS:-2021 2025}"
 
+# ---------------------------------------------------------------- compiler cache
+# A fresh clone compiles the package and its ~60 test programs twice (one
+# tree per LAMMPS version): most of the set-up's time. ccache keeps the
+# objects under ~/.cache/hardsphere/ccache, keyed by preprocessed source and
+# flags; CCACHE_BASEDIR makes paths relative to the clone, so a new clone
+# anywhere reuses them. HS_CCACHE=0 compiles without it.
+LAUNCHER=(-UCMAKE_CXX_COMPILER_LAUNCHER)   # a cached CMake variable: cleared when unused
+USE_CCACHE=0
+if [ "${HS_CCACHE:-1}" != 0 ]; then
+  if command -v ccache >/dev/null; then
+    export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/hardsphere/ccache}"
+    export CCACHE_BASEDIR="$ROOT"
+    export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-3G}"
+    LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+    USE_CCACHE=1
+    ccache --zero-stats >/dev/null
+    echo "setup: compiling through ccache ($CCACHE_DIR)"
+  else
+    echo "setup: ccache not found (package ccache), compiling without it"
+  fi
+fi
+
 # ---------------------------------------------------------------- build (2021)
 if [[ " $VERSIONS " == *" 2021 "* ]]; then
   BUILD="$ROOT/build"
   # always (re)configure: quick, and picks up new style headers / tests
-  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "${LAUNCHER[@]}"
   cmake --build "$BUILD" -j2
 fi
 
@@ -112,6 +134,9 @@ if [[ " $VERSIONS " == *" 2025 "* ]]; then
   cmake -S "$ROOT" -B "$BUILD25" -DCMAKE_BUILD_TYPE=Release \
     -DLAMMPS_SOURCE_DIR="$LAMMPS2025_SRC/src" \
     -DLAMMPS_LIBRARY="$LAMMPS2025_BUILD/liblammps.so" \
-    -DHS_OTHER_PLUGIN="$ROOT/build/hardsphereplugin.so"
+    -DHS_OTHER_PLUGIN="$ROOT/build/hardsphereplugin.so" "${LAUNCHER[@]}"
   cmake --build "$BUILD25" -j2
+fi
+if [ "$USE_CCACHE" = 1 ]; then
+  echo "setup: ccache: $(ccache --print-stats | awk -F'\t' '$1=="direct_cache_hit"||$1=="preprocessed_cache_hit"{h+=$2} $1=="cache_miss"{m=$2} END{printf "%d compiled objects reused, %d compiled", h, m}')"
 fi
