@@ -22,9 +22,9 @@
 
 namespace hs_chain {
 
-inline const char *chain_path()
+inline std::string chain_path()
 {
-  return HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
+  return std::string(hs_test_paths::source_dir) + "/examples/pendulum-chain/in.pendulum-chain";
 }
 
 inline std::string slurp(const std::string &path)

@@ -8,10 +8,8 @@
    main(): a TU that includes this header but must not define main()
    defines HS_TEST_NO_MAIN before the #include.
 
-   Compile definitions set by CMake:
-     HS_LMP_BINARY   absolute path of build/lmp
-     HS_SOURCE_DIR   repository root
-     HS_PLUGIN_PATH  absolute path of build/hardsphereplugin.so
+   The build's paths (build/lmp, the repository root, the plugin) are in
+   hs_test_paths.h (hs_test_paths::lmp_binary, source_dir, plugin_path, ...).
    Tests run with their working directory in a per-executable scratch dir
    (build/unittest/work/<target>), so output files may be written to ".".
 
@@ -28,6 +26,7 @@
 #define HS_TEST_MAIN_H
 
 #include "hardsphere_registry.h"
+#include "hs_test_paths.h"
 
 #include "input.h"
 #include "lammps.h"
@@ -49,13 +48,6 @@
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#ifndef HS_LMP_BINARY
-#error "HS_LMP_BINARY must be defined (path of the lmp driver)"
-#endif
-#ifndef HS_SOURCE_DIR
-#define HS_SOURCE_DIR "."
-#endif
 
 extern char **environ;
 
@@ -259,7 +251,7 @@ inline RunResult run_program(const std::string &binary, const std::string &input
 inline RunResult run_lmp(const std::string &input_text,
                          const std::vector<std::string> &extra_args = {}, int nprocs = 1)
 {
-  return run_program(HS_LMP_BINARY, input_text, extra_args, nprocs);
+  return run_program(hs_test_paths::lmp_binary, input_text, extra_args, nprocs);
 }
 
 #ifndef HS_TEST_NO_MAIN

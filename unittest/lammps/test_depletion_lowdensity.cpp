@@ -59,7 +59,8 @@ create_atoms 1 box
 mass 1 1.0
 pair_style table linear 2000
 )");
-  h.cmd("pair_coeff 1 1 " HS_SOURCE_DIR "/potentials/ao_q0.2.table AO_q0.2_eta0.352941_sigma1_kT1 1.2");
+  h.cmd(std::string("pair_coeff 1 1 ") + hs_test_paths::source_dir +
+        "/potentials/ao_q0.2.table AO_q0.2_eta0.352941_sigma1_kT1 1.2");
   h.lines(R"(
 neighbor 0.3 bin
 neigh_modify every 1 delay 0 check yes

@@ -151,7 +151,7 @@ TEST(MCVACutoff, FrozenPairEnteringStaysOut)
 static void fluid_run(const char *stages)
 {
   {
-    std::string input = hs_chain::slurp(std::string(HS_SOURCE_DIR) +
+    std::string input = hs_chain::slurp(std::string(hs_test_paths::source_dir) +
                                         "/examples/thermostats/in.lj-thermostat");
     const std::string anchor = "\nthermo      1000\n";
     const size_t at = input.find(anchor);

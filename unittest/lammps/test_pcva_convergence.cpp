@@ -17,7 +17,7 @@ using namespace hs_test;
 
 namespace {
 
-const char *CHAIN = hs_chain::chain_path();
+const std::string CHAIN = hs_chain::chain_path();
 
 struct ChainRun {
   double dEmax = -1.0, ncoll = -1.0, nskip = -1.0;

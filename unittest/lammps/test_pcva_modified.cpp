@@ -26,7 +26,8 @@ using namespace hs_test;
 
 namespace {
 
-const char *CHAIN = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
+const std::string CHAIN =
+    std::string(hs_test_paths::source_dir) + "/examples/pendulum-chain/in.pendulum-chain";
 
 struct Conservation {
   double max_coll = 0.0;      // max |dH~| over steps with projections (pcva) / collisions (cva)

@@ -8,10 +8,6 @@
 #include <dlfcn.h>
 #include <map>
 
-#ifndef HS_PLUGIN_PATH
-#error "HS_PLUGIN_PATH must be defined"
-#endif
-
 namespace {
 struct Recorded {
   std::string style, version, author;
@@ -36,7 +32,7 @@ TEST(Plugin, RegistersAllStyles)
   // depend on liblammps (the plugin itself is not linked to it, as usual
   // for LAMMPS plugins, and needs e.g. typeinfo for LAMMPS_NS::Fix).
   HSLammps h;
-  void *handle = dlopen(HS_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
+  void *handle = dlopen(hs_test_paths::plugin_path, RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(handle, nullptr) << dlerror();
   auto init = (lammpsplugin_initfunc) dlsym(handle, "lammpsplugin_init");
   ASSERT_NE(init, nullptr) << dlerror();
@@ -66,7 +62,7 @@ TEST(Plugin, RegistersAllStyles)
 TEST(Plugin, RefusesOtherLammpsVersion)
 {
   HSLammps h;
-  void *handle = dlopen(HS_PLUGIN_PATH, RTLD_NOW | RTLD_LOCAL);
+  void *handle = dlopen(hs_test_paths::plugin_path, RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(handle, nullptr) << dlerror();
   auto init = (lammpsplugin_initfunc) dlsym(handle, "lammpsplugin_init");
   ASSERT_NE(init, nullptr) << dlerror();

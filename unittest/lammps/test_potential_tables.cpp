@@ -22,7 +22,7 @@
 
 namespace {
 
-const std::string DIR = std::string(HS_SOURCE_DIR) + "/potentials/";
+const std::string DIR = std::string(hs_test_paths::source_dir) + "/potentials/";
 const double MARGIN = 0.05;    // make_table.py's default, first point sigma (1 - MARGIN)
 
 struct EF {

@@ -12,14 +12,11 @@
 #include <fstream>
 #include <sstream>
 
-#ifndef HS_STOCK_LMP
-#define HS_STOCK_LMP ""
-#endif
-#ifndef HS_OTHER_PLUGIN
-#define HS_OTHER_PLUGIN ""
-#endif
-
 namespace {
+
+const std::string STOCK_LMP = hs_test_paths::stock_lmp;
+const std::string PLUGIN = hs_test_paths::plugin_path;
+const std::string OTHER_PLUGIN = hs_test_paths::other_plugin;
 
 bool exists(const std::string &path)
 {
@@ -27,9 +24,9 @@ bool exists(const std::string &path)
 }
 
 #define SKIP_WITHOUT_STOCK_LMP()                                                               \
-  if (!exists(HS_STOCK_LMP))                                                                   \
+  if (!exists(STOCK_LMP))                                                                      \
   GTEST_SKIP() << "no stock LAMMPS executable with the PLUGIN package for this LAMMPS version " \
-                  "at '" HS_STOCK_LMP "' (Debian bookworm's lmp is built without PLUGIN; "     \
+                  "at '" << STOCK_LMP << "' (Debian bookworm's lmp is built without PLUGIN; "  \
                   "build-2025/lammps/lmp is the one for LAMMPS 4Feb2025)"
 
 std::vector<double> numbers_of(const std::string &path, int skip_comment_lines = 1)
@@ -86,7 +83,8 @@ TEST_P(StockPlugin, PendulumChainTrajectoryEqualsDriver)
 {
   SKIP_WITHOUT_STOCK_LMP();
   const std::string method = GetParam();
-  const std::string example = HS_SOURCE_DIR "/examples/pendulum-chain/in.pendulum-chain";
+  const std::string example =
+      std::string(hs_test_paths::source_dir) + "/examples/pendulum-chain/in.pendulum-chain";
   struct Run {
     std::string out, dump, series;
   } run[2];
@@ -95,11 +93,11 @@ TEST_P(StockPlugin, PendulumChainTrajectoryEqualsDriver)
     run[k].dump = tag + ".dump";
     run[k].series = tag + ".v";
     std::string input;
-    if (k == 1) input += "plugin load " HS_PLUGIN_PATH "\n";
+    if (k == 1) input += "plugin load " + PLUGIN + "\n";
     input += "include " + example + "\n";
     input += "write_dump all custom " + run[k].dump +
         " id x y z vx vy vz modify sort id format float %.17g\n";
-    const auto res = run_program(k ? HS_STOCK_LMP : HS_LMP_BINARY, input,
+    const auto res = run_program(k ? STOCK_LMP : std::string(hs_test_paths::lmp_binary), input,
                                  {"-var", "method", method, "-var", "T", "40", "-var", "every",
                                   "1000", "-var", "vevery", "1", "-var", "vout", run[k].series});
     ASSERT_EQ(res.exit_code, 0) << (k ? "stock lmp + plugin" : "driver") << ":\n" << res.output;
@@ -140,7 +138,7 @@ INSTANTIATE_TEST_SUITE_P(Methods, StockPlugin,
 TEST(StockPluginCommands, ListAndUnload)
 {
   SKIP_WITHOUT_STOCK_LMP();
-  const std::string input = std::string("plugin load " HS_PLUGIN_PATH "\nplugin list\n") +
+  const std::string input = "plugin load " + PLUGIN + "\nplugin list\n" +
       two_spheres +
       "plugin unload fix hardsphere/cva\n"
       // accepted only if the unload deleted fix hs (else: new style != old style)
@@ -149,7 +147,7 @@ TEST(StockPluginCommands, ListAndUnload)
       "print \"after unload\"\n"
       "plugin list\n"
       "fix hs2 all hardsphere/cva diameter 1.0\n";
-  const auto res = run_program(HS_STOCK_LMP, input);
+  const auto res = run_program(STOCK_LMP, input);
   const auto &out = res.output;
   for (const char *style :
        {"fix style plugin hardsphere/cva", "fix style plugin hardsphere/mcva",
@@ -175,13 +173,13 @@ TEST(StockPluginCommands, ListAndUnload)
 TEST(StockPluginCommands, ClearUnloadsAndReloadWorks)
 {
   SKIP_WITHOUT_STOCK_LMP();
-  const std::string input = std::string("plugin load " HS_PLUGIN_PATH "\n") + two_spheres +
+  const std::string input = "plugin load " + PLUGIN + "\n" + two_spheres +
       "clear\n"
       "print \"after clear\"\n"
       "plugin list\n"
-      "plugin load " HS_PLUGIN_PATH "\n" +
+      "plugin load " + PLUGIN + "\n" +
       two_spheres + "clear\n" + two_spheres;
-  const auto res = run_program(HS_STOCK_LMP, input);
+  const auto res = run_program(STOCK_LMP, input);
   const auto &out = res.output;
   const size_t after = out.find("after clear");
   ASSERT_NE(after, std::string::npos) << out;
@@ -206,13 +204,13 @@ TEST(StockPluginCommands, ClearUnloadsAndReloadWorks)
 TEST(StockPluginCommands, PluginOfOtherVersionFailsCleanly)
 {
   SKIP_WITHOUT_STOCK_LMP();
-  if (access(HS_OTHER_PLUGIN, R_OK) != 0)
-    GTEST_SKIP() << "no plugin built for the other LAMMPS version at '" HS_OTHER_PLUGIN
-                    "' (scripts/setup.sh builds both build/ and build-2025/)";
-  const std::string input = std::string("plugin load " HS_OTHER_PLUGIN "\n") + two_spheres;
-  const auto res = run_program(HS_STOCK_LMP, input);
+  if (OTHER_PLUGIN.empty() || access(OTHER_PLUGIN.c_str(), R_OK) != 0)
+    GTEST_SKIP() << "no plugin built for the other LAMMPS version at '" << OTHER_PLUGIN
+                 << "' (scripts/setup.sh builds both build/ and build-2025/)";
+  const std::string input = "plugin load " + OTHER_PLUGIN + "\n" + two_spheres;
+  const auto res = run_program(STOCK_LMP, input);
   const auto &out = res.output;
-  const bool dlopen_failed = out.find("Open of file " HS_OTHER_PLUGIN " failed") != std::string::npos;
+  const bool dlopen_failed = out.find("Open of file " + OTHER_PLUGIN + " failed") != std::string::npos;
   const bool version_refused =
       out.find("ERROR: HARDSPHERE plugin was compiled for LAMMPS") != std::string::npos;
   EXPECT_TRUE(dlopen_failed || version_refused) << out;
