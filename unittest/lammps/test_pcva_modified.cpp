@@ -26,8 +26,7 @@ using namespace hs_test;
 
 namespace {
 
-const std::string CHAIN =
-    std::string(hs_test_paths::source_dir) + "/examples/pendulum-chain/in.pendulum-chain";
+const std::string CHAIN = hs_chain::chain_path();
 
 struct Conservation {
   double max_coll = 0.0;      // max |dH~| over steps with projections (pcva) / collisions (cva)

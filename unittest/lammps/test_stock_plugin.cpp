@@ -8,6 +8,8 @@
 
 #include "hs_test_main.h"
 
+#include "hs_chain.h"
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -83,8 +85,7 @@ TEST_P(StockPlugin, PendulumChainTrajectoryEqualsDriver)
 {
   SKIP_WITHOUT_STOCK_LMP();
   const std::string method = GetParam();
-  const std::string example =
-      std::string(hs_test_paths::source_dir) + "/examples/pendulum-chain/in.pendulum-chain";
+  const std::string example = hs_chain::chain_path();
   struct Run {
     std::string out, dump, series;
   } run[2];
@@ -204,7 +205,7 @@ TEST(StockPluginCommands, ClearUnloadsAndReloadWorks)
 TEST(StockPluginCommands, PluginOfOtherVersionFailsCleanly)
 {
   SKIP_WITHOUT_STOCK_LMP();
-  if (OTHER_PLUGIN.empty() || access(OTHER_PLUGIN.c_str(), R_OK) != 0)
+  if (access(OTHER_PLUGIN.c_str(), R_OK) != 0)
     GTEST_SKIP() << "no plugin built for the other LAMMPS version at '" << OTHER_PLUGIN
                  << "' (scripts/setup.sh builds both build/ and build-2025/)";
   const std::string input = "plugin load " + OTHER_PLUGIN + "\n" + two_spheres;
