@@ -20,8 +20,10 @@
    ntypes + 1), as HSPotential rebuilds and checks them against
    PairLJCut::single() (force and energy). With the energy tally too
    (EFLAG): the evaluations of a method that needs the flows' energies
-   (vci), which otherwise take compute(1, 0). LAMMPS-free
-   (unit-tested alone: unittest/math/test_ljcut.cpp).
+   (vci), which otherwise take compute(1, 0). And one term's phi, phi'
+   (single()'s arithmetic) and phi'', ... (HSPotential's derivative layer,
+   pcva's projection). LAMMPS-free (unit-tested alone:
+   unittest/math/test_ljcut.cpp).
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LJCUT_H
@@ -32,9 +34,37 @@
 namespace HardSphere {
 
 struct LJCutTable {
-  const double *coef = nullptr;    // lj1, lj2, lj3, lj4, offset per type pair (above); nullptr: none
+  // lj1, lj2, lj3, lj4, offset per type pair (above), then the epsilon and
+  // sigma they came from; nullptr: none
+  const double *coef = nullptr;
   int stride = 0, ntp1 = 0;
 };
+
+// one term's phi and phi'(r) = -fforce r, as PairLJCut::single() computes
+// energy and fforce (c: lj1..lj4, offset of the type pair; fl: special_lj)
+inline void lj_cut_phi01(const double *c, double fl, double rsq, double r, double phi[2])
+{
+  const double r2inv = 1.0 / rsq;
+  const double r6inv = r2inv * r2inv * r2inv;
+  const double forcelj = r6inv * (c[0] * r6inv - c[1]);
+  const double fforce = fl * forcelj * r2inv;
+  const double philj = r6inv * (c[2] * r6inv - c[3]) - c[4];
+  phi[0] = fl * philj;
+  phi[1] = -fforce * r;
+}
+
+// phi^(k)(r), k = 2..order (order <= 4), of fl 4 eps [(sigma/r)^12 -
+// (sigma/r)^6]: d^k/dr^k r^-n = (-n)(-n-1)...(-n-k+1) r^-n-k
+inline void lj_derivs(double eps, double sig, double fl, double rsq, double r, int order,
+                      double phi[5])
+{
+  const double s2 = sig * sig / rsq, s6 = s2 * s2 * s2;
+  const double c12 = 4.0 * eps * fl * s6 * s6, c6 = -4.0 * eps * fl * s6;
+  const double rinv = 1.0 / r;
+  phi[2] = (156.0 * c12 + 42.0 * c6) * rinv * rinv;
+  if (order >= 3) phi[3] = (-2184.0 * c12 - 336.0 * c6) * rinv * rinv * rinv;
+  if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * rinv * rinv * rinv * rinv;
+}
 
 // PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
 // entries carry the special bits above SB (factor special_lj[j >> SB & 3])

@@ -149,6 +149,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   const std::vector<int> &members(int c) const override;
   const double *start_x(int i) const override { return x0[i]; }
   const double *start_v(int i) const override { return v0[i]; }
+  const double *const *start_x_rows() const override { return x0; }
+  const double *const *start_v_rows() const override { return v0; }
   void partner_kicks(int i, double *first, double *second) const override;
   HSLocalForces &local_forces() override { return *locf; }
   int owned(tagint t) const override;

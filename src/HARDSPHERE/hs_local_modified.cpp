@@ -84,7 +84,11 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
   static const double zero[3] = {0.0, 0.0, 0.0};
   E = Q = Qbb = 0.0;
   zero_red();
-  pot->begin_terms();
+  // lj/cut: pair_term()'s arithmetic inline (a call per term was ~30 % of
+  // this loop's instructions); else pair_term(). Either takes up changed
+  // coefficients first (begin_terms())
+  const HardSphere::LJCutTable ljt = pot->lj_cut_table();
+  const double *special_lj = force->special_lj;
   const int nterm = (int) toff.size() - 1;
   // the terms come cluster by cluster, their copies' rows all over memory;
   // the order is fixed (the sums' round-off), so the rows of the term
@@ -110,16 +114,23 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
     const double *xi = xpos(i), *xj = xpos(j);
     const double del[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
     const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-    double phi[3], w;
+    double phi[5], w;
+    const double r = sqrt(rsq);
     if (pair) {
-      if (rsq >= cutsq[type[i]][type[j]]) continue;
-      pot->pair_term(i, j, textra[t], rsq, phi);
+      const int ti = type[i], tj = type[j];
+      if (rsq >= cutsq[ti][tj]) continue;
+      if (ljt.coef) {
+        const double *c = ljt.coef + (size_t) ljt.stride * (ti * ljt.ntp1 + tj);
+        const double fl = special_lj[textra[t]];
+        HardSphere::lj_cut_phi01(c, fl, rsq, r, phi);
+        HardSphere::lj_derivs(c[5], c[6], fl, rsq, r, 2, phi);
+      } else
+        pot->pair_term(i, j, textra[t], rsq, phi);
       w = (newton_pair || j < nlocal) ? 1.0 : 0.5;
     } else {
       pot->bond_term(textra[t], i, j, rsq, phi);
       w = newton_bond ? 1.0 : 0.5 * ((i < nlocal) + (j < nlocal));
     }
-    const double r = sqrt(rsq);
     const double e[3] = {del[0] / r, del[1] / r, del[2] / r};
     // (rows by offset, HardSphere::row_at())
     const double *fi = HardSphere::row_at(fwd[0], 7, i), *fj = HardSphere::row_at(fwd[0], 7, j);
@@ -317,7 +328,8 @@ void HSLocalModified::begin(HSStepView &eng)
   // every pair within cutoff + skin: every atom that can share a term with
   // a member during the step has a copy here
   double E, Q, Qbb;
-  auto xstart = [&](int l) { return eng.start_x(l); };
+  const double *const *x0 = eng.start_x_rows();
+  auto xstart = [x0](int l) { return x0[l]; };
   if (sys->nheld) {
     find_terms(eng);
     conservative_state(eng, true);
@@ -328,9 +340,10 @@ void HSLocalModified::begin(HSStepView &eng)
     // (the engine forwards v at the step's start): no forward, and the
     // owners' flags travel with the terms' sums (one reverse)
     list_terms(eng);
+    const double *const *v0 = eng.start_v_rows();
     for (int l : tcopies)
       for (int d = 0; d < 3; d++) {
-        fwd[l][d] = eng.start_v(l)[d];
+        fwd[l][d] = v0[l][d];
         fwd[l][3 + d] = 0.0;
       }
     terms_eval<false>(xstart, E, Q, Qbb, true);
@@ -432,17 +445,6 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   }
   for (size_t k = 0; k < moved.size(); k++)
     for (int d = 0; d < 3; d++) x[moved[k]][d] = saved[k][d];
-}
-
-const double *HSLocalModified::cons(int i) const
-{
-  return cons_direct ? atom->f[i] : fcons_[i].data();
-}
-
-const double *HSLocalModified::vcons(int i) const
-{
-  if (!cons_direct) return vcons_[i].data();
-  return cons_start ? cons_view->start_v(i) : atom->v[i];
 }
 
 /* ----------------------------------------------------------------------

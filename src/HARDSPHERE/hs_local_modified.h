@@ -48,6 +48,9 @@
 #define LMP_HS_LOCAL_MODIFIED_H
 
 #include "hs_mpi.h"
+#include "hs_step_view.h"
+
+#include "atom.h"
 #include "lmptype.h"
 #include "pointers.h"
 
@@ -58,7 +61,6 @@
 namespace LAMMPS_NS {
 
 class HSSystem;
-class HSStepView;
 class HSPotential;
 
 class HSLocalModified : protected Pointers {
@@ -156,8 +158,12 @@ class HSLocalModified : protected Pointers {
   bool cons_direct = false, cons_start = false;
   HSStepView *cons_view = nullptr;
   void conservative_state(HSStepView &, bool at_start);
-  const double *cons(int i) const;
-  const double *vcons(int i) const;
+  const double *cons(int i) const { return cons_direct ? atom->f[i] : fcons_[i].data(); }
+  const double *vcons(int i) const
+  {
+    if (!cons_direct) return vcons_[i].data();
+    return cons_start ? cons_view->start_v(i) : atom->v[i];
+  }
   void relative();
 };
 

@@ -448,35 +448,24 @@ struct HSPotential::Impl : protected Pointers {
   {
     Pair *pair = force->pair;
     double fforce = 0.0;
-    if (lj_inline) {
+    const double r = sqrt(rsq);
+    if (lj_inline)
       // PairLJCut::single(), operation for operation (lj_current() checked
       // at the start of the pass that the coefficients still hold)
-      const double *c = &ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)];
-      const double r2inv = 1.0 / rsq;
-      const double r6inv = r2inv * r2inv * r2inv;
-      const double forcelj = r6inv * (c[0] * r6inv - c[1]);
-      fforce = fl * forcelj * r2inv;
-      const double philj = r6inv * (c[2] * r6inv - c[3]) - c[4];
-      phi[0] = fl * philj;
-    } else
+      HardSphere::lj_cut_phi01(&ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)], fl,
+                               rsq, r, phi);
+    else {
       phi[0] = pair->single(i, j, itype, jtype, rsq, fc, fl, fforce);
-    const double r = sqrt(rsq);
-    phi[1] = -fforce * r;
+      phi[1] = -fforce * r;
+    }
     phi[2] = phi[3] = phi[4] = 0.0;
     if (order < 2) return;
     if (pair_lj) {
-      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor:
-      // d^k/dr^k r^-n = (-n)(-n-1)...(-n-k+1) r^-n-k
+      // 4 eps [(sigma/r)^12 - (sigma/r)^6], scaled by the special factor
       // (init_one() sets epsilon and sigma for itype <= jtype only: the
       // other half of the arrays is never written)
       const int lo = std::min(itype, jtype), hi = std::max(itype, jtype);
-      const double eps = lj_eps[lo][hi], sig = lj_sig[lo][hi];
-      const double s2 = sig * sig / rsq, s6 = s2 * s2 * s2;
-      const double c12 = 4.0 * eps * fl * s6 * s6, c6 = -4.0 * eps * fl * s6;
-      const double rinv = 1.0 / r;
-      phi[2] = (156.0 * c12 + 42.0 * c6) * rinv * rinv;
-      if (order >= 3) phi[3] = (-2184.0 * c12 - 336.0 * c6) * rinv * rinv * rinv;
-      if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * rinv * rinv * rinv * rinv;
+      HardSphere::lj_derivs(lj_eps[lo][hi], lj_sig[lo][hi], fl, rsq, r, order, phi);
       return;
     }
     if (pair_ljfit) {

@@ -28,6 +28,10 @@ class HSStepView {
   // the state at the step's start of local index i
   virtual const double *start_x(int i) const = 0;
   virtual const double *start_v(int i) const = 0;
+  // the same as arrays of rows (start_x(i) == start_x_rows()[i]), for loops
+  // over many atoms (a call per atom was ~1 % of pcva's step)
+  virtual const double *const *start_x_rows() const = 0;
+  virtual const double *const *start_v_rows() const = 0;
   // the V_C kicks non-member i took in the first, resp. second Phi_H1
   virtual void partner_kicks(int i, double *first, double *second) const = 0;
   // restricted force evaluations on the step's lists

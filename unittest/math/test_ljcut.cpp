@@ -262,3 +262,62 @@ TEST(LJCut, KernelWithEnergyIsComputeBitForBit)
   const double ea = reference(a, true, true), eb = kernel(b, true, true);
   EXPECT_NE(0, std::memcmp(&ea, &eb, sizeof(double)));
 }
+
+// one term's phi and phi' as PairLJCut::single() computes them (energy and
+// fforce, written here one operation at a time, phi' = -fforce r), and its
+// phi'', phi''', phi'''' against the closed forms of 4 eps fl [(s/r)^12 -
+// (s/r)^6] and against central differences of the next lower derivative
+TEST(LJCut, TermIsSinglesBitsAndItsDerivatives)
+{
+  std::mt19937 g(20261129);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 2000; trial++) {
+    const double eps = 0.5 + U(g), sig = 0.8 + 0.4 * U(g), cut = 2.0 + U(g);
+    const double fl = trial % 3 == 0 ? 1.0 : (trial % 3 == 1 ? 0.5 : 0.125);
+    const double ratio = sig / cut;
+    const double c[7] = {48.0 * eps * std::pow(sig, 12.0), 24.0 * eps * std::pow(sig, 6.0),
+                         4.0 * eps * std::pow(sig, 12.0), 4.0 * eps * std::pow(sig, 6.0),
+                         trial % 2 ? 4.0 * eps * (std::pow(ratio, 12.0) - std::pow(ratio, 6.0))
+                                   : 0.0,
+                         eps, sig};
+    const double r = sig * (0.85 + (cut / sig - 0.85) * U(g)), rsq = r * r;
+    double phi[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+    HardSphere::lj_cut_phi01(c, fl, rsq, std::sqrt(rsq), phi);
+    HardSphere::lj_derivs(c[5], c[6], fl, rsq, std::sqrt(rsq), 4, phi);
+    // single(): r2inv, r6inv, forcelj, fforce = factor_lj forcelj r2inv,
+    // philj = r6inv (lj3 r6inv - lj4) - offset, returns factor_lj philj
+    volatile double r2inv = 1.0 / rsq, r4 = r2inv * r2inv, r6inv = r4 * r2inv;
+    volatile double t1 = c[0] * r6inv, t2 = t1 - c[1], forcelj = r6inv * t2;
+    volatile double t3 = fl * forcelj, fforce = t3 * r2inv;
+    volatile double e1 = c[2] * r6inv, e2 = e1 - c[3], e3 = r6inv * e2, philj = e3 - c[4];
+    volatile double e0 = fl * philj, rr = std::sqrt(rsq), p1 = -fforce * rr;
+    EXPECT_EQ(std::memcmp(&phi[0], (const double *) &e0, sizeof(double)), 0) << trial;
+    EXPECT_EQ(std::memcmp(&phi[1], (const double *) &p1, sizeof(double)), 0) << trial;
+    // closed forms: phi^(k) = 4 eps fl sum_n a_n (sigma^n) d^k r^-n
+    const double s6 = std::pow(sig / r, 6.0), s12 = s6 * s6, k = 4.0 * eps * fl;
+    const double exact[5] = {0.0, k * (-12.0 * s12 + 6.0 * s6) / r,
+                             k * (156.0 * s12 - 42.0 * s6) / (r * r),
+                             k * (-2184.0 * s12 + 336.0 * s6) / (r * r * r),
+                             k * (32760.0 * s12 - 3024.0 * s6) / (r * r * r * r)};
+    // each order's scale without cancellation: k (|a12| s12 + |a6| s6) / r^q
+    const double a12[5] = {1.0, 12.0, 156.0, 2184.0, 32760.0}, a6[5] = {1.0, 6.0, 42.0, 336.0, 3024.0};
+    double scale[5];
+    for (int q = 0; q <= 4; q++) scale[q] = k * (a12[q] * s12 + a6[q] * s6) / std::pow(r, q);
+    for (int q = 1; q <= 4; q++)
+      EXPECT_NEAR(phi[q], exact[q], 1e-13 * scale[q]) << "trial " << trial << " order " << q;
+    // phi^(q) as the central difference of phi^(q-1) (step h = 1e-4 r: error
+    // h^2/6 phi^(q+2), below ~(q+13)(q+14)/6 1e-8 of the scale)
+    const double h = 1e-4 * r;
+    for (int q = 2; q <= 4; q++) {
+      double pp[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, pm[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+      const double rp = r + h, rm = r - h;
+      HardSphere::lj_cut_phi01(c, fl, rp * rp, rp, pp);
+      HardSphere::lj_derivs(c[5], c[6], fl, rp * rp, rp, 4, pp);
+      HardSphere::lj_cut_phi01(c, fl, rm * rm, rm, pm);
+      HardSphere::lj_derivs(c[5], c[6], fl, rm * rm, rm, 4, pm);
+      const double fd = (pp[q - 1] - pm[q - 1]) / (2.0 * h);
+      EXPECT_NEAR(phi[q], fd, 1e-6 * scale[q])
+          << "trial " << trial << " order " << q;
+    }
+  }
+}
