@@ -233,8 +233,7 @@ void HSMethodMCVA::field(const double *y, double *kout)
     const double im = ftm2v / S.mass_of(i);
     for (int d = 0; d < 3; d++) fa[i][d] = im * f[i][d];
   }
-  S.pot->hess_third(fv, fhv, ftv);    // V'' v, V'''[v,v,.]
-  S.pot->hess_vec(fa, fha);           // V'' a
+  S.pot->hess_third_vec(fv, fhv, ftv, fa, fha);    // V'' v, V'''[v,v,.]; V'' a
   S.pot->use_frozen_set(false);
   for (int k = 0; k < ng; k++) {
     const int i = idx[k];

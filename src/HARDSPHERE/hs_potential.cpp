@@ -107,6 +107,7 @@ struct HSPotential::Impl : protected Pointers {
   double **fb[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
   double **sa = nullptr, **sb = nullptr;
   double **s3 = nullptr;    // V'''[w,w] of the single path, ghosts included
+  double **s2 = nullptr;    // V'' a of the single path beside V'' w (hess_third_vec())
   Tally tal[6];
 
   void destroy()
@@ -120,6 +121,7 @@ struct HSPotential::Impl : protected Pointers {
     memory->destroy(sa);
     memory->destroy(sb);
     memory->destroy(s3);
+    memory->destroy(s2);
     nmax = 0;
   }
 
@@ -137,6 +139,7 @@ struct HSPotential::Impl : protected Pointers {
     memory->create(sa, nmax, 3, "hs_potential:sa");
     memory->create(sb, nmax, 3, "hs_potential:sb");
     memory->create(s3, nmax, 3, "hs_potential:s3");
+    memory->create(s2, nmax, 3, "hs_potential:s2");
   }
 
   bool molecular() const { return atom->molecular != Atom::ATOMIC; }
@@ -699,6 +702,21 @@ struct HSPotential::Impl : protected Pointers {
 
   bool any_single() const { return pair_single || bond_single; }
 
+  // phi'' of every single term the same whether phi''' is asked for too:
+  // not where a pair term's derivatives come from differences, whose
+  // stencil near the cutoff follows the highest order asked for
+  // (radial_derivs_fd(); bonds' differences have no cutoff)
+  bool phi2_order_free() const
+  {
+    if (!pair_single || pair_lj) return true;
+    if (!pair_ljfit) return false;
+    const int nt = atom->ntypes;
+    for (int it = 1; it <= nt; it++)
+      for (int jt = 1; jt <= nt; jt++)
+        if (ljlo[it * (nt + 1) + jt] < 0.0) return false;    // (fitted: 0.3 x cutoff)
+    return true;
+  }
+
   // calls fn(ii, jj, i, j, sb, del = x_i - x_j, rsq, inside_now) for every
   // pair of the single path's list (all pairs, as the pair style's compute()
   // sees them; sb: the entry's special index)
@@ -751,13 +769,17 @@ struct HSPotential::Impl : protected Pointers {
   // SINGLE part of hw (+=) and tw (+=, if tw); w holds w with ghosts. One
   // pass over the terms (each term's phi^(k) once): V''w summed in atom->f,
   // V'''[w,w] in s3; ghost shares go to their owners through atom->f, one
-  // reverse communication each
-  void single_hess_third(double **w, double **hw, double **tw)
+  // reverse communication each. With a (ghosts too): V''a into ha (+=) in
+  // the same pass, summed in s2 (each sum in the same order as a pass of
+  // its own, so the same bits)
+  void single_hess_third(double **w, double **hw, double **tw, double **a = nullptr,
+                         double **ha = nullptr)
   {
     const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
     zero_f_all();
     double **f = atom->f;
     if (tw) memset(&s3[0][0], 0, 3 * sizeof(double) * nall);
+    if (a) memset(&s2[0][0], 0, 3 * sizeof(double) * nall);
     for_each_radial(tw ? 3 : 2,
                     [&](int i, int j, const double *del, const double *phi, double, bool ui,
                         bool uj) {
@@ -769,6 +791,15 @@ struct HSPotential::Impl : protected Pointers {
                         if (ui) f[i][k] += out[k];
                         if (uj) f[j][k] -= out[k];
                       }
+                      if (a) {
+                        const double aij[3] = {a[i][0] - a[j][0], a[i][1] - a[j][1],
+                                               a[i][2] - a[j][2]};
+                        HardSphere::radial_hess_vec(del, phi[1], phi[2], aij, out);
+                        for (int k = 0; k < 3; k++) {
+                          if (ui) s2[i][k] += out[k];
+                          if (uj) s2[j][k] -= out[k];
+                        }
+                      }
                       if (!tw) return;
                       HardSphere::radial_third_ww(del, phi[1], phi[2], phi[3], wij, out);
                       for (int k = 0; k < 3; k++) {
@@ -779,15 +810,18 @@ struct HSPotential::Impl : protected Pointers {
     if (force->newton) comm->reverse_comm();
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < 3; k++) hw[i][k] += f[i][k];
-    if (!tw) return;
-    if (force->newton) {
-      // (every f is overwritten; the torques, if any, are still zero)
-      memcpy(&f[0][0], &s3[0][0], 3 * sizeof(double) * nall);
-      comm->reverse_comm();
-    } else
-      f = s3;
-    for (int i = 0; i < nlocal; i++)
-      for (int k = 0; k < 3; k++) tw[i][k] += f[i][k];
+    // (every f is overwritten; the torques, if any, are still zero)
+    for (auto [src, dst] : {std::make_pair(tw ? s3 : nullptr, tw), std::make_pair(a ? s2 : nullptr, ha)}) {
+      if (!src) continue;
+      if (force->newton) {
+        f = atom->f;
+        memcpy(&f[0][0], &src[0][0], 3 * sizeof(double) * nall);
+        comm->reverse_comm();
+      } else
+        f = src;
+      for (int i = 0; i < nlocal; i++)
+        for (int k = 0; k < 3; k++) dst[i][k] += f[i][k];
+    }
   }
 
   // SINGLE part of sum over terms of a scalar g(del, phi, a_ij, b_ij)
@@ -1123,6 +1157,34 @@ double HSPotential::energy()
 void HSPotential::hess_vec(double **w, double **hw)
 {
   hess_third(w, hw, nullptr);
+}
+
+void HSPotential::hess_third_vec(double **w, double **hw, double **tw, double **a, double **ha)
+{
+  Impl &m = *impl;
+  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  // one pass over the terms for both where every term is on the single
+  // path and both vectors are nonzero; else the two calls (the differences
+  // of the FDIFF path, and a phi'' by differences that may take another
+  // stencil at order 3 than at order 2 near a cutoff, stay as they were)
+  m.grow();
+  const double wmax = m.mask_field(w, m.wl), amax = m.mask_field(a, m.al);
+  if (m.fd_any || !m.any_single() || wmax == 0.0 || amax == 0.0 || !m.phi2_order_free()) {
+    hess_third(w, hw, tw);
+    hess_vec(a, ha);
+    return;
+  }
+  m.zero_field(hw);
+  if (tw) m.zero_field(tw);
+  m.zero_field(ha);
+  m.save();
+  m.ghosts(m.wl);
+  m.ghosts(m.al);
+  m.single_hess_third(m.wl, hw, tw, m.al, ha);
+  m.restore();
+  m.project(hw);
+  if (tw) m.project(tw);
+  m.project(ha);
 }
 
 void HSPotential::hess_third(double **w, double **hw, double **tw)

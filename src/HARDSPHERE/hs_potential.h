@@ -107,6 +107,10 @@ class HSPotential : protected Pointers {
   void hess_vec(double **w, double **hw);          // hw = V'' w
   // hw = V'' w and tw = V'''[w,w,.] (the gradient of w^T V'' w) in one pass
   void hess_third(double **w, double **hw, double **tw);
+  // hess_third(w, hw, tw) and hess_vec(a, ha), the same results, in one pass
+  // over the terms where every term is on the single path (phi'' once per
+  // term for both)
+  void hess_third_vec(double **w, double **hw, double **tw, double **a, double **ha);
   double d2(double **w);                           // w^T V'' w (global)
   double d2_mixed(double **a, double **b);         // a^T V'' b (global)
   double d3_mixed(double **a, double **w);         // V'''[a,w,w] (global)
