@@ -2359,6 +2359,12 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
 bool HSLocalEngine::step()
 {
   HSSystem &F = *sys;
+  // another fix integrates atoms outside the group: those it moved before
+  // this fix's turn have ghost copies at their old positions (LAMMPS
+  // forwards x after every fix's initial_integrate()), and the clusters'
+  // terms read them. Forwarded, every copy is where its owner is (where the
+  // global engine's evaluations see them), on any number of ranks
+  if (F.other_integrator) comm->forward_comm();
   const int status = step_clusters();
   if (status < 0) return false;    // overflow global: the global engine's step
   if (status > 0) {

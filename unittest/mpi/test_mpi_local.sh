@@ -10,7 +10,8 @@
 # fix viscous (held forces, deterministic); a bead-spring melt with bonds,
 # angles, dihedrals and special weights (newton_bond on and off); fix
 # langevin on 2 ranks (mean
-# temperature within its error bar); and exact
+# temperature within its error bar); half of the 500 as a solvent under fix
+# nve defined before the spheres' fix (cva and vci); and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
@@ -53,6 +54,24 @@ check_system hot in.local_hot "2 4" -var nsteps 200
 sed 's/^fix         hs all hardsphere/fix         vi all viscous 0.2\nfix         hs all hardsphere/' in.local_fluid500 > in.local_held
 echo "500 atoms with fix viscous 0.2 (held forces), 200 steps:"
 check_system held in.local_held "2 4" -var nsteps 200
+
+# a solvent under fix nve beside the spheres, its fix defined first: the
+# atoms it moves before the engine's turn must be seen at their new
+# positions by every copy (their ghosts had the old ones, and 1, 2 and 4
+# ranks took different steps). The groups by region: create_atoms numbers
+# the atoms rank by rank
+sed 's/^fix         hs all hardsphere\/cva diameter 1.0$/region      low block INF INF INF INF INF 2.5\ngroup       solv region low\ngroup       hsg subtract all solv\nfix         nv solv nve\nfix         hs hsg hardsphere\/cva diameter 1.0/' \
+  in.local_fluid500 > in.local_solvent
+grep -q "^fix         nv solv nve$" in.local_solvent || { echo "FAIL: in.local_solvent has no solvent"; exit 1; }
+echo "500 atoms, half of them a solvent under fix nve defined before the spheres' fix, 200 steps:"
+check_system solvent in.local_solvent "2 4" -var nsteps 200
+# (vci's counters as in method_cases below)
+sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
+  in.local_solvent > in.local_vcisolvent
+echo "the same with hardsphere/vci:"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+check_system vcisolvent in.local_vcisolvent "2 4" -var nsteps 200
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
 # bead-spring melt (molecular: the members' special lists and bonded terms
 # come by atom ID, gathered when they join): 100 chains of 10 beads along
