@@ -194,16 +194,6 @@ void FixHardSphere::init()
     for (int b = 1; b <= ntypes && !own_list; b++)
       if (tall[a] && tall[b] && sqrt(force->pair->cutsq[a][b]) + S.skin < S.list_cutoff) own_list = 1;
 
-  // the contact list needs ghost atoms out to its cutoff: checked here,
-  // before newer LAMMPS (4Feb2025) checks the request with a vaguer message
-
-  const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
-  if (cutghost < S.list_cutoff)
-    error->all(FLERR,
-               "Fix {} needs ghost atoms out to {} (contact distance {} + 2 x skin {}), "
-               "but the ghost cutoff is {}: use comm_modify cutoff {} or a pair style "
-               "with a larger cutoff",
-               style_name, S.list_cutoff, 2.0 * S.rmax, S.skin, cutghost, S.list_cutoff);
   HSCompat::request_half_list(lmp, this, instance_me, own_list ? S.list_cutoff : 0.0,
                               CONTACT_LIST_ID);
 
@@ -233,6 +223,18 @@ void FixHardSphere::init()
 
   check_fixes_beside();
   choose_engine();
+
+  // the contact list needs ghost atoms out to its cutoff: checked here,
+  // before newer LAMMPS (4Feb2025) checks the request with a vaguer message,
+  // and after the local engine on several ranks raised the ghost cutoff to
+  // what it needs (more than this)
+  const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
+  if (cutghost < S.list_cutoff)
+    error->all(FLERR,
+               "Fix {} needs ghost atoms out to {} (contact distance {} + 2 x skin {}), "
+               "but the ghost cutoff is {}: use comm_modify cutoff {} or a pair style "
+               "with a larger cutoff",
+               style_name, S.list_cutoff, 2.0 * S.rmax, S.skin, cutghost, S.list_cutoff);
   reset_dt();
   if (method) method->init();
 }

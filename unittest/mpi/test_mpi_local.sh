@@ -470,4 +470,26 @@ else
   echo "  FAIL: no log line about the ghost cutoff"; fail=1
 fi
 
+# a pair cutoff below the contact list's (WCA, 1.12 + skin 0.3 < 1.6): on 2
+# ranks the engine raises the ghost cutoff before the contact list's check,
+# which then passes (it used to stop the run asking for a smaller cutoff
+# than the engine then set); the global engine, which raises nothing, is
+# told to set comm_modify cutoff 1.6
+sed 's/lj\/cut 2.5/lj\/cut 1.122462/; s/^pair_coeff  1 1 1.0 1.0 2.5/pair_coeff  1 1 1.0 1.0 1.122462/' \
+  in.local_fluid500 > in.local_wca
+grep -q "^pair_style  lj/cut 1.122462" in.local_wca || { echo "FAIL: in.local_wca is not WCA"; exit 1; }
+mpirun -np 2 --oversubscribe "$LMP" -in in.local_wca -log none -echo none -var nsteps 20 > out.wca.2 2>&1
+if grep -q '^RESULT ' out.wca.2 && grep -q "substep local sets comm_modify cutoff 4.8" out.wca.2; then
+  echo "  WCA on 2 ranks, substep local: the engine sets the ghost cutoff 4.8 and runs: ok"
+else
+  echo "  FAIL: WCA on 2 ranks, substep local:"; tail -5 out.wca.2; fail=1
+fi
+sed 's/hardsphere\/cva diameter 1.0$/hardsphere\/cva diameter 1.0 substep global/' in.local_wca > in.local_wca_g
+mpirun -np 2 --oversubscribe "$LMP" -in in.local_wca_g -log none -echo none -var nsteps 20 > out.wca_g.2 2>&1
+if ! grep -q '^RESULT ' out.wca_g.2 && grep -q "ERROR.*needs ghost atoms out to 1.6.*comm_modify cutoff 1.6" out.wca_g.2; then
+  echo "  WCA on 2 ranks, substep global: the error names comm_modify cutoff 1.6: ok"
+else
+  echo "  FAIL: WCA on 2 ranks, substep global:"; tail -5 out.wca_g.2; fail=1
+fi
+
 mpi_finish
