@@ -264,14 +264,19 @@ void HSMethodVCI::solve(Impulse &imp, double slope, const Eval &eval, bool is_he
   pending = 0;
   // a held contact (HELD above): elastic
   if (is_held) {
-    if (!warned_held && (comm->me == 0 || !all_ranks))
-      error->warning(FLERR,
-                     "Fix {}: the contact of {} on step {} is held (its spheres, pulled "
-                     "together, would meet again within a step), where the discrete energy "
-                     "cannot be matched; the elastic impulse is used. Such collisions are "
-                     "counted in f_{}[7]; this warning is printed once",
-                     S.style_name, S.contact_name(imp), update->ntimestep, S.fix_id());
-    warned_held = 1;
+    if (!warned_held) {
+      const std::string msg = fmt::format(
+          "Fix {}: the contact of {} on step {} is held (its spheres, pulled together, would "
+          "meet again within a step), where the discrete energy cannot be matched; the "
+          "elastic impulse is used. Such collisions are counted in f_{}[7]; this warning is "
+          "printed once",
+          S.style_name, S.contact_name(imp), update->ntimestep, S.fix_id());
+      if (!all_ranks) note(1, imp, msg);
+      else {
+        if (comm->me == 0) error->warning(FLERR, msg);
+        warned_held = 1;
+      }
+    }
     t.n[1] += 1.0;
     return;
   }
@@ -308,17 +313,22 @@ void HSMethodVCI::solve(Impulse &imp, double slope, const Eval &eval, bool is_he
     error->one(FLERR, msg);
   }
   if (r.status != HardSphere::VCI_CONVERGED) {
-    // a flow (local form) runs on one rank: its warning comes from there
-    if (!warned && (comm->me == 0 || !all_ranks))
-      error->warning(FLERR,
-                     "Fix {}: no impulse strength between {} and {} times the elastic one "
-                     "matches the discrete energy across the collision of {} on step {} ({}, "
-                     "E_d- {}, E_d+ - E_d- {} for the elastic impulse); the elastic impulse is "
-                     "used. Such collisions are counted in f_{}[7]; this warning is printed once",
-                     S.style_name, SMIN, SMAX, S.contact_name(imp), update->ntimestep,
-                     r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
-                     Etarget, f1, S.fix_id());
-    warned = 1;
+    if (!warned) {
+      const std::string msg = fmt::format(
+          "Fix {}: no impulse strength between {} and {} times the elastic one matches the "
+          "discrete energy across the collision of {} on step {} ({}, E_d- {}, E_d+ - E_d- "
+          "{} for the elastic impulse); the elastic impulse is used. Such collisions are "
+          "counted in f_{}[7]; this warning is printed once",
+          S.style_name, SMIN, SMAX, S.contact_name(imp), update->ntimestep,
+          r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root", Etarget, f1,
+          S.fix_id());
+      // (a flow runs on one rank: its warning waits for the step's end)
+      if (!all_ranks) note(0, imp, msg);
+      else {
+        if (comm->me == 0) error->warning(FLERR, msg);
+        warned = 1;
+      }
+    }
     t.n[1] += 1.0;
     return;
   }
@@ -377,14 +387,47 @@ void HSMethodVCI::modify_impulse_in_flow(Impulse &imp, HSFlowView &fv)
 }
 
 // the flows' counts of every rank into the counters (collective)
+// (no note: a key no contact has)
+static constexpr double NO_NOTE = -1e300;
+
 void HSMethodVCI::cluster_step_done(HSStepView &)
 {
   Tally sum;
   MPI_Allreduce(rank.n, sum.n, 4, MPI_DOUBLE, MPI_SUM, world);
-  MPI_Allreduce(rank.mx, sum.mx, 2, MPI_DOUBLE, MPI_MAX, world);
+  // the maxima and, in the same reduction, each kind's lowest key of a
+  // note (as -key)
+  double mx[4] = {rank.mx[0], rank.mx[1], NO_NOTE, NO_NOTE}, mxall[4];
+  for (int k = 0; k < 2; k++)
+    if (!step_note[k].text.empty()) mx[2 + k] = -step_note[k].key;
+  MPI_Allreduce(mx, mxall, 4, MPI_DOUBLE, MPI_MAX, world);
   for (int k = 0; k < 4; k++) all.n[k] += sum.n[k];
-  for (int k = 0; k < 2; k++) all.mx[k] = MAX(all.mx[k], sum.mx[k]);
+  for (int k = 0; k < 2; k++) all.mx[k] = MAX(all.mx[k], mxall[k]);
   rank = Tally();
+  for (int k = 0; k < 2; k++) {
+    int &told = k == 0 ? warned : warned_held;
+    if (told || mxall[2 + k] == NO_NOTE) continue;
+    // (rare: the first such contact of the run) the note's rank to all
+    const double key = -mxall[2 + k];
+    int root = (!step_note[k].text.empty() && step_note[k].key == key) ? comm->me : -1, from;
+    MPI_Allreduce(&root, &from, 1, MPI_INT, MPI_MAX, world);
+    std::string text = step_note[k].text;
+    int len = (int) text.size();
+    MPI_Bcast(&len, 1, MPI_INT, from, world);
+    text.resize(len);
+    MPI_Bcast(&text[0], len, MPI_CHAR, from, world);
+    if (comm->me == 0) error->warning(FLERR, text);
+    told = 1;
+  }
+  notes.clear();
+  step_note[0] = step_note[1] = Note();
+}
+
+// a flow's first warning of each kind (0: no root, 1: held), kept with its counts
+void HSMethodVCI::note(int kind, const Impulse &imp, const std::string &text)
+{
+  if (!flow_note[kind].text.empty()) return;
+  flow_note[kind].text = text;
+  flow_note[kind].key = (double) (imp.type == WALL_EVENT ? imp.itag : MIN(imp.itag, imp.jtag));
 }
 
 void HSMethodVCI::take_flow_counts(std::vector<double> &out)
@@ -392,6 +435,16 @@ void HSMethodVCI::take_flow_counts(std::vector<double> &out)
   out.assign(flow.n, flow.n + 4);
   out.insert(out.end(), flow.mx, flow.mx + 2);
   flow = Tally();
+  // its notes by index
+  for (Note &n : flow_note) {
+    if (n.text.empty()) {
+      out.push_back(-1.0);
+      continue;
+    }
+    out.push_back((double) notes.size());
+    notes.push_back(n);
+    n = Note();
+  }
 }
 
 // a final flow's counts into this rank's sums of the step
@@ -399,6 +452,11 @@ void HSMethodVCI::add_flow_counts(const std::vector<double> &c)
 {
   for (int k = 0; k < 4; k++) rank.n[k] += c[k];
   for (int k = 0; k < 2; k++) rank.mx[k] = MAX(rank.mx[k], c[4 + k]);
+  for (int k = 0; k < 2; k++) {
+    if (c[6 + k] < 0.0) continue;
+    const Note &n = notes[(size_t) c[6 + k]];
+    if (step_note[k].text.empty() || n.key < step_note[k].key) step_note[k] = n;
+  }
 }
 
 /* ---------------------------------------------------------------------- */

@@ -18,6 +18,7 @@
 #include "hs_method.h"
 
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -69,6 +70,19 @@ class HSMethodVCI : public HSMethod {
   Tally rank;    // local form: this rank's final flows since the last sum
   Tally flow;    // local form: the current flow's
   int warned = 0, warned_held = 0;
+  // local form: a flow's warnings (no root, held contact) go with its
+  // counts (a flow redone by a growth round drops its own) and are printed
+  // by rank 0 at the step's end, the one of the lowest contact ID of the
+  // step's final flows on any rank: once per fix, in the log, the same
+  // message on any number of ranks
+  struct Note {
+    std::string text;
+    double key = 0.0;    // the contact's lower atom ID
+  };
+  Note flow_note[2];                  // the current flow's first of each kind
+  std::vector<Note> notes;            // of the step's flows, by index in their counts
+  Note step_note[2];                  // of this rank's final flows: the lowest key
+  void note(int kind, const Impulse &, const std::string &);
 
   std::vector<double> xsave, vsave;
 
