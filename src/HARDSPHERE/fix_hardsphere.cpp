@@ -391,7 +391,12 @@ void FixHardSphere::setup(int)
                "pass through each other",
                style_name);
 
-  for (int k = 0; k < 6; k++) virial[k] = 0.0;
+  // the impulse virial is that of the step taken last: a run that goes on
+  // from that step reports the same pressure on its first thermo line as
+  // the last run on its last (a set-up takes no step, so has no collisions
+  // of its own); else none
+  if (update->ntimestep != virial_step)
+    for (int k = 0; k < 6; k++) virial[k] = 0.0;
   S.dtf_last = S.dtf;
   S.screened_step = -1;
   S.held_step = -1;
@@ -417,6 +422,7 @@ void FixHardSphere::post_neighbor()
 void FixHardSphere::initial_integrate(int)
 {
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
+  virial_step = update->ntimestep;
   S.grow_peratom();
   S.update_walls();
   S.step_collided = 0;

@@ -65,6 +65,33 @@ TEST_P(SuccessiveRuns, RunZeroThenRunsInPiecesIsOneRun)
   EXPECT_NEAR(a[4], b[4], 1e-12 * std::fabs(a[4])) << "H_[2,VV]";
 }
 
+// the pressure on the first thermo line of a run that goes on from the
+// last one's final step is the one that step reported: the impulse virial
+// of that step's collisions (the set-up takes no step), as fix nve's
+// pressure is the same on both lines. Found in a user-style trial: the
+// second line had lost the hard-sphere part (0.69 -> -0.48)
+TEST_P(SuccessiveRuns, PressureAtARunBoundaryIsTheLastStepsOne)
+{
+  const std::string method = GetParam();
+  std::string input = fluid_input(method, "run 20\nrun 20\n");
+  input = std::regex_replace(input, std::regex("thermo_style custom step etotal c_hm\\[2\\]"),
+                             "thermo_style custom step press f_hs[4] etotal c_hm[2]\n"
+                             "thermo_modify format float %.17g");
+  RunResult r = run_lmp(input);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // the thermo lines of step 20: the first run's last and the second's first
+  std::vector<std::pair<double, double>> at20;
+  std::regex line(R"(\n\s+20\s+(\S+)\s+(\S+))");
+  for (auto it = std::sregex_iterator(r.output.begin(), r.output.end(), line);
+       it != std::sregex_iterator(); ++it)
+    at20.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]));
+  ASSERT_EQ(at20.size(), 2u) << r.output;
+  EXPECT_GT(at20[0].second, 0.0) << "no collisional step in the first run";
+  EXPECT_EQ(at20[0].second, at20[1].second);
+  EXPECT_NEAR(at20[1].first, at20[0].first, 1e-12 * std::fabs(at20[0].first))
+      << "pressure at step 20 on the first run's last line and the second run's first";
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, SuccessiveRuns,
                          ::testing::Values("psa", "cva", "pcva", "mcva", "vci"),
                          [](const ::testing::TestParamInfo<const char *> &info) {
