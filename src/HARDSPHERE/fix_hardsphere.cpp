@@ -419,10 +419,17 @@ void FixHardSphere::post_neighbor()
    touch within it; such a step goes to the engine
 ------------------------------------------------------------------------- */
 
-void FixHardSphere::initial_integrate(int)
+// the impulse virial of the step that begins (setup() keeps it for a run
+// that goes on from this step)
+void FixHardSphere::begin_step_virial()
 {
   for (int k = 0; k < 6; k++) virial[k] = 0.0;
   virial_step = update->ntimestep;
+}
+
+void FixHardSphere::initial_integrate(int)
+{
+  begin_step_virial();
   S.grow_peratom();
   S.update_walls();
   S.step_collided = 0;

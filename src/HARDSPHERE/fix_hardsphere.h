@@ -75,6 +75,7 @@ class FixHardSphere : public Fix, public HSTypes {
   int substep_mode = SUBSTEP_DEFAULT;    // the keyword
   HSStepEngine *stepped = nullptr;       // the engine that took the current step
   bigint virial_step = -1;               // the step whose collisions virial holds
+  void begin_step_virial();              // a step's: from zero (initial_integrate())
   HSStepEngine *engine = nullptr;        // this run's, or none (psa)
   HSStepEngine *global_engine = nullptr, *local_engine = nullptr;
   int local_vec_offset = 5;              // first output entry of the engine's counters

@@ -370,8 +370,7 @@ void FixHardSpherePSA::after_collision(tagint tg)
 
 void FixHardSpherePSA::initial_integrate(int)
 {
-  for (int k = 0; k < 6; k++) virial[k] = 0.0;
-  virial_step = update->ntimestep;
+  begin_step_virial();
   S.grow_peratom();
   S.update_walls();
 

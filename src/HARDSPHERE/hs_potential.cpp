@@ -824,6 +824,26 @@ struct HSPotential::Impl : protected Pointers {
     }
   }
 
+  // hw (+=) = V'' w and, if tw, tw (+=) = V'''[w,w,.] for w masked into wm
+  // (mask_field(): its largest |w_i| wmax > 0), x, f and tallies left as
+  // they were; with am (a masked, single path only: no FDIFF part), ha (+=)
+  // = V'' a in the same pass over the terms
+  void hess_masked(double **wm, double wmax, double **hw, double **tw, double **am = nullptr,
+                   double **ha = nullptr)
+  {
+    save();
+    if (any_single()) {
+      ghosts(wm);
+      if (am) ghosts(am);
+      single_hess_third(wm, hw, tw, am, ha);
+    }
+    if (fd_any) fd_hess_third(wm, wmax, hw, tw);
+    restore();
+    project(hw);
+    if (tw) project(tw);
+    if (am) project(ha);
+  }
+
   // SINGLE part of sum over terms of a scalar g(del, phi, a_ij, b_ij)
   template <class G> double single_sum(int order, double **a, double **b, G g)
   {
@@ -1163,28 +1183,22 @@ void HSPotential::hess_third_vec(double **w, double **hw, double **tw, double **
 {
   Impl &m = *impl;
   if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
-  // one pass over the terms for both where every term is on the single
-  // path and both vectors are nonzero; else the two calls (the differences
-  // of the FDIFF path, and a phi'' by differences that may take another
-  // stencil at order 3 than at order 2 near a cutoff, stay as they were)
   m.grow();
-  const double wmax = m.mask_field(w, m.wl), amax = m.mask_field(a, m.al);
-  if (m.fd_any || !m.any_single() || wmax == 0.0 || amax == 0.0 || !m.phi2_order_free()) {
-    hess_third(w, hw, tw);
-    hess_vec(a, ha);
-    return;
-  }
   m.zero_field(hw);
   if (tw) m.zero_field(tw);
   m.zero_field(ha);
-  m.save();
-  m.ghosts(m.wl);
-  m.ghosts(m.al);
-  m.single_hess_third(m.wl, hw, tw, m.al, ha);
-  m.restore();
-  m.project(hw);
-  if (tw) m.project(tw);
-  m.project(ha);
+  const double wmax = m.mask_field(w, m.wl), amax = m.mask_field(a, m.al);
+  // one pass over the terms for both where every term is on the single
+  // path and phi'' is the same at order 2 and 3; else a pass each (the
+  // FDIFF path's differences, and a phi'' by differences that may take
+  // another stencil at order 3 than at order 2 near a cutoff, stay as they
+  // were)
+  if (wmax > 0.0 && amax > 0.0 && !m.fd_any && m.any_single() && m.phi2_order_free()) {
+    m.hess_masked(m.wl, wmax, hw, tw, m.al, ha);
+    return;
+  }
+  if (wmax > 0.0) m.hess_masked(m.wl, wmax, hw, tw);
+  if (amax > 0.0) m.hess_masked(m.al, amax, ha, nullptr);
 }
 
 void HSPotential::hess_third(double **w, double **hw, double **tw)
@@ -1195,16 +1209,7 @@ void HSPotential::hess_third(double **w, double **hw, double **tw)
   m.zero_field(hw);
   if (tw) m.zero_field(tw);
   const double wmax = m.mask_field(w, m.wl);
-  if (wmax == 0.0) return;
-  m.save();
-  if (m.any_single()) {
-    m.ghosts(m.wl);
-    m.single_hess_third(m.wl, hw, tw);
-  }
-  if (m.fd_any) m.fd_hess_third(m.wl, wmax, hw, tw);
-  m.restore();
-  m.project(hw);
-  if (tw) m.project(tw);
+  if (wmax > 0.0) m.hess_masked(m.wl, wmax, hw, tw);
 }
 
 double HSPotential::d2(double **w)
