@@ -264,19 +264,13 @@ void HSMethodVCI::solve(Impulse &imp, double slope, const Eval &eval, bool is_he
   pending = 0;
   // a held contact (HELD above): elastic
   if (is_held) {
-    if (!warned_held) {
-      const std::string msg = fmt::format(
-          "Fix {}: the contact of {} on step {} is held (its spheres, pulled together, would "
-          "meet again within a step), where the discrete energy cannot be matched; the "
-          "elastic impulse is used. Such collisions are counted in f_{}[7]; this warning is "
-          "printed once",
-          S.style_name, S.contact_name(imp), update->ntimestep, S.fix_id());
-      if (!all_ranks) note(1, imp, msg);
-      else {
-        if (comm->me == 0) error->warning(FLERR, msg);
-        warned_held = 1;
-      }
-    }
+    if (wants_warning(WARN_HELD, all_ranks))
+      warn(WARN_HELD, imp, all_ranks,
+           fmt::format("Fix {}: the contact of {} on step {} is held (its spheres, pulled "
+                       "together, would meet again within a step), where the discrete energy "
+                       "cannot be matched; the elastic impulse is used. Such collisions are "
+                       "counted in f_{}[7]; this warning is printed once",
+                       S.style_name, S.contact_name(imp), update->ntimestep, S.fix_id()));
     t.n[1] += 1.0;
     return;
   }
@@ -313,22 +307,16 @@ void HSMethodVCI::solve(Impulse &imp, double slope, const Eval &eval, bool is_he
     error->one(FLERR, msg);
   }
   if (r.status != HardSphere::VCI_CONVERGED) {
-    if (!warned) {
-      const std::string msg = fmt::format(
-          "Fix {}: no impulse strength between {} and {} times the elastic one matches the "
-          "discrete energy across the collision of {} on step {} ({}, E_d- {}, E_d+ - E_d- "
-          "{} for the elastic impulse); the elastic impulse is used. Such collisions are "
-          "counted in f_{}[7]; this warning is printed once",
-          S.style_name, SMIN, SMAX, S.contact_name(imp), update->ntimestep,
-          r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root", Etarget, f1,
-          S.fix_id());
-      // (a flow runs on one rank: its warning waits for the step's end)
-      if (!all_ranks) note(0, imp, msg);
-      else {
-        if (comm->me == 0) error->warning(FLERR, msg);
-        warned = 1;
-      }
-    }
+    if (wants_warning(WARN_NO_ROOT, all_ranks))
+      warn(WARN_NO_ROOT, imp, all_ranks,
+           fmt::format("Fix {}: no impulse strength between {} and {} times the elastic one "
+                       "matches the discrete energy across the collision of {} on step {} ({}, "
+                       "E_d- {}, E_d+ - E_d- {} for the elastic impulse); the elastic impulse "
+                       "is used. Such collisions are counted in f_{}[7]; this warning is "
+                       "printed once",
+                       S.style_name, SMIN, SMAX, S.contact_name(imp), update->ntimestep,
+                       r.status == HardSphere::VCI_JUMP ? "E_d+ jumps across E_d-" : "no root",
+                       Etarget, f1, S.fix_id()));
     t.n[1] += 1.0;
     return;
   }
@@ -404,8 +392,7 @@ void HSMethodVCI::cluster_step_done(HSStepView &)
   for (int k = 0; k < 2; k++) all.mx[k] = MAX(all.mx[k], mxall[k]);
   rank = Tally();
   for (int k = 0; k < 2; k++) {
-    int &told = k == 0 ? warned : warned_held;
-    if (told || mxall[2 + k] == NO_NOTE) continue;
+    if (warned[k] || mxall[2 + k] == NO_NOTE) continue;
     // (rare: the first such contact of the run) the note's rank to all
     const double key = -mxall[2 + k];
     int root = (!step_note[k].text.empty() && step_note[k].key == key) ? comm->me : -1, from;
@@ -416,13 +403,21 @@ void HSMethodVCI::cluster_step_done(HSStepView &)
     text.resize(len);
     MPI_Bcast(&text[0], len, MPI_CHAR, from, world);
     if (comm->me == 0) error->warning(FLERR, text);
-    told = 1;
+    warned[k] = 1;
   }
   notes.clear();
   step_note[0] = step_note[1] = Note();
 }
 
-// a flow's first warning of each kind (0: no root, 1: held), kept with its counts
+// (a flow runs on one rank: its warning waits for the step's end)
+void HSMethodVCI::warn(int kind, const Impulse &imp, bool all_ranks, const std::string &msg)
+{
+  if (!all_ranks) return note(kind, imp, msg);
+  if (comm->me == 0) error->warning(FLERR, msg);
+  warned[kind] = 1;
+}
+
+// a flow's first warning of each kind (WARN_NO_ROOT, WARN_HELD), kept with its counts
 void HSMethodVCI::note(int kind, const Impulse &imp, const std::string &text)
 {
   if (!flow_note[kind].text.empty()) return;

@@ -69,7 +69,9 @@ class HSMethodVCI : public HSMethod {
   Tally all;     // the counters (global, identical on all ranks)
   Tally rank;    // local form: this rank's final flows since the last sum
   Tally flow;    // local form: the current flow's
-  int warned = 0, warned_held = 0;
+  // the warnings printed once per fix, by kind (as the notes below)
+  enum { WARN_NO_ROOT = 0, WARN_HELD = 1 };
+  int warned[2] = {0, 0};
   // local form: a flow's warnings (no root, held contact) go with its
   // counts (a flow redone by a growth round drops its own) and are printed
   // by rank 0 at the step's end, the one of the lowest contact ID of the
@@ -83,6 +85,14 @@ class HSMethodVCI : public HSMethod {
   std::vector<Note> notes;            // of the step's flows, by index in their counts
   Note step_note[2];                  // of this rank's final flows: the lowest key
   void note(int kind, const Impulse &, const std::string &);
+  // whether a contact of this kind still has a warning to give (its text
+  // is formatted only then), and the warning given: at once by the global
+  // form, as the flow's note by the local one
+  bool wants_warning(int kind, bool all_ranks) const
+  {
+    return !warned[kind] && (all_ranks || flow_note[kind].text.empty());
+  }
+  void warn(int kind, const Impulse &, bool all_ranks, const std::string &);
 
   std::vector<double> xsave, vsave;
 

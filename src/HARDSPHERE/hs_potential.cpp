@@ -811,8 +811,9 @@ struct HSPotential::Impl : protected Pointers {
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < 3; k++) hw[i][k] += f[i][k];
     // (every f is overwritten; the torques, if any, are still zero)
-    for (auto [src, dst] : {std::make_pair(tw ? s3 : nullptr, tw), std::make_pair(a ? s2 : nullptr, ha)}) {
-      if (!src) continue;
+    // (ha is given with a, as hess_masked() passes them)
+    for (auto [src, dst] : {std::make_pair(s3, tw), std::make_pair(s2, ha)}) {
+      if (!dst) continue;
       if (force->newton) {
         f = atom->f;
         memcpy(&f[0][0], &src[0][0], 3 * sizeof(double) * nall);
