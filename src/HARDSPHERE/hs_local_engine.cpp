@@ -1067,13 +1067,13 @@ void HSLocalEngine::held_of(Run &r)
    the cross terms' force on a cluster's members at the step's start,
    F_X(x0), with every atom in them put back at x0 (issue 19, doc "Step
    engines"): the cross force acts inside both halves of the members'
-   flow, as F_X(x0) in the first and 2 F_X(x_mid) - F_X(x0) in the second,
-   instead of a kick dt F_X(x_mid) between them. A kick between the halves
-   gives a contact inside a half the wrong normal velocity by
-   2 min(t_c, dt - t_c) a_X.n, O(dt); a constant force within each half
-   errs by O(dt^2) at any time, and the total impulse is still
-   dt F_X(x_mid), so momentum is kept (F_X(x0) enters the two halves with
-   opposite signs).
+   flow, as F_X(x0) in the first and F_X at the members' ends in the
+   second (cross_at_end()), instead of a kick dt F_X(x_mid) between them.
+   A kick between the halves gives a contact inside a half the wrong
+   normal velocity by 2 min(t_c, dt - t_c) a_X.n, O(dt); a constant force
+   within each half errs by O(dt^2) at any time, and the total impulse is
+   dt F_X(x_mid) to O(dt^3). Momentum is kept: each half's cross forces
+   are those of the same positions on both clusters, equal and opposite.
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi)
@@ -1157,31 +1157,93 @@ void HSLocalEngine::cross_at_mid()
 
 // the cross-term forces on one cluster's members (from all their cross
 // terms at the members' current positions) and its cross neighbours
-void HSLocalEngine::cross_of(Run &r)
+void HSLocalEngine::cross_forces(const Run &r, std::vector<Vec> &out)
 {
   const int nm = (int) r.members.size();
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
   vc(r.members.data(), nm);
   locf->set_labels(lab.data());
   double **fl = locf->forces();
+  out.resize(nm);
+  for (int k = 0; k < nm; k++) {
+    const int i = r.members[k];
+    out[k] = {fl[i][0], fl[i][1], fl[i][2]};
+  }
+}
+
+void HSLocalEngine::cross_of(Run &r)
+{
+  std::vector<Vec> &fn = scratch_fx;
+  cross_forces(r, fn);
   const int key = lab[r.members[0]];
   r.xnbrs.clear();
   for (int t : locf->touched())
     if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back((tagint) idtag[lab[t]]);
   std::sort(r.xnbrs.begin(), r.xnbrs.end());
   r.xnbrs.erase(std::unique(r.xnbrs.begin(), r.xnbrs.end()), r.xnbrs.end());
-  bool changed = (int) r.fx.size() != nm;
-  r.fx.resize(nm);
-  for (int k = 0; k < nm; k++) {
-    const int i = r.members[k];
-    const Vec d = {fl[i][0], fl[i][1], fl[i][2]};
-    if (d != r.fx[k]) changed = true;
-    r.fx[k] = d;
-  }
+  const bool changed = fn != r.fx;
+  r.fx.swap(fn);
+  if (changed) r.fx1.clear();    // (its corrector's force, from other cross terms)
   if (changed && r.b_done) {
     r.b_done = false;
     workB.push_back(r.mtags[0]);
   }
+}
+
+/* ----------------------------------------------------------------------
+   the corrector of the second halves' cross force (see cross_at_start()).
+   A second half first runs with the extrapolation 2 F_X(q_mid) - F_X(q0),
+   which is not time-symmetric: the reversed step would start its first
+   half with F_X(q_end). Once the clusters are final, each of this rank's
+   runs with cross terms takes F_X at the members' ends (its own and its
+   cross neighbours', on any rank: the second halves' packets) and runs its
+   second half again with it, once: a fixed-point iteration towards the
+   time-symmetric F_X(q_end), whose one step leaves an O(dt^4) difference
+   in the force (the extrapolation's O(dt^2), times (dt/2)^2 / m F_X';
+   O(dt) and O(dt^3) with a contact in the second half).
+   Collective; true if any rank redoes a second half
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::cross_at_end()
+{
+  int redo = 0;
+  if (force->pair) {
+    double **x = atom->x;
+    std::vector<tagint> keys;
+    runs.for_each([&](tagint key, Run &r) {
+      if (r.mine && r.b_done && !r.xnbrs.empty() && r.fx1.empty()) keys.push_back(key);
+    });
+    if (!keys.empty()) {
+      // every member copy with a known end at its end (they wait at their
+      // mid positions: put back below)
+      std::vector<std::pair<int, Vec>> &saved = xend_saved;
+      saved.clear();
+      runs.for_each([&](tagint, Run &r) {
+        if (!r.b_done || r.dxe.size() != r.mtags.size()) return;
+        for (size_t k = 0; k < r.mtags.size(); k++)
+          for (int l = atom->map(r.mtags[k]); l >= 0; l = atom->sametag[l]) {
+            saved.push_back({l, {x[l][0], x[l][1], x[l][2]}});
+            for (int d = 0; d < 3; d++) x[l][d] = x0[l][d] + r.dxe[k][d];
+          }
+      });
+      // in key order (the flows' order is free; this keeps the restricted
+      // evaluations' sequence the same on any number of ranks)
+      std::sort(keys.begin(), keys.end());
+      for (tagint key : keys) {
+        Run &r = *run_of(key);
+        cross_forces(r, r.fx1);
+        r.b_done = false;
+        workB.push_back(key);
+        redo = 1;
+      }
+      for (auto it = saved.rbegin(); it != saved.rend(); ++it)
+        for (int d = 0; d < 3; d++) x[it->first][d] = it->second[d];
+    }
+  }
+  int any = redo;
+  if (nprocs > 1) MPI_Allreduce(&redo, &any, 1, MPI_INT, MPI_MAX, world);
+  ncollective += 1.0;
+  return any != 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -1384,14 +1446,17 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     mi[k] = (int) (it - T.begin());
   }
   if (first_half) cross_at_start(r, fk, mi);
-  // the constant cross force on the members in this half (fx0 is set by
-  // every first half; fx only once cross_at_mid() ran, else F_X(q0) again)
+  // the constant cross force on the members in this half: F_X(q0) in the
+  // first; in the second F_X at the members' ends once cross_at_end() found
+  // it (fx1), before that the extrapolation 2 F_X(q_mid) - F_X(q0) (fx once
+  // cross_at_mid() ran, else F_X(q0) again)
   std::vector<Vec> &fc = scratch_fc;
   const bool mid_known = (int) r.fx.size() == nm;
   fc.resize(nm);
   for (int k = 0; k < nm; k++)
     for (int d = 0; d < 3; d++)
-      fc[k][d] = (first_half || !mid_known) ? r.fx0[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d];
+      fc[k][d] = (first_half || !mid_known) ? r.fx0[k][d] :
+          ((int) r.fx1.size() == nm ? r.fx1[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d]);
   if (first_half) {
     r.fk0 = fk;
     // the held forces' half kick (f - F_C: LAMMPS' forces minus V_C's)
@@ -2194,6 +2259,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   bump_epoch(heldepoch, hstampv);
   drifted = false;
   bool checked = false;    // Phi_H2 checked in full once
+  bool corrected = false;  // the cross forces' corrector ran since the last growth
   bool b_ran = false;      // a second half ran (its results may need redoing)
 
   idof.clear();
@@ -2271,6 +2337,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     uncheckedA.insert(uncheckedA.end(), arrived.begin(), arrived.end());
     if (!gathered.empty()) {
       grow_clusters(gathered);
+      corrected = false;
       continue;
     }
     // the flows not yet checked against the others (a round that grew
@@ -2280,6 +2347,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
+      corrected = false;
       continue;
     }
     // Phi_H2(dt): its contacts; then the non-members' drift
@@ -2291,6 +2359,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
+      corrected = false;
       continue;
     }
     if (!drifted) {
@@ -2335,6 +2404,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     uncheckedB.insert(uncheckedB.end(), arrived.begin(), arrived.end());
     if (!gathered.empty()) {
       grow_clusters(gathered);
+      corrected = false;
       continue;
     }
     ev.clear();
@@ -2342,7 +2412,14 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
+      corrected = false;
       continue;
+    }
+    // the second halves' cross force from their ends (once the clusters
+    // are final; again after a growth round it causes, for the new runs)
+    if (!corrected) {
+      corrected = true;
+      if (cross_at_end()) continue;
     }
     break;
   }

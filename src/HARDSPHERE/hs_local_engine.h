@@ -23,17 +23,21 @@
      step.
    - The cross terms V_X (in V_R, on members only) act inside both halves
      of the members' flow, as a constant force F_X(q0) in the first and
-     2 F_X(q_mid) - F_X(q0) in the second (issue 19). Their impulse over
-     the step is dt F_X(q_mid), the exact flow of V_X in Phi_H2, but a kick
+     F_X(q1) at the members' ends in the second (issue 19; q1 by one
+     corrector step from the extrapolation 2 F_X(q_mid) - F_X(q0), which
+     alone made the step time-asymmetric at O(dt^3) and the energy drift:
+     cross_at_end()). Their impulse over the step is dt F_X(q_mid) to
+     O(dt^3), the exact flow of V_X in Phi_H2, but a kick
      between the halves does not commute with a contact's impulse R: R at
      t_c reverses only the cross momentum that came before t_c, so the
      kick leaves the normal velocity wrong by 2 min(t_c, dt - t_c) a_X.n,
      O(dt) per collision, a first-order engine on fluids. Spread over the
      halves, the cross momentum taken by any time is right to O(dt^2).
      On several ranks (issue 20) F_X(q0) needs the start positions of the
-     cross neighbours' members and F_X(q_mid) their mid positions: the
-     ghost x0 and the members' xm exchanged after the first halves, which
-     the engine needs there anyway (its cross checks).
+     cross neighbours' members, F_X(q_mid) their mid positions and
+     F_X(q1) their ends: the ghost x0 and the members' displacements in
+     the packets of each half, which the engine exchanges anyway (its
+     cross checks).
 
    Inside a flow the method sees the cluster through HSFlowView
    (hs_flow_view.h): the sub-steps' energies (V_C from the restricted
@@ -215,6 +219,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Vec> dxe, ve;       // members at the step's end
     std::vector<Vec> xm;            // runner: members' positions after the first half
     std::vector<Vec> fx0, fx;       // runner: members' cross-term forces F_X(q0), F_X(q_mid)
+    std::vector<Vec> fx1;           // runner: F_X at the members' ends (the corrector's)
     std::vector<tagint> xnbrs;      // runner: clusters (keys) it has cross terms with
     std::vector<Vec> dvA, dvB, fend;    // runner, on touched: partner velocity changes, end forces
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
@@ -226,7 +231,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
       for (auto *v : {&members, &touched, &env}) v->clear();
       mtags.clear();
       xnbrs.clear();
-      for (auto *v : {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &dvA, &dvB, &fend}) v->clear();
+      for (auto *v : {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &fx1, &dvA, &dvB, &fend})
+        v->clear();
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
       a_done = b_done = in_sa = false;
@@ -432,7 +438,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
                                    bool timed = true);
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
-  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc;
+  std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_fx;
   std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
   std::vector<int> scratch_mi;
   // flow(): one copy per atom of a cluster's environment, by the slot of
@@ -447,8 +453,12 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> lab, labelled;
   void label_cluster(int c);
   void cross_at_mid();
+  bool cross_at_end();
+  std::vector<std::pair<int, Vec>> xend_saved;
   uint32_t xepoch = 0;
   void cross_of(Run &r);
+  // the cross terms' forces on a run's members at their copies' positions
+  void cross_forces(const Run &r, std::vector<Vec> &out);
   void cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi);
   void held_of(Run &r);
   // the member copies of a cluster this rank runs: the key's owned copy and

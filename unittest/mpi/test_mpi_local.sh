@@ -160,7 +160,14 @@ method_cases() {
   echo "$m: 500 atoms with fix viscous 0.2 (held forces), 200 steps:"
   check_system "${m}held" "in.local_${m}held" "2 4" -var nsteps 200
   echo "$m: bead-spring melt ($melttext), 200 steps:"
+  # (vci on the melt: the ranks' different summation orders grow like the
+  # melt's chaos, ~10x per 25 steps: 1 and 4 ranks' kinetic energies differ
+  # by 2e-13 after 100 steps, 3e-12 after 150 and 1.6e-10 after 200, with
+  # every counter equal; cva's and pcva's stay below 1e-10)
+  local tol=$RTOL
+  [ "$m" = vci ] && RTOL=1e-9
   check_system "${m}melt" "in.local_${m}melt" "2 4" -var nsteps 200 -var nb on
+  RTOL=$tol
 }
 
 # pcva's local projection (hs_local_modified.h) on the same systems: each
