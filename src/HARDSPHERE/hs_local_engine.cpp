@@ -16,6 +16,7 @@
 
 #include "hs_local_engine.h"
 
+#include "hs_compat.h"
 #include "hs_contact.h"
 #include "hs_fix_rule.h"
 #include "hs_flow_view.h"
@@ -134,8 +135,20 @@ void HSLocalEngine::chosen()
   cutneigh = sys->list_cutoff;
   if (force->pair && force->pair->cutforce > 0.0)
     cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
-  // one rank: every member is owned, its rows complete
-  if (comm->nprocs == 1) return;
+  // one rank: every member is owned, its rows complete; only the contact
+  // list's periodic images must reach its cutoff (a pair cutoff below it,
+  // e.g. WCA's, would leave them short: raised as on several ranks)
+  if (comm->nprocs == 1) {
+    const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
+    if (cutghost < sys->list_cutoff) {
+      utils::logmesg(lmp,
+                     "fix {}: substep local sets comm_modify cutoff {:.8g} (the ghost cutoff "
+                     "was {:.8g}): the contact list's cutoff, contact distance + 2 x skin\n",
+                     sys->style_name, sys->list_cutoff, cutghost);
+      comm->cutghostuser = sys->list_cutoff;
+    }
+    return;
+  }
   ghost_needed = cutneigh + 2.0 * sys->list_cutoff;
   if (comm->cutghostuser < ghost_needed) {
     if (me == 0)

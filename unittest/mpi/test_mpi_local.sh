@@ -485,8 +485,18 @@ fi
 sed 's/lj\/cut 2.5/lj\/cut 1.122462/; s/^pair_coeff  1 1 1.0 1.0 2.5/pair_coeff  1 1 1.0 1.0 1.122462/' \
   in.local_fluid500 > in.local_wca
 grep -q "^pair_style  lj/cut 1.122462" in.local_wca || { echo "FAIL: in.local_wca is not WCA"; exit 1; }
-mpirun -np 2 --oversubscribe "$LMP" -in in.local_wca -log none -echo none -var nsteps 20 > out.wca.2 2>&1
-if grep -q '^RESULT ' out.wca.2 && grep -q "substep local sets comm_modify cutoff 4.8" out.wca.2; then
+# on 1 rank the engine raises the ghost cutoff to the contact list's 1.6
+# (the periodic images; it used to stop with the contact list's error), and
+# 1 and 2 ranks make the same collisions
+echo "WCA (pair cutoff below the contact list's), substep local, 20 steps:"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+check_system wca in.local_wca "2" -var nsteps 20
+if grep -q "substep local sets comm_modify cutoff 1.6 (the ghost cutoff was 1.42" out.wca.1; then
+  echo "  WCA on 1 rank, substep local: the engine sets the ghost cutoff 1.6, with a log line: ok"
+else
+  echo "  FAIL: WCA on 1 rank, substep local: no log line about the ghost cutoff"; tail -5 out.wca.1; fail=1
+fi
+if grep -q "substep local sets comm_modify cutoff 4.8" out.wca.2; then
   echo "  WCA on 2 ranks, substep local: the engine sets the ghost cutoff 4.8 and runs: ok"
 else
   echo "  FAIL: WCA on 2 ranks, substep local:"; tail -5 out.wca.2; fail=1
