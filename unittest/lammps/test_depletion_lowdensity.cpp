@@ -13,7 +13,7 @@
 // thermostat bias: mechanism"): the spheres collide at the drift's
 // velocities, of temperature T / (1 - gamma dt / 2), so the impulse virial
 // Z_coll = (2 pi / 3) rho g(sigma+) is high by the factor
-// gamma dt / (2 - gamma dt): +0.00023 here. Measured over runs of 200 time
+// gamma dt / (2 - gamma dt): +0.00024 here. Measured over runs of 200 time
 // units of this input (examples/depletion/in.lowdensity; bench/
 // work-precision-large/stability.md), Z minus this expected value:
 // -0.00000 +- 0.00017 at dt 0.01 (16 runs), -0.00000 +- 0.00012 at
