@@ -125,7 +125,8 @@ std::string HSLocalEngine::limits()
    needs all atoms within the neighbor cutoff, so ghosts must reach that far
    beyond the farthest such member. The engine asks for the neighbor cutoff
    plus two contact-list cutoffs (three members in a row across a rank's
-   face) and checks every cluster (member_copies())
+   face) and checks every cluster (member_copies()); on one rank for the
+   contact list's cutoff only
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::chosen()
@@ -137,29 +138,25 @@ void HSLocalEngine::chosen()
     cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
   // one rank: every member is owned, its rows complete; only the contact
   // list's periodic images must reach its cutoff (a pair cutoff below it,
-  // e.g. WCA's, would leave them short: raised as on several ranks)
-  if (comm->nprocs == 1) {
-    const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
-    if (cutghost < sys->list_cutoff) {
-      utils::logmesg(lmp,
-                     "fix {}: substep local sets comm_modify cutoff {:.8g} (the ghost cutoff "
-                     "was {:.8g}): the contact list's cutoff, contact distance + 2 x skin\n",
-                     sys->style_name, sys->list_cutoff, cutghost);
-      comm->cutghostuser = sys->list_cutoff;
-    }
-    return;
-  }
-  ghost_needed = cutneigh + 2.0 * sys->list_cutoff;
-  if (comm->cutghostuser < ghost_needed) {
+  // e.g. WCA's, would leave them short). Several ranks: the cutoff above
+  // (beyond the pair cutoff plus skin, so that comm_modify cutoff decides)
+  const bool one_rank = comm->nprocs == 1;
+  const double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
+  if (!one_rank) ghost_needed = needed;
+  const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
+  if (cutghost < needed) {
     if (me == 0)
       utils::logmesg(lmp,
-                     "fix {}: substep local sets comm_modify cutoff {:.8g} (was {:.8g}): the "
-                     "neighbor cutoff {:.8g} plus two contact-list cutoffs {:.8g}, so that a "
-                     "collision cluster's members have their interaction rows on the rank "
-                     "that runs it\n",
-                     sys->style_name, ghost_needed, comm->cutghostuser, cutneigh,
-                     sys->list_cutoff);
-    comm->cutghostuser = ghost_needed;
+                     "fix {}: substep local sets comm_modify cutoff {:.8g} (the ghost cutoff "
+                     "was {:.8g}): {}\n",
+                     sys->style_name, needed, cutghost,
+                     one_rank ? std::string("the contact list's cutoff, contact distance + 2 x skin")
+                              : fmt::format("the neighbor cutoff {:.8g} plus two contact-list "
+                                            "cutoffs {:.8g}, so that a collision cluster's "
+                                            "members have their interaction rows on the rank "
+                                            "that runs it",
+                                            cutneigh, sys->list_cutoff));
+    comm->cutghostuser = needed;
   }
 }
 
