@@ -2271,6 +2271,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   bool checked = false;    // Phi_H2 checked in full once
   bool corrected = false;  // the cross forces' corrector ran since the last growth
   bool b_ran = false;      // a second half ran (its results may need redoing)
+  bool redo_b = false;     // this round redoes the corrector's second halves only
 
   idof.clear();
   idtag.clear();
@@ -2311,84 +2312,95 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     if (round > MAX_ROUNDS)
       error->one(FLERR, "Fix {} substep local: the collision clusters of step {} did not settle "
                  "in {} rounds", F.style_name, update->ntimestep, MAX_ROUNDS);
-    // Phi_H1(dt/2) of this rank's clusters not run yet, their static atoms at x0
-    ev.clear();
-    std::vector<tagint> ranA;
-    bool outgrown = false;
-    for (int c : in_memory_order(clusters_of(workA))) {
-      const tagint key = key_of(c);
-      if (!mine(key)) continue;
-      Run &r = runs[key];
-      if (r.a_done) continue;
-      r.mine = true;
-      r.mtags.clear();
-      for (int id : cs.members(c)) r.mtags.push_back((tagint) idtag[id]);
-      if (!member_copies(r)) {
-        outgrown = true;
-        break;
+    // a round after the corrector (cross_at_end()) redoes second halves
+    // only: no first half, sum, path or cross force changed since the last
+    // round (no growth came between), so its first part, whose collectives
+    // would all carry nothing, is skipped on every rank alike
+    if (redo_b && !(workA.empty() && uncheckedA.empty() && workX.empty() && moved.empty() &&
+                    ddirty.empty()))
+      error->one(FLERR, "Fix {} substep local: internal error: work before the corrector's "
+                 "second halves on step {}", F.style_name, update->ntimestep);
+    if (!redo_b) {
+      // Phi_H1(dt/2) of this rank's clusters not run yet, their static atoms at x0
+      ev.clear();
+      std::vector<tagint> ranA;
+      bool outgrown = false;
+      for (int c : in_memory_order(clusters_of(workA))) {
+        const tagint key = key_of(c);
+        if (!mine(key)) continue;
+        Run &r = runs[key];
+        if (r.a_done) continue;
+        r.mine = true;
+        r.mtags.clear();
+        for (int id : cs.members(c)) r.mtags.push_back((tagint) idtag[id]);
+        if (!member_copies(r)) {
+          outgrown = true;
+          break;
+        }
+        r.b_done = false;
+        if (!flow(r, 0.5 * dt, true, ev)) continue;
+        for (tagint t : r.mtags) note_moved(t);
+        for (int a : r.env) enroll(a, key);
+        for (int a : r.members) enroll(a, key);
+        workX.push_back(key);
+        workB.push_back(key);
+        ranA.push_back(key);
       }
-      r.b_done = false;
-      if (!flow(r, 0.5 * dt, true, ev)) continue;
-      for (tagint t : r.mtags) note_moved(t);
-      for (int a : r.env) enroll(a, key);
-      for (int a : r.members) enroll(a, key);
-      workX.push_back(key);
-      workB.push_back(key);
-      ranA.push_back(key);
+      // their packets and contacts to every rank (a cluster beyond the ghost
+      // atoms as the impossible hit of atom 0: every rank gives up the step)
+      if (outgrown) ev.push_back({0, 0});
+      share_half(ev, ranA, true, gathered, arrived);
+      if (!gathered.empty() && gathered[0].i == 0) {
+        locf->set_labels(nullptr);
+        return false;
+      }
+      uncheckedA.insert(uncheckedA.end(), arrived.begin(), arrived.end());
+      if (!gathered.empty()) {
+        grow_clusters(gathered);
+        corrected = false;
+        continue;
+      }
+      // the flows not yet checked against the others (a round that grew
+      // before its check leaves some for the next)
+      ev.clear();
+      cross_check(true, clusters_of(uncheckedA), ev);
+      gather_hits(ev);
+      if (!ev.empty()) {
+        grow_clusters(ev);
+        corrected = false;
+        continue;
+      }
+      // Phi_H2(dt): its contacts; then the non-members' drift
+      h2_velocities(!checked);
+      update_paths(!checked);
+      ev.clear();
+      h2_check(!checked, ev);
+      checked = true;
+      gather_hits(ev);
+      if (!ev.empty()) {
+        grow_clusters(ev);
+        corrected = false;
+        continue;
+      }
+      if (!drifted) {
+        for (int l = 0; l < nall; l++)
+          if ((mask[l] & F.groupbit) && !is_member(l)) {
+            x[l][0] = x0[l][0] + dt * wq[l][0];
+            x[l][1] = x0[l][1] + dt * wq[l][1];
+            x[l][2] = x0[l][2] + dt * wq[l][2];
+          }
+        drifted = true;
+      } else
+        for (int l : ddirty)
+          if ((mask[l] & F.groupbit) && !is_member(l)) {
+            x[l][0] = x0[l][0] + dt * wq[l][0];
+            x[l][1] = x0[l][1] + dt * wq[l][1];
+            x[l][2] = x0[l][2] + dt * wq[l][2];
+          }
+      // the cross terms' forces at the members' mid positions (second halves)
+      cross_at_mid();
     }
-    // their packets and contacts to every rank (a cluster beyond the ghost
-    // atoms as the impossible hit of atom 0: every rank gives up the step)
-    if (outgrown) ev.push_back({0, 0});
-    share_half(ev, ranA, true, gathered, arrived);
-    if (!gathered.empty() && gathered[0].i == 0) {
-      locf->set_labels(nullptr);
-      return false;
-    }
-    uncheckedA.insert(uncheckedA.end(), arrived.begin(), arrived.end());
-    if (!gathered.empty()) {
-      grow_clusters(gathered);
-      corrected = false;
-      continue;
-    }
-    // the flows not yet checked against the others (a round that grew
-    // before its check leaves some for the next)
-    ev.clear();
-    cross_check(true, clusters_of(uncheckedA), ev);
-    gather_hits(ev);
-    if (!ev.empty()) {
-      grow_clusters(ev);
-      corrected = false;
-      continue;
-    }
-    // Phi_H2(dt): its contacts; then the non-members' drift
-    h2_velocities(!checked);
-    update_paths(!checked);
-    ev.clear();
-    h2_check(!checked, ev);
-    checked = true;
-    gather_hits(ev);
-    if (!ev.empty()) {
-      grow_clusters(ev);
-      corrected = false;
-      continue;
-    }
-    if (!drifted) {
-      for (int l = 0; l < nall; l++)
-        if ((mask[l] & F.groupbit) && !is_member(l)) {
-          x[l][0] = x0[l][0] + dt * wq[l][0];
-          x[l][1] = x0[l][1] + dt * wq[l][1];
-          x[l][2] = x0[l][2] + dt * wq[l][2];
-        }
-      drifted = true;
-    } else
-      for (int l : ddirty)
-        if ((mask[l] & F.groupbit) && !is_member(l)) {
-          x[l][0] = x0[l][0] + dt * wq[l][0];
-          x[l][1] = x0[l][1] + dt * wq[l][1];
-          x[l][2] = x0[l][2] + dt * wq[l][2];
-        }
-    // the cross terms' forces at the members' mid positions (second halves)
-    cross_at_mid();
+    redo_b = false;
     // Phi_H1(dt/2) of the clusters whose start or surroundings changed
     if (b_ran)    // (the first time there is nothing to invalidate)
       for (int a : ddirty)
@@ -2429,7 +2441,10 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     // are final; again after a growth round it causes, for the new runs)
     if (!corrected) {
       corrected = true;
-      if (cross_at_end()) continue;
+      if (cross_at_end()) {
+        redo_b = true;
+        continue;
+      }
     }
     break;
   }
