@@ -15,6 +15,9 @@
 # understates the steady 2-rank speed-up.
 #   bash bench/scaling/ranks.sh                       # SIZES="32000 256000" REPEATS=3
 #   SIZES=32000 REPEATS=5 bash bench/scaling/ranks.sh
+# A second run can add its repeats to the first's (ranks.md then pools both):
+#   SIZES=256000 STEPS=40 REPEATS=6 bash bench/scaling/ranks.sh
+#   SIZES=256000 STEPS=40 REPEATS=6 FIRST_REPEAT=7 KEEP_LOGS=1 bash bench/scaling/ranks.sh
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -27,7 +30,8 @@ LOGS=$SCR/ranks-logs
 mkdir -p "$SCR" "$LOGS"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 [ -x "$LMP" ] || (cd "$ROOT" && cmake -S . -B build >/dev/null && cmake --build build -j2)
-rm -f "$LOGS"/log.*
+FIRST_REPEAT=${FIRST_REPEAT:-1}
+[ "${KEEP_LOGS:-0}" = 1 ] || rm -f "$LOGS"/log.*
 cd "$SCR"
 run() {    # run <np> <log> <N> <steps> <fix command>
   local np=$1 log=$2 N=$3 n=$4 fixcmd=$5 counts=no
@@ -45,7 +49,7 @@ for N in $SIZES; do
       -log "$SCR/log.make-fluid.$N"
   fi
   steps=${STEPS:-$(/usr/bin/python3 -c "print(max(20, round(4e6/$N)))")}
-  for k in $(seq 1 "$REPEATS"); do
+  for k in $(seq "$FIRST_REPEAT" $((FIRST_REPEAT + REPEATS - 1))); do
     for np in 1 2; do
       for c in nve cva pcva; do
         if [ $c = nve ]; then f="fix hs all nve"; else f="fix hs all hardsphere/$c diameter 1.0"; fi
