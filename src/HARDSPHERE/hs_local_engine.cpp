@@ -2269,7 +2269,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   bump_epoch(heldepoch, hstampv);
   drifted = false;
   bool checked = false;    // Phi_H2 checked in full once
-  bool corrected = false;  // the cross forces' corrector ran since the last growth
+  double corrected_at = -1.0;    // nrounds when the cross forces' corrector last ran
   bool b_ran = false;      // a second half ran (its results may need redoing)
   bool redo_b = false;     // this round redoes the corrector's second halves only
 
@@ -2357,7 +2357,6 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       uncheckedA.insert(uncheckedA.end(), arrived.begin(), arrived.end());
       if (!gathered.empty()) {
         grow_clusters(gathered);
-        corrected = false;
         continue;
       }
       // the flows not yet checked against the others (a round that grew
@@ -2367,7 +2366,6 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       gather_hits(ev);
       if (!ev.empty()) {
         grow_clusters(ev);
-        corrected = false;
         continue;
       }
       // Phi_H2(dt): its contacts; then the non-members' drift
@@ -2379,24 +2377,20 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       gather_hits(ev);
       if (!ev.empty()) {
         grow_clusters(ev);
-        corrected = false;
         continue;
       }
+      auto drift = [&](int l) {
+        if ((mask[l] & F.groupbit) && !is_member(l)) {
+          x[l][0] = x0[l][0] + dt * wq[l][0];
+          x[l][1] = x0[l][1] + dt * wq[l][1];
+          x[l][2] = x0[l][2] + dt * wq[l][2];
+        }
+      };
       if (!drifted) {
-        for (int l = 0; l < nall; l++)
-          if ((mask[l] & F.groupbit) && !is_member(l)) {
-            x[l][0] = x0[l][0] + dt * wq[l][0];
-            x[l][1] = x0[l][1] + dt * wq[l][1];
-            x[l][2] = x0[l][2] + dt * wq[l][2];
-          }
+        for (int l = 0; l < nall; l++) drift(l);
         drifted = true;
       } else
-        for (int l : ddirty)
-          if ((mask[l] & F.groupbit) && !is_member(l)) {
-            x[l][0] = x0[l][0] + dt * wq[l][0];
-            x[l][1] = x0[l][1] + dt * wq[l][1];
-            x[l][2] = x0[l][2] + dt * wq[l][2];
-          }
+        for (int l : ddirty) drift(l);
       // the cross terms' forces at the members' mid positions (second halves)
       cross_at_mid();
     }
@@ -2426,7 +2420,6 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     uncheckedB.insert(uncheckedB.end(), arrived.begin(), arrived.end());
     if (!gathered.empty()) {
       grow_clusters(gathered);
-      corrected = false;
       continue;
     }
     ev.clear();
@@ -2434,13 +2427,12 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     gather_hits(ev);
     if (!ev.empty()) {
       grow_clusters(ev);
-      corrected = false;
       continue;
     }
     // the second halves' cross force from their ends (once the clusters
     // are final; again after a growth round it causes, for the new runs)
-    if (!corrected) {
-      corrected = true;
+    if (corrected_at != nrounds) {
+      corrected_at = nrounds;
       if (cross_at_end()) {
         redo_b = true;
         continue;
