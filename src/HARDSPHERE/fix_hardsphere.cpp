@@ -139,7 +139,7 @@ FixHardSphere::~FixHardSphere()
 
 int FixHardSphere::setmask()
 {
-  return INITIAL_INTEGRATE | FINAL_INTEGRATE | PRE_EXCHANGE | POST_NEIGHBOR;
+  return INITIAL_INTEGRATE | FINAL_INTEGRATE | POST_NEIGHBOR;
 }
 
 void FixHardSphere::post_constructor()
@@ -401,13 +401,6 @@ void FixHardSphere::setup(int)
   S.screened_step = -1;
   S.held_step = -1;
   S.step_split = 0;
-}
-
-// (the local engine goes back to its own ghost cutoff after a step that
-// widened it)
-void FixHardSphere::pre_exchange()
-{
-  if (engine) engine->pre_exchange();
 }
 
 void FixHardSphere::setup_post_neighbor()

@@ -27,7 +27,6 @@
 #include "hs_system.h"
 
 #include "atom.h"
-#include "atom_vec.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -124,19 +123,10 @@ std::string HSLocalEngine::limits()
    the ghost cutoff: the rank that runs a cluster takes a member owned
    elsewhere by its ghost copy nearest the key (on several ranks), which
    needs all atoms within the neighbor cutoff, so ghosts must reach that far
-   beyond the farthest such member; member_copies() checks every cluster.
-   The engine asks for the neighbor cutoff plus one contact-list cutoff (a
-   member in contact with an owned one across a rank's face: nearly every
-   cluster). A step with a cluster that reaches farther (three members in
-   a row across a face: at 256000 atoms on 2 ranks about one step in 50) is
-   taken again from its start after the ghost atoms were rebuilt at the
-   neighbor cutoff plus two contact-list cutoffs (widen()), until the next
-   reneighboring (pre_exchange()). The smaller shell is what pays: every
-   ghost copy costs the engine's forwards and passes (at 256000 atoms on
-   2 ranks 68000 ghosts per rank against 97000, the step ~6 % faster).
-   One rank: every member is owned, its rows complete; only the contact
-   list's periodic images must reach its cutoff (a pair cutoff below it,
-   e.g. WCA's, would leave them short)
+   beyond the farthest such member. The engine asks for the neighbor cutoff
+   plus two contact-list cutoffs (three members in a row across a rank's
+   face) and checks every cluster (member_copies()); on one rank for the
+   contact list's cutoff only
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::chosen()
@@ -146,15 +136,13 @@ void HSLocalEngine::chosen()
   cutneigh = sys->list_cutoff;
   if (force->pair && force->pair->cutforce > 0.0)
     cutneigh = std::max(cutneigh, force->pair->cutforce + neighbor->skin);
+  // one rank: every member is owned, its rows complete; only the contact
+  // list's periodic images must reach its cutoff (a pair cutoff below it,
+  // e.g. WCA's, would leave them short). Several ranks: the cutoff above
   // (beyond the pair cutoff plus skin, so that comm_modify cutoff decides)
   const bool one_rank = comm->nprocs == 1;
-  const double needed = one_rank ? sys->list_cutoff : cutneigh + sys->list_cutoff;
-  ghost_wide = one_rank ? 0.0 : cutneigh + 2.0 * sys->list_cutoff;
+  const double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
   if (!one_rank) ghost_needed = needed;
-  // the input's own comm_modify cutoff, unless it is the one this engine set
-  if (comm->cutghostuser != ghost_set) ghost_user = comm->cutghostuser;
-  comm->cutghostuser = ghost_user;
-  widened = false;
   const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
   if (cutghost < needed) {
     if (me == 0)
@@ -163,56 +151,13 @@ void HSLocalEngine::chosen()
                      "was {:.8g}): {}\n",
                      sys->style_name, needed, cutghost,
                      one_rank ? std::string("the contact list's cutoff, contact distance + 2 x skin")
-                              : fmt::format("the neighbor cutoff {:.8g} plus the contact-list "
-                                            "cutoff {:.8g}, so that a collision cluster's "
+                              : fmt::format("the neighbor cutoff {:.8g} plus two contact-list "
+                                            "cutoffs {:.8g}, so that a collision cluster's "
                                             "members have their interaction rows on the rank "
-                                            "that runs it; a step with a cluster that reaches "
-                                            "farther is taken again with ghost atoms to {:.8g} "
-                                            "until the next reneighboring (output vector)",
-                                            cutneigh, sys->list_cutoff, ghost_wide));
+                                            "that runs it",
+                                            cutneigh, sys->list_cutoff));
     comm->cutghostuser = needed;
   }
-  ghost_base = comm->cutghostuser;
-  ghost_set = comm->cutghostuser;
-}
-
-// may a step whose cluster outgrew the ghost atoms be taken again with
-// more of them? (the same answer on every rank)
-bool HSLocalEngine::can_widen() const
-{
-  return nprocs > 1 && !widened && HSCompat::ghost_cutoff_at_init(lmp) < ghost_wide;
-}
-
-// the ghost atoms rebuilt to ghost_wide at the step's start positions, as a
-// reneighboring does without its exchange (owned atoms stay where they
-// are, within skin/2 of their sub-domain, which borders() allows for):
-// LAMMPS' lists, the fixes' post-neighbor state (the contact list) with them
-void HSLocalEngine::widen()
-{
-  comm->cutghostuser = ghost_wide;
-  ghost_set = ghost_wide;
-  widened = true;
-  nwiden += 1.0;
-  comm->setup();
-  // (as exchange() begins: the map cleared while it still lists the ghosts)
-  if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
-  atom->nghost = 0;
-  atom->avec->clear_bonus();
-  comm->borders();
-  modify->pre_neighbor();
-  neighbor->build(1);
-  modify->post_neighbor();
-}
-
-// back to the engine's ghost cutoff at the next reneighboring (before its
-// exchange and borders)
-void HSLocalEngine::pre_exchange()
-{
-  if (!widened) return;
-  widened = false;
-  comm->cutghostuser = ghost_base;
-  ghost_set = ghost_base;
-  comm->setup();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1036,7 +981,7 @@ bool HSLocalEngine::member_copies(Run &r)
             p[d] + cut[d] <= hi[d] + comm->cutghost[d];
       }
     }
-    if (!inside && (sys->overflow_global || can_widen())) return false;
+    if (!inside && sys->overflow_global) return false;
     if (!inside) {
       std::string ids;
       for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
@@ -1047,7 +992,7 @@ bool HSLocalEngine::member_copies(Run &r)
                  "cutoff (the engine set {}), a smaller timestep, substep global, or overflow "
                  "global (such steps taken globally)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
-                 comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], std::max(ghost_needed, ghost_wide));
+                 comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_needed);
     }
     r.members[k] = l;
   }
@@ -1078,7 +1023,7 @@ bool HSLocalEngine::member_copies(Run &r)
           here = d2 < half * half;
         }
         if (here) continue;
-        if (sys->overflow_global || can_widen()) return false;
+        if (sys->overflow_global) return false;
         error->one(FLERR,
                    "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster "
                    "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
@@ -2514,18 +2459,8 @@ bool HSLocalEngine::step()
   // terms read them. Forwarded, every copy is where its owner is (where the
   // global engine's evaluations see them), on any number of ranks
   if (F.other_integrator) comm->forward_comm();
-  const double nrounds0 = nrounds;
-  int status = step_clusters();
-  // a cluster outgrew the ghost atoms (every rank knows): again from the
-  // start with the wider ghost shell (the given-up attempt's growth rounds
-  // not counted: the counts stay those of one rank), else (overflow
-  // global) the global engine's step
-  if (status < 0 && can_widen()) {
-    nrounds = nrounds0;
-    widen();
-    status = step_clusters();
-  }
-  if (status < 0) return false;
+  const int status = step_clusters();
+  if (status < 0) return false;    // overflow global: the global engine's step
   if (status > 0) {
     local_step = 1;
     if (F.step_collided) F.ncoll_steps += 1.0;
@@ -2580,8 +2515,6 @@ double HSLocalEngine::counter(int k)
       return ncoll_steps > 0.0 ? ncollective / ncoll_steps : 0.0;
     case 7:
       return nquick;
-    case 8:
-      return nwiden;
   }
   return 0.0;
 }

@@ -143,7 +143,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void chosen() override;
   bool step() override;
   bool finish() override;
-  void pre_exchange() override;
   double counter(int k) override;
   double memory_usage() const override;
 
@@ -504,16 +503,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void gather_topology(const std::vector<int> &newids);
   bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
   double ghost_needed = 0.0;   // the ghost cutoff the local engine asked for
-  // a step whose cluster outgrows it runs again with ghosts to ghost_wide
-  // until the next reneighboring (chosen(), widen(), pre_exchange())
-  double ghost_wide = 0.0;
-  double ghost_user = 0.0;     // the input's comm_modify cutoff
-  double ghost_base = 0.0;     // the ghost cutoff set at init
-  double ghost_set = -1.0;     // the last one this engine set
-  bool widened = false;
-  double nwiden = 0.0;         // steps taken again with the wider shell
-  bool can_widen() const;
-  void widen();
   double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())
   void vc(const int *c, int n);
   // contact candidates of any local copy: every group atom within the

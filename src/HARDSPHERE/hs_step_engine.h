@@ -39,8 +39,6 @@ class HSStepEngine : protected Pointers {
   // local engine: a collision cluster outgrew the ghost atoms and the user
   // asked for `overflow global`): the caller takes it with another engine
   virtual bool step() = 0;
-  // pre_exchange of a reneighboring step (before its exchange and borders)
-  virtual void pre_exchange() {}
   // final_integrate: the closing of a step this engine took, if it needs
   // more than the plain closing kick; returns false if it does not
   virtual bool finish() = 0;
@@ -48,9 +46,8 @@ class HSStepEngine : protected Pointers {
   // clusters, mean and largest members per cluster, growth rounds, steps
   // that fell back to the global engine, restricted force evaluations,
   // collective communications per step taken by clusters, steps whose
-  // flagged spheres alone cleared the first guess, steps taken again with
-  // a wider ghost shell
-  static constexpr int NCOUNTERS = 9;
+  // flagged spheres alone cleared the first guess
+  static constexpr int NCOUNTERS = 8;
   virtual double counter(int k) = 0;
   // bytes of the engine's own arrays (the fix's memory_usage())
   virtual double memory_usage() const { return 0.0; }

@@ -17,10 +17,8 @@
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
 # spans two or three ranks and grows across them within a step (the last
 # sphere leaves with the striker's velocity), and a pair plus two wall
-# contacts at a rank face; a cradle that reaches beyond the engine's ghost
-# cutoff from its runner (the step taken again with wider ghosts, counted,
-# the same result as on 1 rank). Then the error of a cluster that outgrows
-# the wider ghost region too, and the counted fall-back to the global engine
+# contacts at a rank face. Then the error of a cluster that outgrows the
+# ghost region, and the counted fall-back to the global engine
 # (overflow global). hardsphere/pcva on the fluids, the hot and held
 # fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
 # the hot and held fluid and the melt.
@@ -414,32 +412,6 @@ box_input > in.local_cradle
 for k in 1 2 3 4; do LABELS+=("vx$k" "vy$k"); done
 echo "Newton's cradle across 2 and 3 ranks:"
 boxcase cradle "2 4" 2=3 8=0 10=0 12=0 14=2
-# a cradle whose far end lies beyond the engine's ghost cutoff (neighbor
-# cutoff 2.8 plus one contact-list cutoff 1.6) from the striker's rank: the
-# lowest ID (the striker, the runner's key) at x ~ 3.4, the last sphere at
-# 7.4, whose rows reach 10.2 > 5 + 4.4. The step is taken again with ghosts
-# to 2.8 + 2 x 1.6 (counted, output entry 9 of the engine), with the same
-# result as on 1 rank and the cradle's analytic end
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
-ATOMS="1.9 5 5 2 0 0
-4.4 5 5 0 0 0
-5.4001 5 5 0 0 0
-6.4002 5 5 0 0 0
-7.4003 5 5 0 0 0"
-box_input | sed 's/^print "RESULT/print "WIDENED $(f_hs[14])"\nprint "RESULT/' > in.local_wide
-for k in 1 2 3 4 5; do LABELS+=("vx$k" "vy$k"); done
-echo "a cradle beyond the engine's ghost cutoff from its runner (2 and 4 ranks):"
-boxcase wide "2 4" 2=4 8=0 10=0 12=0 14=0 16=2
-for np in 2 4; do
-  w=$(grep '^WIDENED ' "out.wide.$np" | awk '{print $2}')
-  if [ "${w:-0}" != 0 ]; then
-    echo "  $np ranks: $w step(s) taken again with the wider ghost shell: ok"
-  else
-    echo "  FAIL: $np ranks took no step with the wider ghost shell (WIDENED '${w}')"; fail=1
-  fi
-done
-w=$(grep '^WIDENED ' out.wide.1 | awk '{print $2}')
-[ "${w:-0}" = 0 ] || { echo "  FAIL: 1 rank widened its ghost shell ($w)"; fail=1; }
 # a pair across x = 5 that collides and then hits the wall ylo with both
 # spheres: contacts of one cluster on two ranks, at a wall
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
@@ -524,8 +496,8 @@ if grep -q "substep local sets comm_modify cutoff 1.6 (the ghost cutoff was 1.42
 else
   echo "  FAIL: WCA on 1 rank, substep local: no log line about the ghost cutoff"; tail -5 out.wca.1; fail=1
 fi
-if grep -q "substep local sets comm_modify cutoff 3.2" out.wca.2; then
-  echo "  WCA on 2 ranks, substep local: the engine sets the ghost cutoff 3.2 (neighbor cutoff 1.6 plus one contact-list cutoff 1.6) and runs: ok"
+if grep -q "substep local sets comm_modify cutoff 4.8" out.wca.2; then
+  echo "  WCA on 2 ranks, substep local: the engine sets the ghost cutoff 4.8 and runs: ok"
 else
   echo "  FAIL: WCA on 2 ranks, substep local:"; tail -5 out.wca.2; fail=1
 fi
