@@ -356,6 +356,16 @@ void HSLocalEngine::gather_hits(std::vector<Hit> &hits)
   unpack_runs(hits, nullptr);
 }
 
+// every rank's hits gathered into hits; if there are any, the clusters grow
+// by them (a growth round follows): true
+bool HSLocalEngine::gather_grow(std::vector<Hit> &hits)
+{
+  gather_hits(hits);
+  if (hits.empty()) return false;
+  grow_clusters(hits);
+  return true;
+}
+
 /* ----------------------------------------------------------------------
    the packets of a run's half: members' IDs, displacements from their
    start and velocities after the half, its path segments (displacements
@@ -2363,22 +2373,14 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       // before its check leaves some for the next)
       ev.clear();
       cross_check(true, clusters_of(uncheckedA), ev);
-      gather_hits(ev);
-      if (!ev.empty()) {
-        grow_clusters(ev);
-        continue;
-      }
+      if (gather_grow(ev)) continue;
       // Phi_H2(dt): its contacts; then the non-members' drift
       h2_velocities(!checked);
       update_paths(!checked);
       ev.clear();
       h2_check(!checked, ev);
       checked = true;
-      gather_hits(ev);
-      if (!ev.empty()) {
-        grow_clusters(ev);
-        continue;
-      }
+      if (gather_grow(ev)) continue;
       auto drift = [&](int l) {
         if ((mask[l] & F.groupbit) && !is_member(l)) {
           x[l][0] = x0[l][0] + dt * wq[l][0];
@@ -2424,11 +2426,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
     }
     ev.clear();
     cross_check(false, clusters_of(uncheckedB), ev);
-    gather_hits(ev);
-    if (!ev.empty()) {
-      grow_clusters(ev);
-      continue;
-    }
+    if (gather_grow(ev)) continue;
     // the second halves' cross force from their ends (once the clusters
     // are final; again after a growth round it causes, for the new runs)
     if (corrected_at != nrounds) {

@@ -479,6 +479,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   HardSphere::GatherBuffer<double> recvbuf;
   void allgather(HardSphere::GatherBuffer<double> &out);    // sendbuf of every rank, in rank order
   void gather_hits(std::vector<Hit> &hits);
+  bool gather_grow(std::vector<Hit> &hits);
   size_t npk_pos = 0;    // where sendbuf counts its packets
   void start_packets(const std::vector<Hit> &hits);
   void share_half(const std::vector<Hit> &hits, const std::vector<tagint> &ran, bool first_half,
