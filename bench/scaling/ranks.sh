@@ -13,11 +13,15 @@
 # at 256000 atoms, ~0.5 s of kernel time on one rank, as long as several
 # steps, and on each of 2 ranks ~0.35 s, so that a short cold run
 # understates the steady 2-rank speed-up.
+# Timed steps: STEPS, default max(100, 4e6/N) (100 at 256000 atoms, 16 list
+# rebuilds; 20 before 2026-11-29): the host's other jobs only add time, more
+# of it to a 2-rank run, and a disturbance of a given length is a larger part
+# of a short run (scaling README "How long, how many repeats").
 #   bash bench/scaling/ranks.sh                       # SIZES="32000 256000" REPEATS=3
 #   SIZES=32000 REPEATS=5 bash bench/scaling/ranks.sh
 # A second run can add its repeats to the first's (ranks.md then pools both):
-#   SIZES=256000 STEPS=40 REPEATS=6 bash bench/scaling/ranks.sh
-#   SIZES=256000 STEPS=40 REPEATS=6 FIRST_REPEAT=7 KEEP_LOGS=1 bash bench/scaling/ranks.sh
+#   SIZES=256000 REPEATS=4 bash bench/scaling/ranks.sh
+#   SIZES=256000 REPEATS=4 FIRST_REPEAT=5 KEEP_LOGS=1 bash bench/scaling/ranks.sh
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -48,7 +52,7 @@ for N in $SIZES; do
     "$LMP" -screen none -in "$HERE/in.make-fluid" -var cells "$cells" -var out "$SCR/fluid.$N.data" \
       -log "$SCR/log.make-fluid.$N"
   fi
-  steps=${STEPS:-$(/usr/bin/python3 -c "print(max(20, round(4e6/$N)))")}
+  steps=${STEPS:-$(/usr/bin/python3 -c "print(max(100, round(4e6/$N)))")}
   for k in $(seq "$FIRST_REPEAT" $((FIRST_REPEAT + REPEATS - 1))); do
     for np in 1 2; do
       for c in nve cva pcva; do
