@@ -32,16 +32,24 @@ def stat(a):
     a = np.array(a)
     return f"{np.median(a):.3g} ({a.min():.3g}..{a.max():.3g})" if len(a) else "-"
 
+def mean_se(a):
+    """mean +- standard error of the mean (the repeats as independent samples)"""
+    a = np.array(a)
+    if len(a) < 2:
+        return "-"
+    return f"{a.mean():.3g} +- {a.std(ddof=1) / np.sqrt(len(a)):.2g}"
+
 L = ["## bench/scaling: the local engine on 1 and 2 MPI ranks", "",
      f"{datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')}, `bash bench/scaling/ranks.sh` "
      "(hard-core LJ fluid of in.make-fluid, the methods' default engine; 2 cores, shared; "
      f"untimed warm-up steps before each timed run: {', '.join(map(str, sorted(WARM)))}).", "",
      "| N | method | repeats | nve ms/step 1 / 2 ranks | method ms/step 1 / 2 ranks | speed-up, 2 ranks over 1 | "
+     "speed-up: mean +- s.e. | "
      "nve speed-up | method/nve 1 rank | method/nve 2 ranks | (m/nve 2) / (m/nve 1) | "
      "fastest repeats: speed-up, nve speed-up, (m/nve 2) / (m/nve 1) | "
      "quiet repeats: n, speed-up, nve speed-up | "
      "collisions/step 1 / 2 / 4 ranks |",
-     "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+     "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 QUIET = 1.10
 for N in sorted({k[0] for k in R}):
     for m in ("cva", "pcva"):
@@ -67,10 +75,13 @@ for N in sorted({k[0] for k in R}):
               if all(R[(N, k, c, p)]["pair"] <= QUIET * pmin[(c, p)] for c in ("nve", m) for p in (1, 2))]
         quiet = (f"{len(qk)}, {stat([sp[i] for i in qk])}, {stat([spn[i] for i in qk])}" if qk else "0")
         L.append(f"| {N} | {m} | {len(ks)} | {1e3*np.median(g('nve',1)):.1f} / {1e3*np.median(g('nve',2)):.1f} | "
-                 f"{1e3*np.median(g(m,1)):.1f} / {1e3*np.median(g(m,2)):.1f} | {stat(sp)} | {stat(spn)} | "
+                 f"{1e3*np.median(g(m,1)):.1f} / {1e3*np.median(g(m,2)):.1f} | {stat(sp)} | {mean_se(sp)} | {stat(spn)} | "
                  f"{stat(r1)} | {stat(r2)} | {stat(q)} | {best} | {quiet} | {coll[0]:.6g} / {coll[1]:.6g} / {c4:.6g} |")
 L += ["", "Targets (issue 20): 2 ranks >= 1.8x faster than 1 at 256000 atoms; cva/nve on 2 ranks "
-      "within 1.2x of its serial ratio (the (m/nve 2) / (m/nve 1) column). The fastest-repeats "
+      "within 1.2x of its serial ratio (the (m/nve 2) / (m/nve 1) column). Medians with the "
+      "spread (min..max) over the repeats; the mean's standard error treats the repeats as "
+      "independent samples (a batch's repeats share the host's state of that hour: batches "
+      "of the same code have differed by more). The fastest-repeats "
       "column divides the fastest run of each contender (the host's other jobs only add time, "
       "2-rank runs more of it). The quiet-repeats column keeps the repeats in which each of the "
       "four runs spent at most 1.10 times the least time in the pair style of its contender and "
