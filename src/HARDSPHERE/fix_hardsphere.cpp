@@ -430,6 +430,7 @@ void FixHardSphere::begin_step_virial()
 void FixHardSphere::initial_integrate(int)
 {
   begin_step_virial();
+  S.check_atoms_unchanged();
   S.grow_peratom();
   S.update_walls();
   S.step_collided = 0;

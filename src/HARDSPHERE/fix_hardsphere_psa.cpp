@@ -371,6 +371,7 @@ void FixHardSpherePSA::after_collision(tagint tg)
 void FixHardSpherePSA::initial_integrate(int)
 {
   begin_step_virial();
+  S.check_atoms_unchanged();
   S.grow_peratom();
   S.update_walls();
 

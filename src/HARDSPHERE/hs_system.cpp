@@ -172,10 +172,21 @@ void HSSystem::wall_name(const Wall &w, std::string &name) const
   name = std::string(1, "xyz"[w.dim]) + (w.side < 0 ? "lo" : "hi");
 }
 
+void HSSystem::check_atoms_unchanged()
+{
+  if (natoms_ref >= 0 && atom->natoms != natoms_ref)
+    error->all(FLERR,
+               "Fix {}: {} atoms at step {}, {} when the neighbor lists were last built: atoms "
+               "were created or deleted (delete_atoms, create_atoms, read_data add, ...) and "
+               "the run skipped its set-up (run ... pre no): use pre yes after such a change",
+               style_name, atom->natoms, update->ntimestep, natoms_ref);
+}
+
 void HSSystem::reset_reference(int at_setup)
 {
   grow_peratom();
   update_walls();
+  natoms_ref = atom->natoms;
 
   double **x = atom->x;
   const int *mask = atom->mask;

@@ -86,6 +86,21 @@ TEST_P(SharedErrors, SecondIntegratorOnSameAtoms)
                {"both time-integrate atoms"});
 }
 
+// atoms deleted between runs and a run that skips its set-up: the fix's
+// references of the last list build are by local index (atom 2 now sits
+// where atom 1's were); without the check a step would read them as its own
+TEST_P(SharedErrors, AtomsDeletedBeforeRunPreNo)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0"), "",
+                         "f f f") + "group first id 1\ndelete_atoms group first\nrun 10 pre no\n",
+               {"Fix " + style() + ": 1 atoms at step 11, 2 when the neighbor lists",
+                "run ... pre no", "pre yes"});
+  // the same deletion with the set-up runs
+  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0")) +
+                        "group first id 1\ndelete_atoms group first\nrun 10\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 INSTANTIATE_TEST_SUITE_P(PSA, SharedErrors, ::testing::Values("psa"), case_name);
 INSTANTIATE_TEST_SUITE_P(CVA, SharedErrors, ::testing::Values("cva"), case_name);
 INSTANTIATE_TEST_SUITE_P(PCVA, SharedErrors, ::testing::Values("pcva"), case_name);
