@@ -101,11 +101,14 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
       iarg += 2;
     } else if (strcmp(arg[iarg], "overflow") == 0) {
       if (iarg + 2 > narg)
-        error->all(FLERR, "Illegal fix {} command: overflow needs error or global", style_name);
+        error->all(FLERR, "Illegal fix {} command: overflow needs error, global or widen",
+                   style_name);
+      S.overflow_global = S.overflow_widen = 0;
       if (strcmp(arg[iarg + 1], "error") == 0) S.overflow_global = 0;
       else if (strcmp(arg[iarg + 1], "global") == 0) S.overflow_global = 1;
+      else if (strcmp(arg[iarg + 1], "widen") == 0) S.overflow_widen = 1;
       else
-        error->all(FLERR, "Fix {} overflow must be error or global, got {}", style_name,
+        error->all(FLERR, "Fix {} overflow must be error, global or widen, got {}", style_name,
                    arg[iarg + 1]);
       iarg += 2;
     } else

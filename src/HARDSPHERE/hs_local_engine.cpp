@@ -27,6 +27,7 @@
 #include "hs_system.h"
 
 #include "atom.h"
+#include "atom_vec.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -158,6 +159,54 @@ void HSLocalEngine::chosen()
                                             cutneigh, sys->list_cutoff));
     comm->cutghostuser = needed;
   }
+}
+
+/* ----------------------------------------------------------------------
+   overflow widen: a step whose cluster reaches beyond the ghost atoms is
+   taken again from its start (step_clusters() restored it) after the ghost
+   atoms were rebuilt one contact-list cutoff farther (a member one more
+   contact away), as a reneighboring does without its exchange (owned atoms
+   stay where they are, within skin/2 of their sub-domain, which borders()
+   allows for): LAMMPS' lists and the fixes' post-neighbor state (the
+   contact list) with them. The wider cutoff stays (comm_modify cutoff; a
+   log line names it, to set from the start)
+------------------------------------------------------------------------- */
+
+bool HSLocalEngine::widening() const
+{
+  return sys->overflow_widen && nprocs > 1;
+}
+
+void HSLocalEngine::widen()
+{
+  const double was = HSCompat::ghost_cutoff_at_init(lmp);
+  const double wider = was + sys->list_cutoff;
+  // a cluster as long as the box (a percolating one) is no case for this
+  double span = 0.0;
+  for (int d = 0; d < domain->dimension; d++) span = std::max(span, domain->prd[d]);
+  if (wider > span)
+    error->all(FLERR,
+               "Fix {} substep local: a collision cluster on step {} reaches beyond the ghost "
+               "cutoff {}, and overflow widen would need more than the box's length {}: "
+               "the clusters percolate (a smaller timestep, substep global)",
+               sys->style_name, update->ntimestep, was, span);
+  if (me == 0)
+    utils::logmesg(lmp,
+                   "fix {}: step {}: a collision cluster reaches beyond the ghost cutoff "
+                   "{:.8g}; overflow widen sets comm_modify cutoff {:.8g} and takes the step "
+                   "again (set it from the start to avoid this)\n",
+                   sys->style_name, update->ntimestep, was, wider);
+  comm->cutghostuser = wider;
+  nwiden += 1.0;
+  comm->setup();
+  // (as exchange() begins: the map cleared while it still lists the ghosts)
+  if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
+  atom->nghost = 0;
+  atom->avec->clear_bonus();
+  comm->borders();
+  modify->pre_neighbor();
+  neighbor->build(1);
+  modify->post_neighbor();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -991,7 +1040,7 @@ bool HSLocalEngine::member_copies(Run &r)
             p[d] + cut[d] <= hi[d] + comm->cutghost[d];
       }
     }
-    if (!inside && sys->overflow_global) return false;
+    if (!inside && (sys->overflow_global || widening())) return false;
     if (!inside) {
       std::string ids;
       for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
@@ -999,8 +1048,9 @@ bool HSLocalEngine::member_copies(Run &r)
                  "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches "
                  "beyond what the ghost cutoff {} covers (atom {} needs every atom within the "
                  "neighbor cutoff {} of it on the rank of atom {}): use a larger comm_modify "
-                 "cutoff (the engine set {}), a smaller timestep, substep global, or overflow "
-                 "global (such steps taken globally)",
+                 "cutoff (the engine set {}), a smaller timestep, substep global, overflow "
+                 "global (such steps taken globally) or overflow widen (the engine widens the "
+                 "ghost cutoff and takes the step again)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
                  comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_needed);
     }
@@ -1033,12 +1083,12 @@ bool HSLocalEngine::member_copies(Run &r)
           here = d2 < half * half;
         }
         if (here) continue;
-        if (sys->overflow_global) return false;
+        if (sys->overflow_global || widening()) return false;
         error->one(FLERR,
                    "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster "
                    "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
-                   "use a larger comm_modify cutoff, substep global, or overflow global "
-                   "(such steps taken globally)",
+                   "use a larger comm_modify cutoff, substep global, overflow global "
+                   "(such steps taken globally) or overflow widen",
                    sys->style_name, t, r.mtags[k], update->ntimestep, r.mtags[0],
                    comm->cutghostuser);
       }
@@ -2457,8 +2507,18 @@ bool HSLocalEngine::step()
   // terms read them. Forwarded, every copy is where its owner is (where the
   // global engine's evaluations see them), on any number of ranks
   if (F.other_integrator) comm->forward_comm();
-  const int status = step_clusters();
-  if (status < 0) return false;    // overflow global: the global engine's step
+  const double nrounds0 = nrounds;
+  int status = step_clusters();
+  // a cluster outgrew the ghost atoms (every rank knows; the state is the
+  // step's start): overflow widen takes the step again with a wider ghost
+  // shell (the given-up attempts' growth rounds not counted: the counts
+  // stay those of one rank), overflow global hands it to the global engine
+  while (status < 0 && widening()) {
+    nrounds = nrounds0;
+    widen();
+    status = step_clusters();
+  }
+  if (status < 0) return false;
   if (status > 0) {
     local_step = 1;
     if (F.step_collided) F.ncoll_steps += 1.0;
@@ -2513,6 +2573,8 @@ double HSLocalEngine::counter(int k)
       return ncoll_steps > 0.0 ? ncollective / ncoll_steps : 0.0;
     case 7:
       return nquick;
+    case 8:
+      return nwiden;
   }
   return 0.0;
 }

@@ -504,6 +504,11 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void gather_topology(const std::vector<int> &newids);
   bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
   double ghost_needed = 0.0;   // the ghost cutoff the local engine asked for
+  // overflow widen: a step whose cluster outgrew the ghost atoms is taken
+  // again with them one contact-list cutoff farther (widen())
+  bool widening() const;
+  void widen();
+  double nwiden = 0.0;         // times the ghost cutoff was widened
   double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())
   void vc(const int *c, int n);
   // contact candidates of any local copy: every group atom within the

@@ -46,8 +46,9 @@ class HSStepEngine : protected Pointers {
   // clusters, mean and largest members per cluster, growth rounds, steps
   // that fell back to the global engine, restricted force evaluations,
   // collective communications per step taken by clusters, steps whose
-  // flagged spheres alone cleared the first guess
-  static constexpr int NCOUNTERS = 8;
+  // flagged spheres alone cleared the first guess, times the ghost cutoff
+  // was widened (overflow widen)
+  static constexpr int NCOUNTERS = 9;
   virtual double counter(int k) = 0;
   // bytes of the engine's own arrays (the fix's memory_usage())
   virtual double memory_usage() const { return 0.0; }

@@ -115,6 +115,8 @@ class HSSystem : protected Pointers, public HSTypes {
   double nfallback = 0.0;       // collisional steps run globally instead of locally
   int overflow_global = 0;      // keyword overflow global: a cluster beyond the ghost
                                 // atoms makes the step global (else an error)
+  int overflow_widen = 0;       // overflow widen: the local engine widens the ghost
+                                // cutoff and takes the step again
   int fallback_counting = 0;    // 1: local was the default but is unavailable
   // flags of the current step: an impulse was applied / the loop sub-stepped
   int step_collided = 0, step_substeps = 0;

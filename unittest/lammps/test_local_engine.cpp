@@ -309,7 +309,7 @@ TEST(LocalEngine, Errors)
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep sideways\nrun 1\n",
                {"substep must be local or global", "sideways"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 overflow maybe\nrun 1\n",
-               {"overflow must be error or global", "maybe"});
+               {"overflow must be error, global or widen", "maybe"});
   expect_error(base + "fix x all hardsphere/mcva diameter 1.0 substep local\nrun 1\n",
                {"substep local is not available yet", "substep global"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"

@@ -470,6 +470,26 @@ if got=$(run long_fb 2 in.local_long_fb -var np 2 -var nsteps 100 -var yb p -var
 else
   fail=1
 fi
+# overflow widen: the step is taken again with the ghost atoms one
+# contact-list cutoff farther (6.0 -> 7.6 here), so 2 and 4 ranks end
+# exactly as 1 rank does (the same collisions, rounds and velocities),
+# with the widening counted (f_hs[14]) and named in the log
+sed 's/diameter 1.0 ${walls}/diameter 1.0 ${walls} overflow widen/; s/^print "RESULT/print "WIDEN $(f_hs[14])"\nprint "RESULT/' in.local_long > in.local_long_wd
+if ref=$(run long_wd 1 in.local_long_wd -var np 1 -var nsteps 100 -var yb p -var walls ""); then
+  for np in 2 4; do
+    got=$(run long_wd "$np" in.local_long_wd -var np "$np" -var nsteps 100 -var yb p -var walls "") || { fail=1; continue; }
+    compare long_wd "$ref" "$got" "$np" || fail=1
+    wd=$(grep '^WIDEN ' out.long_wd.$np | awk '{print $2}')
+    if [ "${wd:-0}" = 1 ] && grep -q "overflow widen sets comm_modify cutoff 7.6 and takes the step again" out.long_wd.$np; then
+      echo "  $np ranks, overflow widen: widened once to 7.6, counted and in the log: ok"
+    else
+      echo "  FAIL: overflow widen on $np ranks: count '${wd}'"; grep -i widen out.long_wd.$np; fail=1
+    fi
+  done
+  [ "$(grep '^WIDEN ' out.long_wd.1 | awk '{print $2}')" = 0 ] || { echo "  FAIL: 1 rank widened"; fail=1; }
+else
+  fail=1
+fi
 # the engine raised the ghost cutoff itself, and said so
 if grep -q "substep local sets comm_modify cutoff" out.long.2; then
   echo "  2 ranks: the engine's ghost cutoff is in the log: ok"
