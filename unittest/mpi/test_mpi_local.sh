@@ -1,7 +1,8 @@
 #!/bin/bash
 # The local engine (the default of hardsphere/cva) on 1, 2 and 4 MPI ranks
 # (issue 20): the same collision counts (pair, wall, steps with a
-# collision, clusters, growth rounds) exactly, and energies equal to RTOL.
+# collision, clusters, growth rounds) exactly, and energies and (fluids,
+# melt) a fingerprint of the positions equal to RTOL.
 #   bash test_mpi_local.sh <lmp> <source dir>
 # Systems: the hard-core LJ fluid (density 0.6) at 500 atoms over 200 steps
 # (and as three runs of 100, 3 and 200 steps)
@@ -18,8 +19,8 @@
 # spans two or three ranks and grows across them within a step (the last
 # sphere leaves with the striker's velocity), and a pair plus two wall
 # contacts at a rank face. Then the error of a cluster that outgrows the
-# ghost region, and the counted fall-back to the global engine
-# (overflow global). hardsphere/pcva on the fluids, the hot and held
+# ghost region, the counted fall-back to the global engine (overflow
+# global) and the widened ghost cutoff (overflow widen). hardsphere/pcva on the fluids, the hot and held
 # fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
 # the hot and held fluid and the melt.
 
@@ -27,9 +28,14 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_local "$@"
 
 # fluid: lj_fluid_input without its " substep global"; clusters (f_hs[6])
-# and growth rounds (f_hs[9]) added to the RESULT line
+# and growth rounds (f_hs[9]) added to the RESULT line, and last a
+# fingerprint of the positions, the sum over atoms of xu^2 + 2 yu^2 + 3 zu^2
+# (unwrapped; not weighted by ID: create_atoms numbers the lattice rank by
+# rank), compared to RTOL ("~positions"; in the thermo output so that it
+# is current at the run's end): energies alone would not see e.g. two
+# equal spheres' velocities exchanged
 fluid() {
-  lj_fluid_input cva 6 9 | sed "s/ substep global//; s/region      box block 0 5 0 5 0 5/region      box block 0 $1 0 $1 0 $1/; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/"
+  lj_fluid_input cva 6 9 | sed "s/ substep global//; s/region      box block 0 5 0 5 0 5/region      box block 0 $1 0 $1 0 $1/; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/; s/^timestep/compute     pu all property\/atom xu yu zu\nvariable    fp atom c_pu[1]*c_pu[1]+2*c_pu[2]*c_pu[2]+3*c_pu[3]*c_pu[3]\ncompute     fp all reduce sum v_fp\ntimestep/; s/^thermo_style custom step pe ke etotal press f_hs\[1\]$/& c_fp/; /^print \"RESULT/s/\"$/ \$(c_fp:%.17g)\"/"
 }
 fluid 5 > in.local_fluid500
 fluid 10 > in.local_fluid4000
@@ -40,7 +46,7 @@ fluid 5 | sed 's/create 1.5/create 3.0/; s/neighbor    0.3 bin/neighbor    0.2 b
 fluid 5 | sed 's/^run \+\${nsteps}$/run         100\nrun         3\nrun         ${nsteps}/' > in.local_runs
 grep -q "^run         3$" in.local_runs || { echo "FAIL: in.local_runs has no short run"; exit 1; }
 
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds" "~positions")
 echo "hard-core LJ fluid, 500 atoms, 200 steps, default engine, 1, 2, 4 ranks:"
 check_system fluid500 in.local_fluid500 "2 4" -var nsteps 200
 echo "the same as three runs, 100 steps, 3 and 200:"
@@ -69,9 +75,9 @@ check_system solvent in.local_solvent "2 4" -var nsteps 200
 sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
   in.local_solvent > in.local_vcisolvent
 echo "the same with hardsphere/vci:"
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds" "~positions")
 check_system vcisolvent in.local_vcisolvent "2 4" -var nsteps 200
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds" "~positions")
 
 # bead-spring melt (molecular: the members' special lists and bonded terms
 # come by atom ID, gathered when they join): 100 chains of 10 beads along
@@ -129,11 +135,16 @@ special_bonds lj 0.0 0.5 1.0
 neighbor    0.3 bin
 neigh_modify every 1 delay 0 check yes
 fix         hs all hardsphere/cva diameter 0.9
+compute     pu all property/atom xu yu zu
+variable    fp atom c_pu[1]*c_pu[1]+2*c_pu[2]*c_pu[2]+3*c_pu[3]*c_pu[3]
+compute     fp all reduce sum v_fp
 timestep    0.005
+thermo_style custom step pe ke etotal c_fp
 thermo      50
 run         \${nsteps}
 EOF2
-  result_line 6 9
+  # (the positions' fingerprint of fluid(), last)
+  result_line 6 9 | sed 's/"$/ $(c_fp:%.17g)"/'
 }
 melt_input > in.local_melt
 echo "bead-spring melt (bonds, angles, dihedrals), 1000 beads at T 2, 200 steps, newton_bond on:"
@@ -176,7 +187,7 @@ method_cases() {
 # reduced, members and partners found again by ID after a rebuild; the
 # projections and skipped projections counted too (the melt with bonds
 # only: the projection needs radial terms)
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds" "~positions")
 method_cases pcva 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
   '/^angle_/d; /^dihedral_/d' "FENE bonds"
 
@@ -187,7 +198,7 @@ method_cases pcva 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\]
 # equal on 1, 2, 4 ranks; the melt with bonds, angles, dihedrals. Not the
 # trial sub-steps (f_hs[9]): the secant's last step to round-off depends
 # on the summation order of the copies (e.g. 7127 / 7113 / 7129 here)
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds" "~positions")
 method_cases vci 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
   '' "bonds, angles, dihedrals"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
@@ -509,7 +520,7 @@ grep -q "^pair_style  lj/cut 1.122462" in.local_wca || { echo "FAIL: in.local_wc
 # (the periodic images; it used to stop with the contact list's error), and
 # 1 and 2 ranks make the same collisions
 echo "WCA (pair cutoff below the contact list's), substep local, 20 steps:"
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds" "~positions")
 check_system wca in.local_wca "2" -var nsteps 20
 if grep -q "substep local sets comm_modify cutoff 1.6 (the ghost cutoff was 1.42" out.wca.1; then
   echo "  WCA on 1 rank, substep local: the engine sets the ghost cutoff 1.6, with a log line: ok"
