@@ -103,10 +103,9 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
       if (iarg + 2 > narg)
         error->all(FLERR, "Illegal fix {} command: overflow needs error, global or widen",
                    style_name);
-      S.overflow_global = S.overflow_widen = 0;
-      if (strcmp(arg[iarg + 1], "error") == 0) S.overflow_global = 0;
-      else if (strcmp(arg[iarg + 1], "global") == 0) S.overflow_global = 1;
-      else if (strcmp(arg[iarg + 1], "widen") == 0) S.overflow_widen = 1;
+      if (strcmp(arg[iarg + 1], "error") == 0) S.overflow = HSSystem::OVERFLOW_ERROR;
+      else if (strcmp(arg[iarg + 1], "global") == 0) S.overflow = HSSystem::OVERFLOW_GLOBAL;
+      else if (strcmp(arg[iarg + 1], "widen") == 0) S.overflow = HSSystem::OVERFLOW_WIDEN;
       else
         error->all(FLERR, "Fix {} overflow must be error, global or widen, got {}", style_name,
                    arg[iarg + 1]);

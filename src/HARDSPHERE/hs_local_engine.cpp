@@ -174,7 +174,7 @@ void HSLocalEngine::chosen()
 
 bool HSLocalEngine::widening() const
 {
-  return sys->overflow_widen && nprocs > 1;
+  return sys->overflow == HSSystem::OVERFLOW_WIDEN && nprocs > 1;
 }
 
 void HSLocalEngine::widen()
@@ -1040,7 +1040,7 @@ bool HSLocalEngine::member_copies(Run &r)
             p[d] + cut[d] <= hi[d] + comm->cutghost[d];
       }
     }
-    if (!inside && (sys->overflow_global || widening())) return false;
+    if (!inside && (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening())) return false;
     if (!inside) {
       std::string ids;
       for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
@@ -1083,7 +1083,7 @@ bool HSLocalEngine::member_copies(Run &r)
           here = d2 < half * half;
         }
         if (here) continue;
-        if (sys->overflow_global || widening()) return false;
+        if (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening()) return false;
         error->one(FLERR,
                    "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster "
                    "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "

@@ -113,10 +113,11 @@ class HSSystem : protected Pointers, public HSTypes {
   // global counters, identical on every rank
   double ncoll_pair = 0.0, ncoll_wall = 0.0, ncoll_steps = 0.0, nforce_evals = 0.0;
   double nfallback = 0.0;       // collisional steps run globally instead of locally
-  int overflow_global = 0;      // keyword overflow global: a cluster beyond the ghost
-                                // atoms makes the step global (else an error)
-  int overflow_widen = 0;       // overflow widen: the local engine widens the ghost
-                                // cutoff and takes the step again
+  // keyword overflow: a cluster beyond the ghost atoms is an error, makes
+  // the step global, or has the local engine widen the ghost cutoff and
+  // take the step again
+  enum { OVERFLOW_ERROR, OVERFLOW_GLOBAL, OVERFLOW_WIDEN };
+  int overflow = OVERFLOW_ERROR;
   int fallback_counting = 0;    // 1: local was the default but is unavailable
   // flags of the current step: an impulse was applied / the loop sub-stepped
   int step_collided = 0, step_substeps = 0;
