@@ -27,15 +27,21 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_local "$@"
 
-# fluid: lj_fluid_input without its " substep global"; clusters (f_hs[6])
-# and growth rounds (f_hs[9]) added to the RESULT line, and last a
-# fingerprint of the positions, the sum over atoms of xu^2 + 2 yu^2 + 3 zu^2
+# with_fingerprint: an input (stdin) with a fingerprint of the positions
+# last on its RESULT line, the sum over atoms of xu^2 + 2 yu^2 + 3 zu^2
 # (unwrapped; not weighted by ID: create_atoms numbers the lattice rank by
-# rank), compared to RTOL ("~positions"; in the thermo output so that it
-# is current at the run's end): energies alone would not see e.g. two
-# equal spheres' velocities exchanged
+# rank), compared to RTOL ("~positions"); in the thermo output, so that it
+# is current at the run's end. Energies alone would not see e.g. two equal
+# spheres' velocities exchanged
+with_fingerprint() {
+  sed 's/^timestep/compute     pu all property\/atom xu yu zu\nvariable    fp atom c_pu[1]*c_pu[1]+2*c_pu[2]*c_pu[2]+3*c_pu[3]*c_pu[3]\ncompute     fp all reduce sum v_fp\ntimestep/; s/^thermo_style custom .*$/& c_fp/; /^print "RESULT/s/"$/ $(c_fp:%.17g)"/'
+}
+
+# fluid: lj_fluid_input without its " substep global"; clusters (f_hs[6])
+# and growth rounds (f_hs[9]) added to the RESULT line, then the positions'
+# fingerprint
 fluid() {
-  lj_fluid_input cva 6 9 | sed "s/ substep global//; s/region      box block 0 5 0 5 0 5/region      box block 0 $1 0 $1 0 $1/; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/; s/^timestep/compute     pu all property\/atom xu yu zu\nvariable    fp atom c_pu[1]*c_pu[1]+2*c_pu[2]*c_pu[2]+3*c_pu[3]*c_pu[3]\ncompute     fp all reduce sum v_fp\ntimestep/; s/^thermo_style custom step pe ke etotal press f_hs\[1\]$/& c_fp/; /^print \"RESULT/s/\"$/ \$(c_fp:%.17g)\"/"
+  lj_fluid_input cva 6 9 | sed "s/ substep global//; s/region      box block 0 5 0 5 0 5/region      box block 0 $1 0 $1 0 $1/; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/" | with_fingerprint
 }
 fluid 5 > in.local_fluid500
 fluid 10 > in.local_fluid4000
@@ -135,18 +141,14 @@ special_bonds lj 0.0 0.5 1.0
 neighbor    0.3 bin
 neigh_modify every 1 delay 0 check yes
 fix         hs all hardsphere/cva diameter 0.9
-compute     pu all property/atom xu yu zu
-variable    fp atom c_pu[1]*c_pu[1]+2*c_pu[2]*c_pu[2]+3*c_pu[3]*c_pu[3]
-compute     fp all reduce sum v_fp
 timestep    0.005
-thermo_style custom step pe ke etotal c_fp
+thermo_style custom step pe ke etotal
 thermo      50
 run         \${nsteps}
 EOF2
-  # (the positions' fingerprint of fluid(), last)
-  result_line 6 9 | sed 's/"$/ $(c_fp:%.17g)"/'
+  result_line 6 9
 }
-melt_input > in.local_melt
+melt_input | with_fingerprint > in.local_melt
 echo "bead-spring melt (bonds, angles, dihedrals), 1000 beads at T 2, 200 steps, newton_bond on:"
 check_system melt in.local_melt "2 4" -var nsteps 200 -var nb on
 echo "the same with newton_bond off:"
