@@ -1168,6 +1168,46 @@ void HSLocalEngine::cross_at_start(Run &r, const std::vector<Vec> &fk, const std
   }
 }
 
+// F_X(x0) by an evaluation of the cross terms, where another fix integrates
+// atoms outside the group: the shortcut above takes LAMMPS' force of the
+// step's start, at those atoms' old positions, while fk sees them where that
+// fix moved them before this one's turn (doc "Which pairs collide"), so
+// the difference was no cross force: V_C's change by their move (on a
+// solvent at density 0.6, 0.7 on a member whose force is 30), which the
+// second half then took with the opposite sign (2 F_X(q_mid) - F_X(q0)) or
+// not at all (the corrector's F_X(q_end), for clusters with a cross
+// neighbour within the rows' reach): a trajectory that depended on when the
+// lists were built. Other clusters' members whose first halves ran wait at
+// their mid positions: back to x0 for the evaluation (all their copies, then
+// restored bit for bit). Afterwards V_C's lists are the last evaluation
+// again, for the flow's sub-steps
+void HSLocalEngine::cross_at_start_evaluated(Run &r)
+{
+  const int nm = (int) r.members.size();
+  r.fx0.assign(nm, Vec{0.0, 0.0, 0.0});
+  if (!force->pair) return;
+  double **x = atom->x;
+  const int key = lab[r.members[0]];
+  cross_forces(r, r.fx0);
+  std::vector<std::pair<int, Vec>> &away = scratch_away;
+  away.clear();
+  for (int t : locf->touched()) {
+    if (lab[t] < 0 || lab[t] == key) continue;
+    for (int k = atom->map(atom->tag[t]); k >= 0; k = atom->sametag[k])
+      if (x[k][0] != x0[k][0] || x[k][1] != x0[k][1] || x[k][2] != x0[k][2]) {
+        away.push_back({k, Vec{x[k][0], x[k][1], x[k][2]}});
+        for (int d = 0; d < 3; d++) x[k][d] = x0[k][d];
+      }
+  }
+  if (!away.empty()) {
+    cross_forces(r, r.fx0);
+    for (const auto &a : away)
+      for (int d = 0; d < 3; d++) x[a.first][d] = a.second[d];
+  }
+  locf->recompute(r.snap);
+  ncompute_here += 1.0;
+}
+
 /* ----------------------------------------------------------------------
    the cross terms (pair terms between members of two clusters) at the
    members' mid positions: F_X(x_mid), which sets the constant cross force
@@ -1515,7 +1555,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
                  F.style_name, r.mtags[k]);
     mi[k] = (int) (it - T.begin());
   }
-  if (first_half) cross_at_start(r, fk, mi);
+  if (first_half) {
+    if (F.other_integrator) cross_at_start_evaluated(r);
+    else cross_at_start(r, fk, mi);
+  }
   // the constant cross force on the members in this half: F_X(q0) in the
   // first; in the second F_X at the members' ends once cross_at_end() found
   // it (fx1), before that the extrapolation 2 F_X(q_mid) - F_X(q0) (fx once

@@ -460,6 +460,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // the cross terms' forces on a run's members at their copies' positions
   void cross_forces(const Run &r, std::vector<Vec> &out);
   void cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi);
+  void cross_at_start_evaluated(Run &r);
+  std::vector<std::pair<int, Vec>> scratch_away;
   void held_of(Run &r);
   // the member copies of a cluster this rank runs: the key's owned copy and
   // for every other member its copy nearest it; checked against the ghost

@@ -77,6 +77,18 @@ sed 's/^fix         hs all hardsphere\/cva diameter 1.0$/region      low block I
 grep -q "^fix         nv solv nve$" in.local_solvent || { echo "FAIL: in.local_solvent has no solvent"; exit 1; }
 echo "500 atoms, half of them a solvent under fix nve defined before the spheres' fix, 200 steps:"
 check_system solvent in.local_solvent "2 4" -var nsteps 200
+# the same with the lists built in every step (1 rank): the steps must not
+# depend on when the lists were built. They did (1.4e-5 in etotal, a cluster
+# more) while F_X(q0) took LAMMPS' start forces, at the solvent's old
+# positions, against V_C at its new ones
+sed 's/^neigh_modify every 1 delay 0 check yes$/neigh_modify every 1 delay 0 check no/' in.local_solvent > in.local_solvent_every
+grep -q "check no" in.local_solvent_every || { echo "FAIL: in.local_solvent_every builds the lists as before"; exit 1; }
+echo "the same with the lists built in every step, 1 rank:"
+if ref=$(run solvent 1 in.local_solvent -var nsteps 200) && got=$(run solvent_every 1 in.local_solvent_every -var nsteps 200); then
+  compare solvent_every "$ref" "$got" 1 || fail=1
+else
+  fail=1
+fi
 # (vci's counters as in method_cases below)
 sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
   in.local_solvent > in.local_vcisolvent
