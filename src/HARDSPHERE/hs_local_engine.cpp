@@ -199,6 +199,9 @@ void HSLocalEngine::widen()
   comm->cutghostuser = wider;
   nwiden += 1.0;
   comm->setup();
+  // the bins must cover every ghost: LAMMPS' bin index of a ghost beyond
+  // them is not clamped (NBinStandard::coord2bin), and binning writes there
+  if (neighbor->style) neighbor->setup_bins();
   // (as exchange() begins: the map cleared while it still lists the ghosts)
   if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
   atom->nghost = 0;
