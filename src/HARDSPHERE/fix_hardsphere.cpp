@@ -110,6 +110,26 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR, "Fix {} overflow must be error, global or widen, got {}", style_name,
                    arg[iarg + 1]);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "ghost") == 0) {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "Illegal fix {} command: ghost needs lazy N or wide", style_name);
+      if (strcmp(arg[iarg + 1], "wide") == 0) {
+        S.ghost_lazy = 0;
+        iarg += 2;
+      } else if (strcmp(arg[iarg + 1], "lazy") == 0) {
+        if (iarg + 3 > narg)
+          error->all(FLERR, "Illegal fix {} command: ghost lazy needs a number of steps",
+                     style_name);
+        S.ghost_lazy = utils::bnumeric(FLERR, arg[iarg + 2], false, lmp);
+        if (S.ghost_lazy < 1)
+          error->all(FLERR,
+                     "Fix {} ghost lazy {}: the number of steps without contacts before the "
+                     "ghost shell narrows must be >= 1 (ghost wide: never)",
+                     style_name, S.ghost_lazy);
+        iarg += 3;
+      } else
+        error->all(FLERR, "Fix {} ghost must be lazy N or wide, got {}", style_name,
+                   arg[iarg + 1]);
     } else
       error->all(FLERR, "Unknown fix {} keyword: {}", style_name, arg[iarg]);
   }
@@ -141,7 +161,7 @@ FixHardSphere::~FixHardSphere()
 
 int FixHardSphere::setmask()
 {
-  return INITIAL_INTEGRATE | FINAL_INTEGRATE | POST_NEIGHBOR;
+  return INITIAL_INTEGRATE | FINAL_INTEGRATE | PRE_EXCHANGE | POST_NEIGHBOR;
 }
 
 void FixHardSphere::post_constructor()
@@ -403,6 +423,12 @@ void FixHardSphere::setup(int)
   S.screened_step = -1;
   S.held_step = -1;
   S.step_split = 0;
+}
+
+// (the local engine's ghost shell narrows when no contact came for a while)
+void FixHardSphere::pre_exchange()
+{
+  if (engine) engine->pre_exchange();
 }
 
 void FixHardSphere::setup_post_neighbor()

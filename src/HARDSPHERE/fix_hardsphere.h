@@ -36,6 +36,7 @@ class FixHardSphere : public Fix, public HSTypes {
   void init() override;
   void init_list(int, class NeighList *) override;
   void setup(int) override;
+  void pre_exchange() override;
   void setup_post_neighbor() override;
   void post_neighbor() override;
   void initial_integrate(int) override;

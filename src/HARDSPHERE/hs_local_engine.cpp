@@ -127,7 +127,16 @@ std::string HSLocalEngine::limits()
    beyond the farthest such member. The engine asks for the neighbor cutoff
    plus two contact-list cutoffs (three members in a row across a rank's
    face) and checks every cluster (member_copies()); on one rank for the
-   contact list's cutoff only
+   contact list's cutoff only.
+   ghost lazy N (the default, several ranks): a step without a predicted
+   contact needs no more ghosts than LAMMPS' own (the first guess reads
+   candidate pairs, within the contact list's cutoff), and every ghost costs
+   LAMMPS' forwards, reverses and binning in every step. So the shell stays
+   at LAMMPS' cutoff until a contact is predicted; that step is taken with
+   the engine's shell (to_wide(): ghosts rebuilt at the step's start, as
+   overflow widen does), kept until a reneighboring finds N steps without a
+   step taken by clusters (pre_exchange()). The steps' arithmetic is the
+   same in either shell (a ghost beyond the pair cutoff adds no force)
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::chosen()
@@ -142,34 +151,92 @@ void HSLocalEngine::chosen()
   // e.g. WCA's, would leave them short). Several ranks: the cutoff above
   // (beyond the pair cutoff plus skin, so that comm_modify cutoff decides)
   const bool one_rank = comm->nprocs == 1;
-  const double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
+  double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
+  if (!one_rank) needed = std::max(needed, ghost_widened);
   if (!one_rank) ghost_needed = needed;
+  // the input's own comm_modify cutoff, unless it is the one this engine set
+  if (comm->cutghostuser != ghost_set) ghost_user = comm->cutghostuser;
+  comm->cutghostuser = ghost_user;
   const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
-  if (cutghost < needed) {
-    if (me == 0)
+  // (the first guess's candidate pairs need the contact list's cutoff)
+  ghost_narrow = std::max(ghost_user, sys->list_cutoff);
+  ghost_wide = needed;
+  // (comm_style brick only: with tiled, the ghosts rebuilt within a step
+  // (reborder()) were not right: a 2-rank fluid whose shell went wide every
+  // few steps lost pair terms in LAMMPS' own forces, pe 0.18 off after 300
+  // steps, on a step that widened. Cause not found; a candidate: owned
+  // atoms not yet wrapped into the box, which brick's slabs take but tiled's
+  // boxes may not. overflow widen rebuilds them the same way: an error)
+  lazy = !one_rank && sys->ghost_lazy > 0 && cutghost < needed && comm->style == 0;
+  if (!one_rank && sys->overflow == HSSystem::OVERFLOW_WIDEN && comm->style != 0)
+    error->all(FLERR,
+               "Fix {} overflow widen needs comm_style brick: it rebuilds the ghost atoms "
+               "within a step, which comm_style tiled does not serve (use overflow global or "
+               "a larger comm_modify cutoff)",
+               sys->style_name);
+  // a run that follows one with recent contacts starts wide
+  narrow = lazy &&
+      (last_cluster_step < 0 || update->ntimestep - last_cluster_step >= sys->ghost_lazy);
+  if (cutghost < needed && me == 0) {
+    const std::string why = one_rank
+        ? std::string("the contact list's cutoff, contact distance + 2 x skin")
+        : fmt::format("the neighbor cutoff {:.8g} plus two contact-list cutoffs {:.8g}, so "
+                      "that a collision cluster's members have their interaction rows on the "
+                      "rank that runs it",
+                      cutneigh, sys->list_cutoff);
+    if (lazy)
+      utils::logmesg(lmp,
+                     "fix {}: substep local keeps the ghost cutoff {:.8g} while no contact is "
+                     "predicted; a step with one is taken with comm_modify cutoff {:.8g} ({}), "
+                     "kept until {} steps pass without one (ghost lazy; ghost wide: always)\n",
+                     sys->style_name, std::max(cutghost, sys->list_cutoff), needed, why,
+                     sys->ghost_lazy);
+    else
       utils::logmesg(lmp,
                      "fix {}: substep local sets comm_modify cutoff {:.8g} (the ghost cutoff "
                      "was {:.8g}): {}\n",
-                     sys->style_name, needed, cutghost,
-                     one_rank ? std::string("the contact list's cutoff, contact distance + 2 x skin")
-                              : fmt::format("the neighbor cutoff {:.8g} plus two contact-list "
-                                            "cutoffs {:.8g}, so that a collision cluster's "
-                                            "members have their interaction rows on the rank "
-                                            "that runs it",
-                                            cutneigh, sys->list_cutoff));
-    comm->cutghostuser = needed;
+                     sys->style_name, needed, cutghost, why);
   }
+  if (cutghost < needed && !narrow) comm->cutghostuser = needed;
+  else if (narrow) comm->cutghostuser = ghost_narrow;
+  ghost_set = comm->cutghostuser;
+}
+
+void HSLocalEngine::set_ghost_cutoff(double cut)
+{
+  comm->cutghostuser = cut;
+  ghost_set = cut;
+}
+
+/* ----------------------------------------------------------------------
+   the ghost atoms rebuilt for the current comm_modify cutoff at the step's
+   start positions, as a reneighboring does without its exchange (owned
+   atoms stay where they are, within skin/2 of their sub-domain, which
+   borders() allows for): the bins (which must cover every ghost: LAMMPS
+   does not clamp a ghost beyond them), LAMMPS' lists and the fixes'
+   post-neighbor state (the contact list) with them
+------------------------------------------------------------------------- */
+
+void HSLocalEngine::reborder()
+{
+  comm->setup();
+  if (neighbor->style) neighbor->setup_bins();
+  // (as exchange() begins: the map cleared while it still lists the ghosts)
+  if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
+  atom->nghost = 0;
+  atom->avec->clear_bonus();
+  comm->borders();
+  modify->pre_neighbor();
+  neighbor->build(1);
+  modify->post_neighbor();
 }
 
 /* ----------------------------------------------------------------------
    overflow widen: a step whose cluster reaches beyond the ghost atoms is
    taken again from its start (step_clusters() restored it) after the ghost
    atoms were rebuilt one contact-list cutoff farther (a member one more
-   contact away), as a reneighboring does without its exchange (owned atoms
-   stay where they are, within skin/2 of their sub-domain, which borders()
-   allows for): LAMMPS' lists and the fixes' post-neighbor state (the
-   contact list) with them. The wider cutoff stays (comm_modify cutoff; a
-   log line names it, to set from the start)
+   contact away). The wider cutoff stays (comm_modify cutoff; a log line
+   names it, to set from the start)
 ------------------------------------------------------------------------- */
 
 bool HSLocalEngine::widening() const
@@ -196,20 +263,32 @@ void HSLocalEngine::widen()
                    "{:.8g}; overflow widen sets comm_modify cutoff {:.8g} and takes the step "
                    "again (set it from the start to avoid this)\n",
                    sys->style_name, update->ntimestep, was, wider);
-  comm->cutghostuser = wider;
+  set_ghost_cutoff(wider);
+  ghost_wide = ghost_widened = wider;
   nwiden += 1.0;
+  reborder();
+}
+
+// ghost lazy: a contact is predicted while the shell is LAMMPS' own; the
+// step is taken from its start with the engine's
+void HSLocalEngine::to_wide()
+{
+  set_ghost_cutoff(ghost_wide);
+  narrow = false;
+  nwide += 1.0;
+  reborder();
+}
+
+// ghost lazy: back to LAMMPS' own shell at a reneighboring (before its
+// exchange and borders) that finds N steps without a step taken by clusters
+void HSLocalEngine::pre_exchange()
+{
+  if (!lazy || narrow) return;
+  if (last_cluster_step >= 0 && update->ntimestep - last_cluster_step < sys->ghost_lazy) return;
+  narrow = true;
+  set_ghost_cutoff(ghost_narrow);
   comm->setup();
-  // the bins must cover every ghost: LAMMPS' bin index of a ghost beyond
-  // them is not clamped (NBinStandard::coord2bin), and binning writes there
   if (neighbor->style) neighbor->setup_bins();
-  // (as exchange() begins: the map cleared while it still lists the ghosts)
-  if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
-  atom->nghost = 0;
-  atom->avec->clear_bonus();
-  comm->borders();
-  modify->pre_neighbor();
-  neighbor->build(1);
-  modify->post_neighbor();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -2555,6 +2634,12 @@ bool HSLocalEngine::step()
   if (F.other_integrator) comm->forward_comm();
   const double nrounds0 = nrounds;
   int status = step_clusters();
+  // ghost lazy: a contact predicted with LAMMPS' own ghost shell (every
+  // rank knows; nothing was changed): the step with the engine's
+  if (status == NEEDS_WIDE) {
+    to_wide();
+    status = step_clusters();
+  }
   // a cluster outgrew the ghost atoms (every rank knows; the state is the
   // step's start): overflow widen takes the step again with a wider ghost
   // shell (the given-up attempts' growth rounds not counted: the counts
@@ -2567,6 +2652,7 @@ bool HSLocalEngine::step()
   if (status < 0) return false;
   if (status > 0) {
     local_step = 1;
+    last_cluster_step = update->ntimestep;
     if (F.step_collided) F.ncoll_steps += 1.0;
     meth.cluster_step_begun(*this);
     F.request_rebuild(end_moved);
@@ -2592,7 +2678,8 @@ bool HSLocalEngine::finish()
 }
 
 // clusters, mean and largest members, growth rounds, fall-backs, restricted
-// evaluations, collectives per step taken by clusters, quick-cleared steps
+// evaluations, collectives per step taken by clusters, quick-cleared steps,
+// overflow widenings, ghost lazy's widenings
 double HSLocalEngine::counter(int k)
 {
   if (k == 4) return sys->nfallback;
@@ -2621,6 +2708,8 @@ double HSLocalEngine::counter(int k)
       return nquick;
     case 8:
       return nwiden;
+    case 9:
+      return nwide;
   }
   return 0.0;
 }
@@ -2674,6 +2763,10 @@ int HSLocalEngine::step_clusters()
   if (hits.empty()) {
     ncollective = ncoll0;    // (counted for steps taken by clusters only)
     return 0;
+  }
+  if (narrow) {
+    ncollective = ncoll0;
+    return NEEDS_WIDE;
   }
   ncoll_steps += 1.0;
   // lj/cut: the restricted evaluations by its kernel (hs_ljcut.h), with

@@ -143,6 +143,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void chosen() override;
   bool step() override;
   bool finish() override;
+  void pre_exchange() override;
   double counter(int k) override;
   double memory_usage() const override;
 
@@ -171,7 +172,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // if no contact is predicted in the step at all, on any rank (the caller
   // takes fix nve's step); else the step is done up to the closing kick
   // -1: a cluster outgrew the ghost atoms (overflow global): the state is
-  // as at the step's start, the step is the global engine's
+  // as at the step's start, the step is the global engine's; NEEDS_WIDE: a
+  // contact is predicted and the ghost shell is LAMMPS' own (ghost lazy),
+  // nothing changed
   int step_clusters();
   // the closing half kick (final_integrate) of a step step_clusters() took
   void final_kick();
@@ -511,6 +514,22 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bool widening() const;
   void widen();
   double nwiden = 0.0;         // times the ghost cutoff was widened
+  // ghost lazy N (several ranks): LAMMPS' own ghost cutoff (ghost_narrow)
+  // while no contact is predicted; a step with one is taken with ghosts to
+  // ghost_wide (to_wide()), kept until a reneighboring N steps after the
+  // last step taken by clusters (pre_exchange())
+  static constexpr int NEEDS_WIDE = -2;    // step_clusters(): a contact, the shell narrow
+  bool lazy = false;
+  bool narrow = false;         // the ghost shell is ghost_narrow now
+  double ghost_user = 0.0;     // the input's comm_modify cutoff
+  double ghost_set = -1.0;     // the comm_modify cutoff this engine set last
+  double ghost_narrow = 0.0, ghost_wide = 0.0;
+  double ghost_widened = 0.0;  // overflow widen's cutoff (kept from run to run)
+  bigint last_cluster_step = -1;
+  double nwide = 0.0;          // times the shell went from narrow to wide
+  void set_ghost_cutoff(double cut);
+  void to_wide();
+  void reborder();
   double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())
   void vc(const int *c, int n);
   // contact candidates of any local copy: every group atom within the

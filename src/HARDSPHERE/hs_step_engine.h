@@ -42,13 +42,16 @@ class HSStepEngine : protected Pointers {
   // final_integrate: the closing of a step this engine took, if it needs
   // more than the plain closing kick; returns false if it does not
   virtual bool finish() = 0;
+  // pre_exchange of a reneighboring step (before its exchange and borders)
+  virtual void pre_exchange() {}
   // the engine's output entries (fix output vector, after the method's):
   // clusters, mean and largest members per cluster, growth rounds, steps
   // that fell back to the global engine, restricted force evaluations,
   // collective communications per step taken by clusters, steps whose
   // flagged spheres alone cleared the first guess, times the ghost cutoff
-  // was widened (overflow widen)
-  static constexpr int NCOUNTERS = 9;
+  // was widened (overflow widen), times ghost lazy's shell went from
+  // LAMMPS' ghost cutoff to the engine's
+  static constexpr int NCOUNTERS = 10;
   virtual double counter(int k) = 0;
   // bytes of the engine's own arrays (the fix's memory_usage())
   virtual double memory_usage() const { return 0.0; }

@@ -118,6 +118,10 @@ class HSSystem : protected Pointers, public HSTypes {
   // take the step again
   enum { OVERFLOW_ERROR, OVERFLOW_GLOBAL, OVERFLOW_WIDEN };
   int overflow = OVERFLOW_ERROR;
+  // keyword ghost (local engine, several ranks): lazy N, LAMMPS' own ghost
+  // cutoff until a contact is predicted, the engine's until N steps pass
+  // without one (ghost_lazy = N); wide, the engine's always (ghost_lazy = 0)
+  bigint ghost_lazy = 500;
   int fallback_counting = 0;    // 1: local was the default but is unavailable
   // flags of the current step: an impulse was applied / the loop sub-stepped
   int step_collided = 0, step_substeps = 0;

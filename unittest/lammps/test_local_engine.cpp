@@ -310,6 +310,12 @@ TEST(LocalEngine, Errors)
                {"substep must be local or global", "sideways"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 overflow maybe\nrun 1\n",
                {"overflow must be error, global or widen", "maybe"});
+  expect_error(base + "fix x all hardsphere/cva diameter 1.0 ghost narrow\nrun 1\n",
+               {"ghost must be lazy N or wide", "narrow"});
+  expect_error(base + "fix x all hardsphere/cva diameter 1.0 ghost lazy 0\nrun 1\n",
+               {"ghost lazy 0", "must be >= 1"});
+  expect_error(base + "fix x all hardsphere/cva diameter 1.0 ghost lazy\n",
+               {"ghost lazy needs a number of steps"});
   expect_error(base + "fix x all hardsphere/mcva diameter 1.0 substep local\nrun 1\n",
                {"substep local is not available yet", "substep global"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"

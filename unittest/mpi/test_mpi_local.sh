@@ -20,7 +20,10 @@
 # sphere leaves with the striker's velocity), and a pair plus two wall
 # contacts at a rank face. Then the error of a cluster that outgrows the
 # ghost region, the counted fall-back to the global engine (overflow
-# global) and the widened ghost cutoff (overflow widen). hardsphere/pcva on the fluids, the hot and held
+# global) and the widened ghost cutoff (overflow widen); ghost lazy's
+# shell (a collision-free run is fix nve's to the bit on 2 ranks, with its
+# ghost atoms; a dilute fluid whose shell widens and narrows many times
+# equals 1 rank). hardsphere/pcva on the fluids, the hot and held
 # fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
 # the hot and held fluid and the melt.
 
@@ -515,8 +518,9 @@ if ref=$(run long_wd 1 in.local_long_wd -var np 1 -var nsteps 100 -var yb p -var
 else
   fail=1
 fi
-# the engine raised the ghost cutoff itself, and said so
-if grep -q "substep local sets comm_modify cutoff" out.long.2; then
+# the engine raised the ghost cutoff itself (for the steps with contacts:
+# ghost lazy), and said so
+if grep -q "a step with one is taken with comm_modify cutoff 6 " out.long.2; then
   echo "  2 ranks: the engine's ghost cutoff is in the log: ok"
 else
   echo "  FAIL: no log line about the ghost cutoff"; fail=1
@@ -541,7 +545,7 @@ if grep -q "substep local sets comm_modify cutoff 1.6 (the ghost cutoff was 1.42
 else
   echo "  FAIL: WCA on 1 rank, substep local: no log line about the ghost cutoff"; tail -5 out.wca.1; fail=1
 fi
-if grep -q "substep local sets comm_modify cutoff 4.8" out.wca.2; then
+if grep -q "a step with one is taken with comm_modify cutoff 4.8" out.wca.2; then
   echo "  WCA on 2 ranks, substep local: the engine sets the ghost cutoff 4.8 and runs: ok"
 else
   echo "  FAIL: WCA on 2 ranks, substep local:"; tail -5 out.wca.2; fail=1
@@ -552,6 +556,84 @@ if ! grep -q '^RESULT ' out.wca_g.2 && grep -q "ERROR.*needs ghost atoms out to 
   echo "  WCA on 2 ranks, substep global: the error names comm_modify cutoff 1.6: ok"
 else
   echo "  FAIL: WCA on 2 ranks, substep global:"; tail -5 out.wca_g.2; fail=1
+fi
+
+# ghost lazy (the default): on several ranks the ghost shell is LAMMPS' own
+# until a contact is predicted. (a) Nothing collides (diameter 0.6 in the LJ
+# fluid: r = 0.6 costs ~1750 epsilon): the run is fix nve's bit for bit on 2
+# ranks, with fix nve's ghost atoms (LAMMPS' Nghost line: the mean per
+# rank); ghost wide has more than 1.5 times as many (measured 2.7). (b) A
+# dilute fluid whose collisions come every few steps, ghost lazy 5: the
+# shell goes wide and narrow again many times (counted, f_hs[15]), and 1,
+# 2 and 4 ranks still make the same collisions
+echo "ghost lazy: a collision-free fluid (hard cores never reached) on 2 ranks, 300 steps:"
+cat > in.local_quiet <<'EOF2'
+units       lj
+atom_style  atomic
+atom_modify map array
+lattice     fcc 0.6
+region      box block 0 6 0 6 0 6
+create_box  1 box
+create_atoms 1 box
+mass        1 1.0
+velocity    all create 1.5 87287 mom yes rot yes dist gaussian loop geom
+pair_style  lj/cut 2.5
+pair_coeff  1 1 1.0 1.0 2.5
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+if "${integ} == nve" then "fix hs all nve" else "fix hs all hardsphere/cva diameter 0.6 ${gh}"
+timestep    0.005
+thermo      100
+run         300
+if "${integ} == nve" then "print 'RESULT $(pe:%.17g) $(ke:%.17g) 0 0'" else "print 'RESULT $(pe:%.17g) $(ke:%.17g) $(f_hs[1]) $(f_hs[15])'"
+EOF2
+ghosts() { grep '^Nghost:' "$1" | tail -1 | awk '{print $2}'; }
+if q_nve=$(run quiet_nve 2 in.local_quiet -var integ nve -var gh "") &&
+   q_lazy=$(run quiet_lazy 2 in.local_quiet -var integ cva -var gh "") &&
+   q_wide=$(run quiet_wide 2 in.local_quiet -var integ cva -var gh "ghost wide"); then
+  read -r -a a <<< "$q_nve"; read -r -a b <<< "$q_lazy"; read -r -a c <<< "$q_wide"
+  g_nve=$(ghosts out.quiet_nve.2); g_lazy=$(ghosts out.quiet_lazy.2); g_wide=$(ghosts out.quiet_wide.2)
+  if [ "${a[0]}" = "${b[0]}" ] && [ "${a[1]}" = "${b[1]}" ] && [ "${b[2]}" = 0 ] && [ "${b[3]}" = 0 ] &&
+     [ -n "$g_nve" ] && [ "$g_lazy" = "$g_nve" ]; then
+    echo "  lazy: pe ${b[0]} ke ${b[1]} as fix nve's to the bit, 0 collisions, never widened, ghosts $g_lazy as fix nve's: ok"
+  else
+    echo "  FAIL: ghost lazy on a collision-free run: nve '$q_nve' ($g_nve ghosts), cva '$q_lazy' ($g_lazy ghosts)"; fail=1
+  fi
+  if [ "${c[2]}" = 0 ] && [ "${c[3]}" = 0 ] && [ -n "$g_wide" ] && awk -v w="$g_wide" -v n="$g_nve" 'BEGIN {exit !(w > 1.5 * n)}'; then
+    echo "  wide: 0 collisions, ghosts $g_wide against $g_nve: ok"
+  else
+    echo "  FAIL: ghost wide on a collision-free run: '$q_wide', $g_wide ghosts against $g_nve"; fail=1
+  fi
+else
+  fail=1
+fi
+echo "ghost lazy 5: a dilute fluid (density 0.02) with collisions every few steps, 400 steps:"
+fluid 5 | sed 's/^lattice     fcc 0.6$/lattice     fcc 0.02/; s/diameter 1.0$/diameter 1.0 ghost lazy 5/; s/^print "RESULT/print "WIDE $(f_hs[15])"\nprint "RESULT/' > in.local_lazy
+grep -q "ghost lazy 5" in.local_lazy && grep -q "fcc 0.02" in.local_lazy || { echo "FAIL: in.local_lazy is not the dilute fluid"; exit 1; }
+check_system lazy in.local_lazy "2 4" -var nsteps 400
+w1=$(grep '^WIDE ' out.lazy.1 | awk '{print $2}')
+w2=$(grep '^WIDE ' out.lazy.2 | awk '{print $2}')
+if [ "$w1" = 0 ] && [ "${w2:-0}" -ge 3 ]; then
+  echo "  the shell went wide $w2 times on 2 ranks (0 on 1 rank): ok"
+else
+  echo "  FAIL: ghost lazy 5 widened '$w2' times on 2 ranks, '$w1' on 1 (expected >= 3 and 0)"; fail=1
+fi
+# comm_style tiled keeps the wide shell (there the shell going wide and
+# narrow lost pair terms in LAMMPS' forces): the same collisions and
+# energies as 1 rank, never widened
+sed 's/^mass        1 1.0$/mass        1 1.0\ncomm_style  tiled\nbalance     1.0 rcb/' in.local_lazy > in.local_lazy_tiled
+grep -q "^comm_style  tiled" in.local_lazy_tiled || { echo "FAIL: in.local_lazy_tiled is not tiled"; exit 1; }
+echo "the same with comm_style tiled (balance rcb):"
+check_system lazy_tiled in.local_lazy_tiled "2 4" -var nsteps 400
+w2=$(grep '^WIDE ' out.lazy_tiled.2 | awk '{print $2}')
+[ "$w2" = 0 ] && echo "  tiled: the shell stays wide (never widened): ok" || { echo "  FAIL: tiled widened '$w2' times"; fail=1; }
+# and overflow widen, which rebuilds the ghosts the same way, is an error there
+sed 's/ghost lazy 5/overflow widen/' in.local_lazy_tiled > in.local_widen_tiled
+mpirun -np 2 --oversubscribe "$LMP" -in in.local_widen_tiled -var nsteps 10 -log none -echo none > out.widen_tiled.2 2>&1
+if ! grep -q '^RESULT ' out.widen_tiled.2 && grep -q "overflow widen needs comm_style brick" out.widen_tiled.2; then
+  echo "  tiled, overflow widen on 2 ranks: an error naming comm_style brick: ok"
+else
+  echo "  FAIL: overflow widen with comm_style tiled:"; tail -3 out.widen_tiled.2; fail=1
 fi
 
 mpi_finish
