@@ -161,12 +161,14 @@ void HSLocalEngine::chosen()
   // (the first guess's candidate pairs need the contact list's cutoff)
   ghost_narrow = std::max(ghost_user, sys->list_cutoff);
   ghost_wide = needed;
-  // (comm_style brick only: with tiled, the ghosts rebuilt within a step
-  // (reborder()) were not right: a 2-rank fluid whose shell went wide every
-  // few steps lost pair terms in LAMMPS' own forces, pe 0.18 off after 300
-  // steps, on a step that widened. Cause not found; a candidate: owned
-  // atoms not yet wrapped into the box, which brick's slabs take but tiled's
-  // boxes may not. overflow widen rebuilds them the same way: an error)
+  // (comm_style brick only: the ghosts rebuilt within a step (reborder())
+  // come from owned atoms that may have left their sub-domain since the
+  // last exchange; brick's first swaps send every atom on the side of a
+  // face (slabs to -BIG / BIG), tiled's send boxes are clipped to the
+  // sub-domain (CommTiled::setup()), so such an atom's ghosts are missing:
+  // a 2-rank fluid whose shell went wide every few steps lost pair terms in
+  // LAMMPS' own forces, pe 0.18 off after 300 steps. overflow widen
+  // rebuilds them the same way: an error)
   lazy = !one_rank && sys->ghost_lazy > 0 && cutghost < needed && comm->style == 0;
   if (!one_rank && sys->overflow == HSSystem::OVERFLOW_WIDEN && comm->style != 0)
     error->all(FLERR,
