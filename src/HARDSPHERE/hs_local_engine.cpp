@@ -170,6 +170,13 @@ void HSLocalEngine::chosen()
   // LAMMPS' own forces, pe 0.18 off after 300 steps. overflow widen
   // rebuilds them the same way: an error)
   lazy = !one_rank && sys->ghost_lazy > 0 && cutghost < needed && comm->style == 0;
+  // (one engine only: two would set the one ghost cutoff each by its own
+  // steps, and one's narrowing would leave the other's clusters short)
+  for (int k = 0; k < modify->nfix && lazy; k++) {
+    const std::string st = HardSphere::base_style(modify->fix[k]->style);
+    if (modify->fix[k] != sys->host && st.rfind("hardsphere/", 0) == 0 && st != "hardsphere/press")
+      lazy = false;
+  }
   if (!one_rank && sys->overflow == HSSystem::OVERFLOW_WIDEN && comm->style != 0)
     error->all(FLERR,
                "Fix {} overflow widen needs comm_style brick: it rebuilds the ghost atoms "

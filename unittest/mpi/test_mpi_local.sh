@@ -627,6 +627,14 @@ echo "the same with comm_style tiled (balance rcb):"
 check_system lazy_tiled in.local_lazy_tiled "2 4" -var nsteps 400
 w2=$(grep '^WIDE ' out.lazy_tiled.2 | awk '{print $2}')
 [ "$w2" = 0 ] && echo "  tiled: the shell stays wide (never widened): ok" || { echo "  FAIL: tiled widened '$w2' times"; fail=1; }
+# two hardsphere fixes on two groups share the one ghost cutoff: both keep
+# the wide shell (one's narrowing would leave the other's clusters short)
+sed 's/^fix         hs all hardsphere\/cva diameter 1.0 ghost lazy 5$/region      low block INF INF INF INF INF 2.5\ngroup       g1 region low\ngroup       g2 subtract all g1\nfix         h2 g2 hardsphere\/cva diameter 1.0 ghost lazy 5\nfix         hs g1 hardsphere\/cva diameter 1.0 ghost lazy 5/' in.local_lazy > in.local_lazy_two
+grep -q "^fix         h2 g2" in.local_lazy_two || { echo "FAIL: in.local_lazy_two has one fix"; exit 1; }
+echo "the same with two hardsphere fixes on two groups:"
+check_system lazy_two in.local_lazy_two "2" -var nsteps 400
+w2=$(grep '^WIDE ' out.lazy_two.2 | awk '{print $2}')
+[ "$w2" = 0 ] && echo "  two fixes: the shell stays wide (never widened): ok" || { echo "  FAIL: two fixes widened '$w2' times"; fail=1; }
 # and overflow widen, which rebuilds the ghosts the same way, is an error there
 sed 's/ghost lazy 5/overflow widen/' in.local_lazy_tiled > in.local_widen_tiled
 mpirun -np 2 --oversubscribe "$LMP" -in in.local_widen_tiled -var nsteps 10 -log none -echo none > out.widen_tiled.2 2>&1
