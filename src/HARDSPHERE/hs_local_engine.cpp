@@ -193,13 +193,16 @@ void HSLocalEngine::chosen()
                       "that a collision cluster's members have their interaction rows on the "
                       "rank that runs it",
                       cutneigh, sys->list_cutoff);
-    if (lazy)
-      utils::logmesg(lmp,
-                     "fix {}: substep local keeps the ghost cutoff {:.8g} while no contact is "
-                     "predicted; a step with one is taken with comm_modify cutoff {:.8g} ({}), "
-                     "kept until {} steps pass without one (ghost lazy; ghost wide: always)\n",
-                     sys->style_name, std::max(cutghost, sys->list_cutoff), needed, why,
-                     sys->ghost_lazy);
+    if (lazy) {
+      // (once, not at every run's set-up)
+      const std::string told = fmt::format(
+          "fix {}: substep local keeps the ghost cutoff {:.8g} while no contact is "
+          "predicted; a step with one is taken with comm_modify cutoff {:.8g} ({}), "
+          "kept until {} steps pass without one (ghost lazy; ghost wide: always)\n",
+          sys->style_name, std::max(cutghost, sys->list_cutoff), needed, why, sys->ghost_lazy);
+      if (told != lazy_told) utils::logmesg(lmp, told);
+      lazy_told = told;
+    }
     else
       utils::logmesg(lmp,
                      "fix {}: substep local sets comm_modify cutoff {:.8g} (the ghost cutoff "

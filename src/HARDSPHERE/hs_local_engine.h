@@ -520,6 +520,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // last step taken by clusters (pre_exchange())
   static constexpr int NEEDS_WIDE = -2;    // step_clusters(): a contact, the shell narrow
   bool lazy = false;
+  std::string lazy_told;       // the ghost lazy log line, as last written
   bool narrow = false;         // the ghost shell is ghost_narrow now
   double ghost_user = 0.0;     // the input's comm_modify cutoff
   double ghost_set = -1.0;     // the comm_modify cutoff this engine set last
