@@ -153,7 +153,6 @@ void HSLocalEngine::chosen()
   const bool one_rank = comm->nprocs == 1;
   double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
   if (!one_rank) needed = std::max(needed, ghost_widened);
-  if (!one_rank) ghost_needed = needed;
   // the input's own comm_modify cutoff, unless it is the one this engine set
   if (comm->cutghostuser != ghost_set) ghost_user = comm->cutghostuser;
   comm->cutghostuser = ghost_user;
@@ -209,9 +208,7 @@ void HSLocalEngine::chosen()
                      "was {:.8g}): {}\n",
                      sys->style_name, needed, cutghost, why);
   }
-  if (cutghost < needed && !narrow) comm->cutghostuser = needed;
-  else if (narrow) comm->cutghostuser = ghost_narrow;
-  ghost_set = comm->cutghostuser;
+  set_ghost_cutoff(narrow ? ghost_narrow : (cutghost < needed ? needed : ghost_user));
 }
 
 void HSLocalEngine::set_ghost_cutoff(double cut)
@@ -224,15 +221,13 @@ void HSLocalEngine::set_ghost_cutoff(double cut)
    the ghost atoms rebuilt for the current comm_modify cutoff at the step's
    start positions, as a reneighboring does without its exchange (owned
    atoms stay where they are, within skin/2 of their sub-domain, which
-   borders() allows for): the bins (which must cover every ghost: LAMMPS
-   does not clamp a ghost beyond them), LAMMPS' lists and the fixes'
-   post-neighbor state (the contact list) with them
+   borders() allows for): the swaps and bins (resize_shell()), LAMMPS'
+   lists and the fixes' post-neighbor state (the contact list) with them
 ------------------------------------------------------------------------- */
 
 void HSLocalEngine::reborder()
 {
-  comm->setup();
-  if (neighbor->style) neighbor->setup_bins();
+  resize_shell();
   // (as exchange() begins: the map cleared while it still lists the ghosts)
   if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
   atom->nghost = 0;
@@ -299,6 +294,14 @@ void HSLocalEngine::pre_exchange()
   if (last_cluster_step >= 0 && update->ntimestep - last_cluster_step < sys->ghost_lazy) return;
   narrow = true;
   set_ghost_cutoff(ghost_narrow);
+  resize_shell();
+}
+
+// Comm's swaps and Neighbor's bins for the current comm_modify cutoff, as
+// Verlet sets them up after a box change (the bins must cover every ghost:
+// LAMMPS does not clamp a ghost beyond them into them)
+void HSLocalEngine::resize_shell()
+{
   comm->setup();
   if (neighbor->style) neighbor->setup_bins();
 }
@@ -1146,7 +1149,7 @@ bool HSLocalEngine::member_copies(Run &r)
                  "global (such steps taken globally) or overflow widen (the engine widens the "
                  "ghost cutoff and takes the step again)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
-                 comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_needed);
+                 comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_wide);
     }
     r.members[k] = l;
   }

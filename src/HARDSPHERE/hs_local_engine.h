@@ -508,7 +508,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::map<std::array<int64_t, 6>, int> term_index;    // a term's (kind, type, IDs) -> topo.terms
   void gather_topology(const std::vector<int> &newids);
   bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
-  double ghost_needed = 0.0;   // the ghost cutoff the local engine asked for
   // overflow widen: a step whose cluster outgrew the ghost atoms is taken
   // again with them one contact-list cutoff farther (widen())
   bool widening() const;
@@ -524,13 +523,15 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bool narrow = false;         // the ghost shell is ghost_narrow now
   double ghost_user = 0.0;     // the input's comm_modify cutoff
   double ghost_set = -1.0;     // the comm_modify cutoff this engine set last
-  double ghost_narrow = 0.0, ghost_wide = 0.0;
+  double ghost_narrow = 0.0;
+  double ghost_wide = 0.0;     // the cutoff the engine asks for (cluster steps; errors name it)
   double ghost_widened = 0.0;  // overflow widen's cutoff (kept from run to run)
   bigint last_cluster_step = -1;
   double nwide = 0.0;          // times the shell went from narrow to wide
   void set_ghost_cutoff(double cut);
   void to_wide();
   void reborder();
+  void resize_shell();
   double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())
   void vc(const int *c, int n);
   // contact candidates of any local copy: every group atom within the

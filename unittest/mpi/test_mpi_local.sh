@@ -611,8 +611,9 @@ echo "ghost lazy 5: a dilute fluid (density 0.02) with collisions every few step
 fluid 5 | sed 's/^lattice     fcc 0.6$/lattice     fcc 0.02/; s/diameter 1.0$/diameter 1.0 ghost lazy 5/; s/^print "RESULT/print "WIDE $(f_hs[15])"\nprint "RESULT/' > in.local_lazy
 grep -q "ghost lazy 5" in.local_lazy && grep -q "fcc 0.02" in.local_lazy || { echo "FAIL: in.local_lazy is not the dilute fluid"; exit 1; }
 check_system lazy in.local_lazy "2 4" -var nsteps 400
-w1=$(grep '^WIDE ' out.lazy.1 | awk '{print $2}')
-w2=$(grep '^WIDE ' out.lazy.2 | awk '{print $2}')
+widenings() { grep '^WIDE ' "$1" | awk '{print $2}'; }    # widenings <output>: f_hs[15]
+w1=$(widenings out.lazy.1)
+w2=$(widenings out.lazy.2)
 if [ "$w1" = 0 ] && [ "${w2:-0}" -ge 3 ]; then
   echo "  the shell went wide $w2 times on 2 ranks (0 on 1 rank): ok"
 else
@@ -625,7 +626,7 @@ sed 's/^mass        1 1.0$/mass        1 1.0\ncomm_style  tiled\nbalance     1.0
 grep -q "^comm_style  tiled" in.local_lazy_tiled || { echo "FAIL: in.local_lazy_tiled is not tiled"; exit 1; }
 echo "the same with comm_style tiled (balance rcb):"
 check_system lazy_tiled in.local_lazy_tiled "2 4" -var nsteps 400
-w2=$(grep '^WIDE ' out.lazy_tiled.2 | awk '{print $2}')
+w2=$(widenings out.lazy_tiled.2)
 [ "$w2" = 0 ] && echo "  tiled: the shell stays wide (never widened): ok" || { echo "  FAIL: tiled widened '$w2' times"; fail=1; }
 # two hardsphere fixes on two groups share the one ghost cutoff: both keep
 # the wide shell (one's narrowing would leave the other's clusters short)
@@ -633,7 +634,7 @@ sed 's/^fix         hs all hardsphere\/cva diameter 1.0 ghost lazy 5$/region    
 grep -q "^fix         h2 g2" in.local_lazy_two || { echo "FAIL: in.local_lazy_two has one fix"; exit 1; }
 echo "the same with two hardsphere fixes on two groups:"
 check_system lazy_two in.local_lazy_two "2" -var nsteps 400
-w2=$(grep '^WIDE ' out.lazy_two.2 | awk '{print $2}')
+w2=$(widenings out.lazy_two.2)
 [ "$w2" = 0 ] && echo "  two fixes: the shell stays wide (never widened): ok" || { echo "  FAIL: two fixes widened '$w2' times"; fail=1; }
 # and overflow widen, which rebuilds the ghosts the same way, is an error there
 sed 's/ghost lazy 5/overflow widen/' in.local_lazy_tiled > in.local_widen_tiled
