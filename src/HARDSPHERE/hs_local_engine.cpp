@@ -157,8 +157,10 @@ void HSLocalEngine::chosen()
   if (comm->cutghostuser != ghost_set) ghost_user = comm->cutghostuser;
   comm->cutghostuser = ghost_user;
   const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
-  // (the first guess's candidate pairs need the contact list's cutoff)
-  ghost_narrow = std::max(ghost_user, sys->list_cutoff);
+  // (the first guess's candidate pairs need the contact list's cutoff; not
+  // below LAMMPS' own, which Comm would take instead with a warning at every
+  // set-up, "Communication cutoff adjusted", about a cutoff the input never set)
+  ghost_narrow = std::max(cutghost, sys->list_cutoff);
   ghost_wide = needed;
   // (comm_style brick only: the ghosts rebuilt within a step (reborder())
   // come from owned atoms that may have left their sub-domain since the

@@ -599,6 +599,13 @@ if q_nve=$(run quiet_nve 2 in.local_quiet -var integ nve -var gh "") &&
   else
     echo "  FAIL: ghost lazy on a collision-free run: nve '$q_nve' ($g_nve ghosts), cva '$q_lazy' ($g_lazy ghosts)"; fail=1
   fi
+  # the narrow shell is LAMMPS' own cutoff, not one below it that Comm
+  # would adjust with a warning about a cutoff the input never set
+  if grep -q "Communication cutoff adjusted" out.quiet_lazy.2; then
+    echo "  FAIL: ghost lazy made LAMMPS warn: $(grep -m1 'Communication cutoff adjusted' out.quiet_lazy.2)"; fail=1
+  else
+    echo "  lazy: no 'Communication cutoff adjusted' warning: ok"
+  fi
   if [ "${c[2]}" = 0 ] && [ "${c[3]}" = 0 ] && [ -n "$g_wide" ] && awk -v w="$g_wide" -v n="$g_nve" 'BEGIN {exit !(w > 1.5 * n)}'; then
     echo "  wide: 0 collisions, ghosts $g_wide against $g_nve: ok"
   else
