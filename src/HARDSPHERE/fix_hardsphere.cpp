@@ -175,6 +175,14 @@ void FixHardSphere::init()
 {
   if (domain->triclinic)
     error->all(FLERR, "Fix {} does not support triclinic boxes", style_name);
+  // rRESPA calls only the *_respa integrate stages, which a step with
+  // collisions has no form for: the atoms would silently not move
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR,
+               "Fix {} does not support run_style {}: rRESPA would not call its steps "
+               "(velocity-Verlet steps with collisions), so the atoms would not move; use "
+               "run_style verlet",
+               style_name, update->integrate_style);
   check_other_integrators();
 
   // the largest radius in the group sets the contact list cutoff
