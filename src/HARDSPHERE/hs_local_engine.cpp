@@ -184,7 +184,11 @@ void HSLocalEngine::chosen()
                "within a step, which comm_style tiled does not serve (use overflow global or "
                "a larger comm_modify cutoff)",
                sys->style_name);
-  // a run that follows one with recent contacts starts wide
+  // a run that follows one with recent contacts starts wide (a step of
+  // contacts numbered after this run's start, as after a reset_timestep to
+  // an earlier step, counts as recent: else the shell stayed wide until the
+  // clock passed that step again)
+  if (last_cluster_step > update->ntimestep) last_cluster_step = update->ntimestep;
   narrow = lazy &&
       (last_cluster_step < 0 || update->ntimestep - last_cluster_step >= sys->ghost_lazy);
   if (cutghost < needed && me == 0) {

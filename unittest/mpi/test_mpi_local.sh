@@ -643,6 +643,51 @@ echo "the same with two hardsphere fixes on two groups:"
 check_system lazy_two in.local_lazy_two "2" -var nsteps 400
 w2=$(widenings out.lazy_two.2)
 [ "$w2" = 0 ] && echo "  two fixes: the shell stays wide (never widened): ok" || { echo "  FAIL: two fixes widened '$w2' times"; fail=1; }
+# a run after reset_timestep to an earlier step: the last step with contacts
+# (990 of the first run) is not a future step that keeps the shell wide.
+# Two head-on pairs (no forces), one meeting at step ~990 of the first run,
+# one at ~210 of the second: ghost lazy 20 narrows in between and widens
+# again for the second contact (before the fix: still wide, 1 widening)
+echo "ghost lazy after reset_timestep 0 (two pairs meeting 230 steps apart), 2 ranks:"
+cat > in.local_reset <<'EOF2'
+units       lj
+atom_style  atomic
+atom_modify map array
+boundary    f f f
+region      box block -20 20 -20 20 -20 20
+create_box  1 box
+create_atoms 1 single -0.995 0 0
+create_atoms 1 single  0.995 0 0
+create_atoms 1 single -1.1 10 0
+create_atoms 1 single  1.1 10 0
+mass        1 1.0
+group       left id 1 3
+group       right id 2 4
+velocity    left set 0.05 0 0
+velocity    right set -0.05 0 0
+pair_style  zero 2.0
+pair_coeff  * *
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check no
+fix         hs all hardsphere/cva diameter 1.0 ghost lazy 20
+timestep    0.01
+run         1000
+print       "FIRST $(f_hs[1]) $(f_hs[15])"
+reset_timestep 0
+run         400
+print       "RESULT $(f_hs[1]) $(f_hs[15])"
+EOF2
+if r=$(run reset 2 in.local_reset); then
+  f=$(grep '^FIRST ' out.reset.2 | awk '{print $2, $3}')
+  if [ "$f" = "1 1" ] && [ "$r" = "2 2" ]; then
+    echo "  collisions/widenings after the first run '$f', after the second '$r': ok"
+  else
+    echo "  FAIL: collisions/widenings '$f' then '$r' (expected '1 1' then '2 2')"; fail=1
+  fi
+else
+  fail=1
+fi
+
 # and overflow widen, which rebuilds the ghosts the same way, is an error there
 sed 's/ghost lazy 5/overflow widen/' in.local_lazy_tiled > in.local_widen_tiled
 mpirun -np 2 --oversubscribe "$LMP" -in in.local_widen_tiled -var nsteps 10 -log none -echo none > out.widen_tiled.2 2>&1
