@@ -174,19 +174,23 @@ void HSSystem::wall_name(const Wall &w, std::string &name) const
 
 void HSSystem::check_atoms_unchanged()
 {
-  if (natoms_ref >= 0 && atom->natoms != natoms_ref)
-    error->all(FLERR,
-               "Fix {}: {} atoms at step {}, {} when the neighbor lists were last built: atoms "
-               "were created or deleted (delete_atoms, create_atoms, read_data add, ...) and "
-               "the run skipped its set-up (run ... pre no): use pre yes after such a change",
-               style_name, atom->natoms, update->ntimestep, natoms_ref);
+  // (per rank, no communication: error->one)
+  if (nlocal_ref >= 0 && (atom->nlocal != nlocal_ref || atom->nghost != nghost_ref))
+    error->one(FLERR,
+               "Fix {}: {} owned and {} ghost atoms on rank {} at step {}, {} and {} when the "
+               "neighbor lists were last built: atoms were created or deleted (delete_atoms, "
+               "create_atoms, read_data add, ...) and the run skipped its set-up (run ... pre "
+               "no): use pre yes after such a change",
+               style_name, atom->nlocal, atom->nghost, comm->me, update->ntimestep, nlocal_ref,
+               nghost_ref);
 }
 
 void HSSystem::reset_reference(int at_setup)
 {
   grow_peratom();
   update_walls();
-  natoms_ref = atom->natoms;
+  nlocal_ref = atom->nlocal;
+  nghost_ref = atom->nghost;
 
   double **x = atom->x;
   const int *mask = atom->mask;

@@ -154,9 +154,12 @@ class HSSystem : protected Pointers, public HSTypes {
   // at each list build: reference positions, candidates, gaps; overlaps
   // are errors (at_setup: the input's, else a missed collision)
   void reset_reference(int at_setup);
-  // atom->natoms at the last list build: a step's references (xref, the
-  // candidates, gaps) are by local index, valid only for those atoms
-  bigint natoms_ref = -1;
+  // this rank's owned and ghost atoms at the last list build: a step's
+  // references (xref, the candidates, gaps) are by local index, valid only
+  // for those atoms (atom->natoms would not do: with thermo_modify lost
+  // ignore, LAMMPS counts atoms lost at a reneighboring only at the next
+  // thermo output, after the lists were rebuilt without them)
+  int nlocal_ref = -1, nghost_ref = -1;
   // at a step's start: an error if atoms were created or deleted since the
   // last list build (between runs, with "run ... pre no", which skips the
   // set-up that would rebuild them: else every reference is another atom's)
