@@ -42,6 +42,11 @@ class HSMethodPCVA : public HSMethod {
 
  private:
   double Ht0 = 0.0;      // H_[2,VV] at the start of the current collisional step
+  // the atoms present at its start (HSSystem::atoms_count, atoms_idsum)
+  bigint count0 = -1;
+  unsigned long long idsum0 = 0;
+  void note_atoms();
+  bool atoms_changed();
   double nproj = 0.0;    // projections done
   double nskip = 0.0;    // sub-steps left unprojected (no real positive alpha)
   double maxdev = 0.0;   // max |alpha - 1| of the projections done

@@ -191,6 +191,13 @@ void HSSystem::reset_reference(int at_setup)
   update_walls();
   nlocal_ref = atom->nlocal;
   nghost_ref = atom->nghost;
+  if (track_atoms) {
+    unsigned long long mine[2] = {(unsigned long long) atom->nlocal, 0ULL}, all[2];
+    for (int i = 0; i < atom->nlocal; i++) mine[1] += (unsigned long long) atom->tag[i];
+    MPI_Allreduce(mine, all, 2, MPI_UNSIGNED_LONG_LONG, MPI_SUM, world);
+    atoms_count = (bigint) all[0];
+    atoms_idsum = all[1];
+  }
 
   double **x = atom->x;
   const int *mask = atom->mask;

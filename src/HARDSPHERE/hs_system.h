@@ -160,6 +160,15 @@ class HSSystem : protected Pointers, public HSTypes {
   // ignore, LAMMPS counts atoms lost at a reneighboring only at the next
   // thermo output, after the lists were rebuilt without them)
   int nlocal_ref = -1, nghost_ref = -1;
+  // the atoms present on every rank, as their number and the sum of their
+  // IDs, renewed at each list build if track_atoms (hardsphere/pcva): within
+  // a step atoms are created or deleted only at a reneighboring (fixes'
+  // pre_exchange: deposit, pour, evaporate, gcmc; atoms lost at the
+  // exchange), whose list build comes before the step's end. One reduction
+  // per list build
+  bool track_atoms = false;
+  bigint atoms_count = -1;
+  unsigned long long atoms_idsum = 0;
   // at a step's start: an error if atoms were created or deleted since the
   // last list build (between runs, with "run ... pre no", which skips the
   // set-up that would rebuild them: else every reference is another atom's)
