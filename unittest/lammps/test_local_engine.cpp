@@ -327,6 +327,30 @@ TEST(LocalEngine, Errors)
                {"substep local cannot run with", "hybrid"});
 }
 
+// an input without atom_modify map (LAMMPS' default for atom_style
+// atomic): the fix makes the map the local engine needs, instead of falling
+// back to the global engine, and the run is the one with the map, bit for
+// bit (the map only finds copies)
+TEST(LocalEngine, MakesTheAtomMapItNeeds)
+{
+  const std::string with = fluid("fix x all hardsphere/cva diameter 1.0", 0.005, 1, 3) +
+      "run 100\nprint \"RESULT $(etotal:%.17g) $(f_x[1]) $(f_x[6])\"\n";
+  std::string without = with;
+  const std::string line = "atom_modify map array\n";
+  ASSERT_NE(without.find(line), std::string::npos);
+  without.erase(without.find(line), line.size());
+  RunResult a = run_lmp(with), b = run_lmp(without);
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_EQ(b.output.find("falls back"), std::string::npos) << b.output;
+  EXPECT_NE(b.output.find("substep local made an atom map"), std::string::npos) << b.output;
+  std::smatch ma, mb;
+  ASSERT_TRUE(std::regex_search(a.output, ma, std::regex("RESULT ([^\n]+)")));
+  ASSERT_TRUE(std::regex_search(b.output, mb, std::regex("RESULT ([^\n]+)")));
+  EXPECT_EQ(ma[1].str(), mb[1].str());
+  EXPECT_NE(ma[1].str().find(" "), std::string::npos);
+}
+
 TEST(LocalEngine, FallsBackToGlobalWithAWarning)
 {
   const std::string base = fluid("", 0.005, 1, 3);
