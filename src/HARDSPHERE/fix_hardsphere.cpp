@@ -396,11 +396,21 @@ void FixHardSphere::check_other_integrators()
       if ((mask[i] & S.groupbit) && (mask[i] & other->groupbit)) shared = 1;
     int any;
     MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
-    if (any)
-      error->all(FLERR,
-                 "Fix {} {} and fix {} {} both time-integrate atoms of group {}: use one "
-                 "integrator per atom",
-                 id, style_name, other->id, other->style, group->names[igroup]);
+    if (!any) continue;
+    // Nose-Hoover and Parrinello-Rahman styles are integrators too: say
+    // what gives their ensembles beside this fix
+    const std::string os = HardSphere::base_style(other->style);
+    std::string hint;
+    if (os.rfind("nvt", 0) == 0 || os == "temp/nosehoover")
+      hint = " (constant temperature: a thermostat that adds forces or rescales velocities "
+             "runs beside this fix, e.g. fix langevin, temp/berendsen or temp/rescale)";
+    else if (os.rfind("npt", 0) == 0 || os.rfind("nph", 0) == 0)
+      hint = " (constant pressure: fix hardsphere/press beside this fix, with a thermostat "
+             "such as fix langevin)";
+    error->all(FLERR,
+               "Fix {} {} and fix {} {} both time-integrate atoms of group {}: use one "
+               "integrator per atom{}",
+               id, style_name, other->id, other->style, group->names[igroup], hint);
   }
 }
 

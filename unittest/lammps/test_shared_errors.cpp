@@ -84,6 +84,13 @@ TEST_P(SharedErrors, SecondIntegratorOnSameAtoms)
   // ... and after it
   expect_error(two_atoms("-1", "1", fix(" diameter 1.0\nfix 2 all nve")),
                {"both time-integrate atoms"});
+  // a Nose-Hoover thermostat or barostat: the message says what gives the
+  // ensemble beside this fix
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0\nfix t all nvt temp 1 1 0.5")),
+               {"fix t nvt both time-integrate", "fix langevin"});
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0\nfix t all npt temp 1 1 0.5 iso 1 1 5"),
+                         "", "p p p"),
+               {"fix t npt both time-integrate", "fix hardsphere/press"});
 }
 
 // run_style respa calls fixes' *_respa stages only: without the error the
