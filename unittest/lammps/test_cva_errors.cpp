@@ -80,7 +80,9 @@ run 10
 
 TEST(CVAErrors, GhostCutoffTooSmall)
 {
-  // contact list cutoff 1 + 2 x 0.3 = 1.6 > ghost cutoff 1.0 + 0.3
+  // contact list cutoff 1 + 2 x 0.3 = 1.6 > ghost cutoff 1.0 + 0.3: an
+  // error for substep global; substep local (the default) sets the cutoff
+  // it needs itself and says so
   const std::string input = R"(
 units lj
 atom_style atomic
@@ -92,10 +94,17 @@ create_atoms 1 single 1 0 0 units box
 mass 1 1.0
 pair_style lj/cut 1.0
 pair_coeff 1 1 1.0 1.0 1.0
-fix hs all hardsphere/cva diameter 1.0
+fix hs all hardsphere/cva diameter 1.0 SUBSTEP
 run 10
 )";
-  expect_error(input, {"ghost", "comm_modify cutoff"});
+  std::string global = input, local = input;
+  global.replace(global.find("SUBSTEP"), 7, "substep global");
+  local.replace(local.find(" SUBSTEP"), 8, "");
+  expect_error(global, {"ghost", "comm_modify cutoff 1.6"});
+  RunResult r = run_lmp(local);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("substep local sets comm_modify cutoff 1.6"), std::string::npos)
+      << r.output;
 }
 
 TEST(CVAErrors, GhostCutoffLargeEnoughRuns)
