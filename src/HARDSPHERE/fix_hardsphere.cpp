@@ -14,6 +14,7 @@
 #include "hs_system.h"
 
 #include "atom.h"
+#include "compute.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -252,6 +253,7 @@ void FixHardSphere::init()
       S.forces_present = 1;
 
   check_fixes_beside();
+  check_peratom_virial();
   choose_engine();
 
   // the contact list needs ghost atoms out to its cutoff: checked here,
@@ -380,6 +382,25 @@ void FixHardSphere::check_fixes_beside()
                    "around the method's conservative map)\n",
                    style_name, held);
   held_told = held;
+}
+
+// the collisions' impulses enter the global virial only (add_impulse_virial):
+// a compute of per-atom virials (stress/atom, centroid/stress/atom) would sum
+// to the pressure without them, silently
+void FixHardSphere::check_peratom_virial()
+{
+  std::string ids;
+  for (int k = 0; k < modify->ncompute; k++)
+    if (modify->compute[k]->pressatomflag)
+      ids += fmt::format("{}{} {}", ids.empty() ? "" : ", ", modify->compute[k]->id,
+                         modify->compute[k]->style);
+  if (!ids.empty() && comm->me == 0 && ids != peratom_told)
+    error->warning(FLERR,
+                   "Fix {}: compute {} leaves out the collisions' virial: this fix gives "
+                   "their impulses to the global virial (thermo press) only, so per-atom "
+                   "stresses sum to the pressure without them",
+                   style_name, ids);
+  peratom_told = ids;
 }
 
 void FixHardSphere::check_other_integrators()

@@ -84,7 +84,9 @@ class FixHardSphere : public Fix, public HSTypes {
   void choose_engine();
 
   std::string unknown_told, held_told;    // fixes named in the log already
+  std::string peratom_told;               // computes warned about already
   void check_fixes_beside();
+  void check_peratom_virial();
   void check_other_integrators();
 };
 

@@ -116,6 +116,21 @@ TEST_P(SharedErrors, AtomsDeletedBeforeRunPreNo)
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// the impulses enter the global virial only: a per-atom virial compute is
+// warned about (its stresses summed to the pressure without the collisions,
+// silently)
+TEST_P(SharedErrors, PerAtomStressWarns)
+{
+  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0"),
+                                  "compute sa all stress/atom NULL\n"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("compute sa stress/atom leaves out the collisions' virial"),
+            std::string::npos)
+      << r.output;
+  RunResult q = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0")));
+  EXPECT_EQ(q.output.find("leaves out the collisions' virial"), std::string::npos) << q.output;
+}
+
 // an atom lost through a non-periodic face under thermo_modify lost ignore
 // leaves at a reneighboring, whose list build renews the references: the run
 // goes on (it stopped with the error above: LAMMPS counts the lost atom in
