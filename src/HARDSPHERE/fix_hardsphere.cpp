@@ -355,6 +355,15 @@ void FixHardSphere::check_fixes_beside()
                  "Fix {} cannot run beside fix {} {}: its constraint forces are computed for "
                  "one velocity-Verlet step of dt, which the collisional sub-steps break",
                  style_name, other->id, other->style);
+    // (reflected after this fix's step, a sphere may land inside another:
+    // found as "a collision was missed" a few steps later)
+    if ((base == "wall/reflect" || base == "wall/reflect/stochastic") && shares_atoms(other))
+      error->all(FLERR,
+                 "Fix {} cannot run beside fix {} {} on the same atoms: it reflects atoms "
+                 "after this fix's step, without regard to the spheres' contacts (a sphere "
+                 "reflected into another overlaps it). Use this fix's wall keyword (e.g. wall "
+                 "zlo EDGE), whose wall contacts are elastic impulses at the contact time",
+                 style_name, other->id, other->style);
     if (base == "langevin" &&
         (modify->fmask[k] & (FixConst::INITIAL_INTEGRATE | FixConst::POST_INTEGRATE)))
       error->all(FLERR,
@@ -403,21 +412,27 @@ void FixHardSphere::check_peratom_virial()
   peratom_told = ids;
 }
 
-void FixHardSphere::check_other_integrators()
+// does fix other act on atoms of this fix's group (on any rank)? Collective
+bool FixHardSphere::shares_atoms(Fix *other)
 {
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
+  int shared = 0;
+  for (int i = 0; i < nlocal && !shared; i++)
+    if ((mask[i] & S.groupbit) && (mask[i] & other->groupbit)) shared = 1;
+  int any;
+  MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
+  return any != 0;
+}
+
+void FixHardSphere::check_other_integrators()
+{
   S.other_integrator = nullptr;
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == this || !other->time_integrate) continue;
     if (!S.other_integrator) S.other_integrator = other;
-    int shared = 0;
-    for (int i = 0; i < nlocal; i++)
-      if ((mask[i] & S.groupbit) && (mask[i] & other->groupbit)) shared = 1;
-    int any;
-    MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
-    if (!any) continue;
+    if (!shares_atoms(other)) continue;
     // Nose-Hoover and Parrinello-Rahman styles are integrators too: say
     // what gives their ensembles beside this fix
     const std::string os = HardSphere::base_style(other->style);

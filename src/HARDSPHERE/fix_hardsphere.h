@@ -88,6 +88,7 @@ class FixHardSphere : public Fix, public HSTypes {
   void check_fixes_beside();
   void check_peratom_virial();
   void check_other_integrators();
+  bool shares_atoms(class Fix *other);
 };
 
 }    // namespace LAMMPS_NS
