@@ -291,18 +291,6 @@ void FixHardSphere::choose_engine()
     return;
   }
   if (!local_engine) local_engine = new HSLocalEngine(lmp, S, *method);
-  // the local engine finds an atom's copies through the atom map: an input
-  // without atom_modify map (LAMMPS' default for atomic styles) gets one, as
-  // velocity ... loop all and reset_atoms_id make theirs, and keeps it
-  // (LAMMPS maintains any map at each exchange and borders); without it the
-  // default engine fell back to the global one, ~25x slower on 4000 atoms
-  if (atom->map_style == Atom::MAP_NONE) {
-    atom->map_init();
-    atom->map_set();
-    if (comm->me == 0)
-      utils::logmesg(lmp, "fix {}: substep local made an atom map (atom_modify map yes)\n",
-                     style_name);
-  }
   std::string why = local_engine->limits();
   const std::string own = method->local_limits();
   if (!own.empty()) why += (why.empty() ? "" : "; ") + own;

@@ -631,18 +631,22 @@ fi
 # energies as 1 rank, never widened
 sed 's/^mass        1 1.0$/mass        1 1.0\ncomm_style  tiled\nbalance     1.0 rcb/' in.local_lazy > in.local_lazy_tiled
 grep -q "^comm_style  tiled" in.local_lazy_tiled || { echo "FAIL: in.local_lazy_tiled is not tiled"; exit 1; }
+# stays_wide <name> <input> <ranks> <what>: the same collisions and energies
+# as 1 rank, and on 2 ranks the shell never widened (it stays wide)
+stays_wide() {
+  check_system "$1" "$2" "$3" -var nsteps 400
+  local w
+  w=$(widenings "out.$1.2")
+  [ "$w" = 0 ] && echo "  $4: the shell stays wide (never widened): ok" || { echo "  FAIL: $4 widened '$w' times"; fail=1; }
+}
 echo "the same with comm_style tiled (balance rcb):"
-check_system lazy_tiled in.local_lazy_tiled "2 4" -var nsteps 400
-w2=$(widenings out.lazy_tiled.2)
-[ "$w2" = 0 ] && echo "  tiled: the shell stays wide (never widened): ok" || { echo "  FAIL: tiled widened '$w2' times"; fail=1; }
+stays_wide lazy_tiled in.local_lazy_tiled "2 4" tiled
 # two hardsphere fixes on two groups share the one ghost cutoff: both keep
 # the wide shell (one's narrowing would leave the other's clusters short)
 sed 's/^fix         hs all hardsphere\/cva diameter 1.0 ghost lazy 5$/region      low block INF INF INF INF INF 2.5\ngroup       g1 region low\ngroup       g2 subtract all g1\nfix         h2 g2 hardsphere\/cva diameter 1.0 ghost lazy 5\nfix         hs g1 hardsphere\/cva diameter 1.0 ghost lazy 5/' in.local_lazy > in.local_lazy_two
 grep -q "^fix         h2 g2" in.local_lazy_two || { echo "FAIL: in.local_lazy_two has one fix"; exit 1; }
 echo "the same with two hardsphere fixes on two groups:"
-check_system lazy_two in.local_lazy_two "2" -var nsteps 400
-w2=$(widenings out.lazy_two.2)
-[ "$w2" = 0 ] && echo "  two fixes: the shell stays wide (never widened): ok" || { echo "  FAIL: two fixes widened '$w2' times"; fail=1; }
+stays_wide lazy_two in.local_lazy_two "2" "two fixes"
 # a run after reset_timestep to an earlier step: the last step with contacts
 # (990 of the first run) is not a future step that keeps the shell wide.
 # Two head-on pairs (no forces), one meeting at step ~990 of the first run,
