@@ -70,6 +70,17 @@ namespace HSCompat {
 #endif
   }
 
+  // the object that made a neighbor request (a pair style, fix, ...):
+  // public in 29Sep2021, behind an accessor in 4Feb2025
+  inline void *request_requestor(const NeighRequest *req)
+  {
+#if defined(HS_LAMMPS_NEW_NEIGH_API) && HS_LAMMPS_NEW_NEIGH_API
+    return req->get_requestor();
+#else
+    return req->requestor;
+#endif
+  }
+
   // LAMMPS versions from this one on add the skin to the custom cutoff of a
   // perpetual list: verified for 4Feb2025 (neighbor.cpp, morph_unique());
   // 29Sep2021 (update 2, = 20220106 git) does not. Releases in between are

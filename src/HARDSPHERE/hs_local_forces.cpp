@@ -19,6 +19,7 @@
 #include "improper.h"
 #include "memory.h"
 #include "neigh_list.h"
+#include "neigh_request.h"
 #include "neighbor.h"
 #include "pair.h"
 
@@ -66,17 +67,28 @@ void HSLocalForces::init()
   why_.clear();
   auto add = [this](const std::string &s) { why_ += (why_.empty() ? "" : "; ") + s; };
   if (force->kspace) add(std::string("kspace style ") + force->kspace_style + " (long-range)");
+  hybrid_ = false;
   if (force->pair) {
     const char *ps = force->pair_style;
-    if (strncmp(ps, "hybrid", 6) == 0)
-      add(std::string("pair style ") + ps + " (its sub-styles' lists are not restricted yet)");
-    else if (force->pair->manybody_flag)
+    // (hybrid's manybody_flag and ghostneigh are those of any sub-style)
+    if (force->pair->manybody_flag)
       add(std::string("pair style ") + ps + " (many-body)");
     else if (force->pair->ghostneigh)
       add(std::string("pair style ") + ps + " (needs neighbours of ghost atoms)");
-    for (const char *suf : {"/omp", "/gpu", "/kk", "/kk/host", "/kk/device", "/intel"})
-      if (has_suffix(ps, suf))
-        add(std::string("pair style ") + ps + " (accelerator variant: thread-private forces)");
+    std::vector<std::string> names{ps};
+    if (strncmp(ps, "hybrid", 6) == 0) {
+      // the restricted rows are split among the sub-styles' lists by their
+      // type skips (hybrid_forces())
+      hybrid_ = true;
+      if (strcmp(ps, "hybrid/molecular") == 0)
+        add("pair style hybrid/molecular (its sub-styles' lists are split by molecule, not by "
+            "atom type)");
+      names = sub_style_names();
+    }
+    for (const std::string &n : names)
+      for (const char *suf : {"/omp", "/gpu", "/kk", "/kk/host", "/kk/device", "/intel"})
+        if (has_suffix(n.c_str(), suf))
+          add("pair style " + n + " (accelerator variant: thread-private forces)");
   }
   // on several ranks a restricted evaluation without rows (held forces of
   // pcva's projection, newton_pair off) sums the ghosts' forces with
@@ -94,6 +106,160 @@ void HSLocalForces::init()
   // Neighbor::init() sets neighbor->ncalls back to 0 at every run: the
   // run's number keeps the builds of two runs apart (list_epoch())
   ++run_epoch_;
+}
+
+/* ----------------------------------------------------------------------
+   pair hybrid. Its sub-styles compute on their own lists, which LAMMPS
+   derives from one list of all pairs by type skips (NeighList::iskip,
+   ijskip; a sub-style that takes every type pair gets a plain list or a
+   copy). The restricted rows are those of that list of all pairs (or
+   compute_rows()' own rows), split by the same skips into one restricted
+   list per sub-style; hybrid's compute() then runs every sub-style on its
+   own, with its own special factors and scaling.
+------------------------------------------------------------------------- */
+
+// the keywords of the hybrid sub-styles, from this run's neighbor requests
+// (made by the pair style's init() before the fixes' init(); after a run,
+// the kept copies of them)
+std::vector<std::string> HSLocalForces::sub_style_names() const
+{
+  std::vector<std::string> out;
+  const bool pending = neighbor->nrequest > 0;
+  const int n = pending ? neighbor->nrequest : neighbor->old_nrequest;
+  for (int r = 0; r < n; r++) {
+    NeighRequest *req = pending ? neighbor->requests[r] : neighbor->old_requests[r];
+    void *who = req ? HSCompat::request_requestor(req) : nullptr;
+    if (!who || who == force->pair) continue;
+    // (pointer comparisons only: a fix's pointer matches no sub-style)
+    const char *kw = force->pair_match_ptr(static_cast<Pair *>(who));
+    if (kw && std::find(out.begin(), out.end(), kw) == out.end()) out.emplace_back(kw);
+  }
+  return out;
+}
+
+// the sub-styles' lists of this run (Neighbor::init() made them), which
+// type pairs some sub-style computes, and the list of all pairs
+void HSLocalForces::find_sub_lists()
+{
+  subs_.clear();
+  hyb_all_ = nullptr;
+  for (int l = 0; l < neighbor->nlist; l++) {
+    NeighList *nl = neighbor->lists[l];
+    if (!nl || nl->requestor_type != NeighList::PAIR || !nl->requestor ||
+        nl->requestor == force->pair)
+      continue;
+    auto *p = static_cast<Pair *>(nl->requestor);
+    const char *kw = force->pair_match_ptr(p);
+    if (!kw) continue;
+    if (p->list != nl || nl->ghost)
+      error->all(FLERR, "{}: pair hybrid sub-style {} reads a neighbor list other than one half "
+                 "list of its own, which substep local cannot restrict; use substep global",
+                 owner_, kw);
+    for (const SubList &s : subs_)
+      if (s.style == p)
+        error->all(FLERR, "{}: pair hybrid sub-style {} has two neighbor lists, which substep "
+                   "local cannot restrict; use substep global", owner_, kw);
+    SubList s;
+    s.style = p;
+    s.list = nl;
+    subs_.push_back(std::move(s));
+    // the list the skips were taken from holds every pair; a sub-style's
+    // list without skips holds every pair itself
+    NeighList *all = nl;
+    while (all->listskip) all = all->listskip;
+    if (!hyb_all_) hyb_all_ = all;
+  }
+  if (subs_.empty() || !hyb_all_)
+    error->all(FLERR, "{}: pair style {} has no sub-style with a neighbor list to restrict",
+               owner_, force->pair_style);
+  const int ntp1 = atom->ntypes + 1;
+  covered_.assign((size_t) ntp1 * ntp1, 0);
+  for (const SubList &s : subs_)
+    for (int i = 1; i < ntp1; i++)
+      for (int j = 1; j < ntp1; j++)
+        if (!s.list->ijskip || !s.list->ijskip[i][j]) covered_[i * ntp1 + j] = 1;
+  all_covered_ = true;
+  for (int i = 1; i < ntp1; i++)
+    for (int j = 1; j < ntp1; j++) all_covered_ = all_covered_ && covered_[i * ntp1 + j];
+  hyb_run_ = run_epoch_;
+}
+
+// the list whose rows are restricted: the pair style's own, or with pair
+// hybrid the list of all pairs its sub-styles' lists are derived from
+// (hybrid: found by evaluate() once per run)
+NeighList *HSLocalForces::pair_list() const
+{
+  if (!force->pair || !force->pair->compute_flag) return nullptr;
+  return hybrid_ ? hyb_all_ : force->pair->list;
+}
+
+// hybrid's compute() on the restricted rows (ilist_, numneigh_,
+// firstneigh_) split into each sub-style's list by its type skips, as
+// LAMMPS' skip lists split the full list (npair_skip.cpp); the sub-styles'
+// tallies and lists are restored after it
+void HSLocalForces::hybrid_forces(int eflag)
+{
+  const int *type = atom->type;
+  const size_t nall = atom->nlocal + atom->nghost;
+  struct Saved {
+    int inum;
+    int *ilist, *numneigh;
+    int **firstneigh;
+    Tally t;
+  };
+  std::vector<Saved> saved(subs_.size());
+  for (size_t m = 0; m < subs_.size(); m++) {
+    SubList &s = subs_[m];
+    if (s.num.size() < nall) {
+      s.num.resize(nall);
+      s.first.resize(nall);
+    }
+    const int *iskip = s.list->iskip;
+    int **ijskip = s.list->ijskip;
+    s.ilist.clear();
+    s.neigh.clear();
+    s.starts.clear();
+    for (int i : ilist_) {
+      const int ti = type[i];
+      if (iskip && iskip[ti]) continue;
+      const int *jl = firstneigh_[i];
+      const int n0 = (int) s.neigh.size();
+      for (int k = 0; k < numneigh_[i]; k++)
+        if (!ijskip || !ijskip[ti][type[jl[k] & NEIGHMASK]]) s.neigh.push_back(jl[k]);
+      if ((int) s.neigh.size() == n0) continue;
+      s.ilist.push_back(i);
+      s.num[i] = (int) s.neigh.size() - n0;
+      s.starts.push_back(n0);
+    }
+    for (size_t k = 0; k < s.ilist.size(); k++) s.first[s.ilist[k]] = s.neigh.data() + s.starts[k];
+    NeighList *L = s.list;
+    Pair *p = s.style;
+    Saved &sv = saved[m];
+    sv.inum = L->inum;
+    sv.ilist = L->ilist;
+    sv.numneigh = L->numneigh;
+    sv.firstneigh = L->firstneigh;
+    sv.t.e1 = p->eng_vdwl;
+    sv.t.e2 = p->eng_coul;
+    for (int k = 0; k < 6; k++) sv.t.v[k] = p->virial[k];
+    L->inum = (int) s.ilist.size();
+    L->ilist = s.ilist.data();
+    L->numneigh = s.num.data();
+    L->firstneigh = s.first.data();
+  }
+  force->pair->compute(eflag, 0);
+  for (size_t m = 0; m < subs_.size(); m++) {
+    NeighList *L = subs_[m].list;
+    Pair *p = subs_[m].style;
+    const Saved &sv = saved[m];
+    L->inum = sv.inum;
+    L->ilist = sv.ilist;
+    L->numneigh = sv.numneigh;
+    L->firstneigh = sv.firstneigh;
+    p->eng_vdwl = sv.t.e1;
+    p->eng_coul = sv.t.e2;
+    for (int k = 0; k < 6; k++) p->virial[k] = sv.t.v[k];
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -125,7 +291,9 @@ double HSLocalForces::memory_usage() const
   double b = (double) nmax_ * ((tq_ ? 6 : 3) * sizeof(double) + sizeof(int) + sizeof(int *));
   b += bytes(in_c_) + bytes(zeroed_) + bytes(has_row_) + bytes(pinv_off_) + bytes(pinv_row_) +
       bytes(pinv_val_) + bytes(ilist_) + bytes(neigh_) + bytes(zero_list_) + bytes(term_local_) +
-      bytes(term_off_) + bytes(term_extra_);
+      bytes(term_off_) + bytes(term_extra_) + bytes(covered_);
+  for (const SubList &sl : subs_)
+    b += bytes(sl.ilist) + bytes(sl.neigh) + bytes(sl.starts) + bytes(sl.num) + bytes(sl.first);
   return b;
 }
 
@@ -162,7 +330,7 @@ void HSLocalForces::presence(bool present[4]) const
 void HSLocalForces::build_index(bool pair)
 {
   const int nall = atom->nlocal + atom->nghost;
-  NeighList *L = force->pair ? force->pair->list : nullptr;
+  NeighList *L = pair_list();
   if (list_epoch() != built_ncalls_ || nall != built_nall_ || L != built_list_) {
     build_bonded_index();
     built_ncalls_ = list_epoch();
@@ -389,7 +557,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   const int nprocs = comm->nprocs;
   grow();
   next_epoch();
-  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  if (hybrid_ && hyb_run_ != run_epoch_) find_sub_lists();
+  NeighList *L = pair_list();
   if (force->pair && force->pair->compute_flag && !L)
     error->all(FLERR, "{}: pair style {} has no neighbor list to restrict", owner_,
                force->pair_style);
@@ -469,6 +638,15 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
     return label_ && label_[a] >= 0 && label_[b] >= 0 && label_[a] != label_[b];
   };
   const bool only_cross = (mode_ == CROSS);
+  // a pair left out: by its labels, or (pair hybrid) because no sub-style
+  // computes its types (pair_coeff ... none)
+  const bool some_uncovered = hybrid_ && !all_covered_;
+  const int *type = atom->type;
+  const int ntp1 = atom->ntypes + 1;
+  auto left_out = [&](int a, int b) {
+    return cross(a, b) != only_cross ||
+        (some_uncovered && !covered_[type[a] * ntp1 + type[b]]);
+  };
   fold_.clear();
   if (rows_ && L) {
     // on-demand rows of C's copies in tag order (hs_local_forces.h)
@@ -514,7 +692,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
           while (p < q && ctag[p].first < tj) p++;
           if (p < q && ctag[p].first == tj) continue;    // from tj's row
         }
-        if (cross(a, raw & NEIGHMASK) != only_cross) continue;
+        if (left_out(a, raw & NEIGHMASK)) continue;
         neigh_.push_back(raw);
         const int pr[2] = {a, raw & NEIGHMASK};
         add_term(pr, 2, raw >> SBBITS & 3);
@@ -532,8 +710,8 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         const int *jl = L->firstneigh[a];
         const int nj = L->numneigh[a];
         bool whole = !only_cross;
-        if (whole && label_ && label_[a] >= 0)
-          for (int k = 0; k < nj && whole; k++) whole = !cross(a, jl[k] & NEIGHMASK);
+        if (whole && ((label_ && label_[a] >= 0) || some_uncovered))
+          for (int k = 0; k < nj && whole; k++) whole = !left_out(a, jl[k] & NEIGHMASK);
         if (whole) {
           if (!terms_only_) {
             ilist_.push_back(a);
@@ -547,7 +725,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         } else
           // a row with some entries left out: rebuilt below from its kept ones
           for (int k = 0; k < nj; k++)
-            if (cross(a, jl[k] & NEIGHMASK) == only_cross) {
+            if (!left_out(a, jl[k] & NEIGHMASK)) {
               if (terms_only_) {
                 const int pr[2] = {a, jl[k] & NEIGHMASK};
                 add_term(pr, 2, jl[k] >> SBBITS & 3);
@@ -556,7 +734,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
             }
       }
       for (int p = pinv_off_[a]; p < pinv_off_[a + 1]; p++) {
-        if (inC(pinv_row_[p]) || cross(pinv_row_[p], a) != only_cross) continue;
+        if (inC(pinv_row_[p]) || left_out(pinv_row_[p], a)) continue;
         if (terms_only_) {    // the term only, no restricted row
           const int pr[2] = {pinv_row_[p], pinv_val_[p] & NEIGHMASK};
           add_term(pr, 2, pinv_val_[p] >> SBBITS & 3);
@@ -756,14 +934,14 @@ void HSLocalForces::recompute()
   for (int j : zero_list_) fl_[j][0] = fl_[j][1] = fl_[j][2] = 0.0;
   bool present[4];
   presence(present);
-  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  NeighList *L = pair_list();
   run_styles(L, present, false);
   ncalls += 1.0;
 }
 
 void HSLocalForces::save(Snapshot &sn) const
 {
-  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  NeighList *L = pair_list();
   sn.ilist = ilist_;
   sn.counts.resize(ilist_.size());
   sn.offs.resize(ilist_.size());
@@ -799,7 +977,7 @@ void HSLocalForces::recompute(const Snapshot &sn)
     error->all(FLERR, "{}: local forces recomputed from a snapshot of another list", owner_);
   rows_ = sn.rows;
   fold_ = sn.fold;
-  NeighList *L = force->pair && force->pair->compute_flag ? force->pair->list : nullptr;
+  NeighList *L = pair_list();
   ilist_ = sn.ilist;
   neigh_ = sn.neigh;
   for (size_t k = 0; k < ilist_.size(); k++) {
@@ -940,7 +1118,9 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
       memset(&t_saved[0][0], 0, nbytes);
     }
   }
-  if (L) {
+  if (L && hybrid_)
+    hybrid_forces(ef);
+  else if (L) {
     const int inum0 = L->inum;
     int *ilist0 = L->ilist, *numneigh0 = L->numneigh;
     int **firstneigh0 = L->firstneigh;

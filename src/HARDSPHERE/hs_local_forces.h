@@ -18,9 +18,11 @@
 
    Exact only for styles whose energy is a sum of terms over the list
    entries: unrestrictable() names the others (kspace, many-body pair
-   styles, pair styles with ghost neighbours, pair hybrid (its sub-styles
-   own their lists, not swapped here yet), accelerator variants with
-   thread-private force arrays); the engine then falls back to `global`.
+   styles, pair styles with ghost neighbours, pair hybrid/molecular,
+   accelerator variants with thread-private force arrays); the engine then
+   falls back to `global`. Pair hybrid (and hybrid/overlay, hybrid/scaled):
+   the restricted rows are split among the sub-styles' own lists by the
+   type skips LAMMPS built them with, and hybrid's compute() runs on those.
    Fixes' forces are not part of V_C here: the engine decides about them.
 
    Version notes: compiled and tested against LAMMPS 29Sep2021 update 2
@@ -30,8 +32,11 @@
    Pair::list, NeighList::{inum,ilist,numneigh,firstneigh}, Neighbor::
    {bondlist,nbondlist,...,improperlist,nimproperlist,ncalls}, Atom::{map(),
    sametag}, NEIGHMASK, the styles' tallies (Pair::eng_vdwl, eng_coul,
-   virial; Bond/Angle/...::energy, virial). No neighbor request is made (the
-   pair style's own list is used), so hs_compat.h is not needed.
+   virial; Bond/Angle/...::energy, virial); for pair hybrid Neighbor::
+   {lists,nlist,requests,old_requests}, NeighList::{requestor,iskip,ijskip,
+   listskip}, Force::pair_match_ptr() (a request's requestor through
+   hs_compat.h). No neighbor request is made (the pair style's own lists
+   are used).
 
    MPI (compute() is collective): the tags of C are gathered on every rank
    (MPI_Allgatherv, O(|C|)), each rank restricts its own lists to terms with
@@ -320,6 +325,23 @@ class HSLocalForces : protected Pointers {
     fl_[i][0] = fl_[i][1] = fl_[i][2] = 0.0;
     zero_list_.push_back(i);
   }
+  // pair hybrid (hs_local_forces.cpp, "pair hybrid")
+  bool hybrid_ = false;
+  struct SubList {
+    class Pair *style = nullptr;
+    class NeighList *list = nullptr;
+    std::vector<int> ilist, neigh, starts, num;    // its restricted list
+    std::vector<int *> first;
+  };
+  std::vector<SubList> subs_;
+  class NeighList *hyb_all_ = nullptr;
+  std::vector<char> covered_;    // [itype * (ntypes + 1) + jtype]: some sub-style computes it
+  bool all_covered_ = true;
+  int64_t hyb_run_ = -1;
+  std::vector<std::string> sub_style_names() const;
+  void find_sub_lists();
+  void hybrid_forces(int eflag);
+  class NeighList *pair_list() const;
   void grow();
   void run_styles(class NeighList *L, const bool present[4], bool first = true);
   int64_t last_ncalls_ = -1;

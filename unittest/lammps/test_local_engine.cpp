@@ -321,10 +321,6 @@ TEST(LocalEngine, Errors)
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"
                       "fix s all spring/self 1.0\nrun 1\n",
                {"substep local cannot run with", "fix s spring/self"});
-  expect_error(base + "pair_style hybrid/overlay lj/smooth/linear 2.5 zero 2.5\n"
-                      "pair_coeff 1 1 lj/smooth/linear 1.0 1.0\npair_coeff 1 1 zero\n"
-                      "fix x all hardsphere/cva diameter 1.0 substep local\nrun 1\n",
-               {"substep local cannot run with", "hybrid"});
 }
 
 // an input without atom_modify map (LAMMPS' default for atom_style
@@ -349,6 +345,62 @@ TEST(LocalEngine, MakesTheAtomMapItNeeds)
   ASSERT_TRUE(std::regex_search(b.output, mb, std::regex("RESULT ([^\n]+)")));
   EXPECT_EQ(ma[1].str(), mb[1].str());
   EXPECT_NE(ma[1].str().find(" "), std::string::npos);
+}
+
+// pair hybrid in the local engine (hs_local_forces.cpp, "pair hybrid"):
+// the fluid's lj/smooth/linear written as two sub-styles split by atom type
+// (1-1 and 1-2 by one, 2-2 by the other: LAMMPS gives them skip lists) and
+// as hybrid/overlay of two halves of it (epsilon 0.5 each) runs locally,
+// without a fall-back, and is the single style's run to round-off: the
+// same collisions and energy to 1e-10 after 100 steps, for cva, pcva and vci
+TEST(LocalEngine, PairHybridSameAsItsSingleStyle)
+{
+  auto input = [](const std::string &method, const std::string &pair) {
+    std::string in = fluid("", 0.005, 1, 3);
+    auto swap = [&in](const std::string &a, const std::string &b) {
+      const size_t at = in.find(a);
+      EXPECT_NE(at, std::string::npos) << a;
+      if (at != std::string::npos) in.replace(at, a.size(), b);
+    };
+    swap("create_box 1 box", "create_box 2 box");
+    swap("mass 1 1.0", "mass * 1.0\nset type 1 type/fraction 2 0.5 2024");
+    swap("pair_style lj/smooth/linear 2.5\npair_coeff 1 1 1.0 1.0", pair);
+    return in + "fix x all hardsphere/" + method +
+        " diameter 1.0\nrun 100\nprint \"RESULT $(etotal:%.17g) $(f_x[1])\"\n";
+  };
+  const std::string single = "pair_style lj/smooth/linear 2.5\npair_coeff * * 1.0 1.0";
+  const std::string hybrid =
+      "pair_style hybrid lj/smooth/linear 2.5 lj/smooth/linear 2.5\n"
+      "pair_coeff 1 1 lj/smooth/linear 1 1.0 1.0\npair_coeff 1 2 lj/smooth/linear 1 1.0 1.0\n"
+      "pair_coeff 2 2 lj/smooth/linear 2 1.0 1.0";
+  const std::string overlay =
+      "pair_style hybrid/overlay lj/smooth/linear 2.5 lj/smooth/linear 2.5\n"
+      "pair_coeff * * lj/smooth/linear 1 0.5 1.0\npair_coeff * * lj/smooth/linear 2 0.5 1.0";
+  auto result = [](const RunResult &r, double &e, double &n) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex("RESULT (-?[0-9][-+.e0-9]*) ([0-9][-+.e0-9]*)"))) << r.output;
+    e = std::stod(m[1]);
+    n = std::stod(m[2]);
+  };
+  for (const std::string method : {"cva", "pcva", "vci"}) {
+    RunResult a = run_lmp(input(method, single));
+    ASSERT_EQ(a.exit_code, 0) << a.output;
+    double e0 = 0, n0 = 0;
+    result(a, e0, n0);
+    EXPECT_GT(n0, 50.0) << method << ": too few collisions to compare";
+    for (const std::string &pair : {hybrid, overlay}) {
+      const std::string what = method + " with " + pair.substr(0, pair.find('\n'));
+      RunResult b = run_lmp(input(method, pair));
+      ASSERT_EQ(b.exit_code, 0) << what << "\n" << b.output;
+      EXPECT_EQ(b.output.find("falls back"), std::string::npos) << what << "\n" << b.output;
+      EXPECT_NE(b.output.find("substep local (collisions sub-stepped per cluster)"),
+                std::string::npos) << what << "\n" << b.output;
+      double e = 0, n = 0;
+      result(b, e, n);
+      EXPECT_EQ(n, n0) << what << ": collisions";
+      EXPECT_NEAR(e, e0, 1e-10 * std::fabs(e0)) << what << ": etotal";
+    }
+  }
 }
 
 TEST(LocalEngine, FallsBackToGlobalWithAWarning)

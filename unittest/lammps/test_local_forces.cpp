@@ -18,6 +18,7 @@
 #include "library.h"
 
 #include "hs_local_forces.h"
+#include "hs_mpi.h"
 
 #include "angle.h"
 #include "atom.h"
@@ -413,8 +414,15 @@ TEST(LocalForces, ReportsUnrestrictableStyles)
             "pair_coeff 1 2 soft 1.0\npair_coeff 2 2 soft 1.0\n");
     HSLocalForces lf(h.lmp, "test");
     lf.init();
-    EXPECT_FALSE(lf.exact());
-    EXPECT_NE(lf.unrestrictable().find("hybrid"), std::string::npos) << lf.unrestrictable();
+    // pair-wise sub-styles: restricted (LocalForcesHybrid below)
+    EXPECT_TRUE(lf.exact()) << lf.unrestrictable();
+    // a many-body sub-style makes hybrid many-body (PairHybrid::flags())
+    if (lammps_has_style(h.lmp, "pair", "tersoff")) {
+      h.lines("pair_style hybrid lj/cut 2.5 tersoff\n");
+      lf.init();
+      EXPECT_FALSE(lf.exact());
+      EXPECT_NE(lf.unrestrictable().find("many-body"), std::string::npos) << lf.unrestrictable();
+    }
   }
 }
 
@@ -851,5 +859,208 @@ TEST(LocalForcesRows, NearRowsAreTheContactNeighbours)
         EXPECT_EQ(lf.near_row(j, n), nullptr);
         break;
       }
+  }
+}
+
+// ---- pair hybrid: the restricted rows split among the sub-styles' own
+// lists by the type skips LAMMPS built them with. Two types: hybrid with
+// lj/cut on 1-1, soft on 1-2 and none on 2-2; hybrid/overlay with lj/cut
+// on every pair and soft added on 1-1. Members against LAMMPS' full force,
+// partners against a brute-force sum of the two potentials written here
+// (itself checked against LAMMPS' full forces), on any rank count; both
+// restrictions (rows, and compute() on the list of all pairs); the terms
+// recorded for pcva's projection never hold a pair no sub-style computes
+// (single() would stop on it); LAMMPS' state, the sub-styles' tallies
+// included, unchanged.
+
+namespace {
+
+const double SOFT_A = 3.0, SOFT_RC = 2.0;
+
+std::string hybrid_input(bool overlay)
+{
+  std::string in = "units lj\natom_style atomic\natom_modify map array\nboundary p p p\n"
+                   "newton on\nlattice fcc 0.5729578\nregion box block 0 4 0 4 0 4\n"
+                   "create_box 2 box\ncreate_atoms 1 box\nmass * 1.0\n"
+                   "set type 1 type/fraction 2 0.5 8191\n"
+                   "displace_atoms all random 0.15 0.15 0.15 4711 units box\n";
+  const std::string soft = fmt::format("soft {} {}", SOFT_A, SOFT_RC);
+  if (overlay)
+    in += fmt::format("pair_style hybrid/overlay lj/cut 2.5 soft {}\n"
+                      "pair_coeff * * lj/cut 1.0 1.0 2.5\npair_coeff 1 1 {}\n",
+                      SOFT_RC, soft);
+  else
+    in += fmt::format("pair_style hybrid lj/cut 2.5 soft {}\npair_coeff 1 1 lj/cut 1.0 1.0 2.5\n"
+                      "pair_coeff 1 2 {}\npair_coeff 2 2 none\n",
+                      SOFT_RC, soft);
+  return in + "comm_modify cutoff 5.5\nneighbor 0.3 bin\nrun 0\n";
+}
+
+// which potentials act between types ti and tj: bit 0 lj/cut, bit 1 soft
+int hybrid_terms(bool overlay, int ti, int tj)
+{
+  if (overlay) return (ti == 1 && tj == 1) ? 3 : 1;
+  if (ti == 1 && tj == 1) return 1;
+  return (ti != tj) ? 2 : 0;
+}
+
+// -grad V_C by brute force over the gathered positions and types (by tag)
+// (energy: V_C, its terms' energy, into *energy)
+std::vector<double> brute_hybrid(LAMMPS_NS::LAMMPS *lmp, bool overlay, const std::vector<double> &x,
+                                 const std::vector<int> &type, const std::set<int> &ctags,
+                                 double *energy = nullptr)
+{
+  double e = 0.0;
+  auto *domain = lmp->domain;
+  const double L[3] = {domain->xprd, domain->yprd, domain->zprd};
+  const int n = (int) type.size();
+  std::vector<double> f(3 * n, 0.0);
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      if (!ctags.count(i + 1) && !ctags.count(j + 1)) continue;
+      double d[3], r2 = 0.0;
+      for (int k = 0; k < 3; k++) {
+        d[k] = x[3 * i + k] - x[3 * j + k];
+        d[k] -= L[k] * std::round(d[k] / L[k]);
+        r2 += d[k] * d[k];
+      }
+      const int which = hybrid_terms(overlay, type[i], type[j]);
+      double fr = 0.0;    // -phi'(r) / r
+      if ((which & 1) && r2 < 2.5 * 2.5) {
+        const double ir6 = 1.0 / (r2 * r2 * r2);
+        fr += 24.0 * ir6 * (2.0 * ir6 - 1.0) / r2;
+        e += 4.0 * ir6 * (ir6 - 1.0);
+      }
+      if ((which & 2) && r2 < SOFT_RC * SOFT_RC) {
+        // soft: A (1 + cos(pi r / rc)), -phi' = A pi / rc sin(pi r / rc)
+        const double r = std::sqrt(r2);
+        fr += SOFT_A * M_PI / SOFT_RC * std::sin(M_PI * r / SOFT_RC) / r;
+        e += SOFT_A * (1.0 + std::cos(M_PI * r / SOFT_RC));
+      }
+      for (int k = 0; k < 3; k++) {
+        f[3 * i + k] += fr * d[k];
+        f[3 * j + k] -= fr * d[k];
+      }
+    }
+  if (energy) *energy = e;
+  return f;
+}
+
+std::vector<int> gather_types(LAMMPS_NS::LAMMPS *lmp)
+{
+  auto *atom = lmp->atom;
+  std::vector<int> mine(atom->natoms, 0), all(atom->natoms, 0);
+  for (int i = 0; i < atom->nlocal; i++) mine[atom->tag[i] - 1] = atom->type[i];
+  MPI_Allreduce(mine.data(), all.data(), (int) all.size(), MPI_INT, MPI_SUM, lmp->world);
+  return all;
+}
+
+// the sub-styles' energy and virial tallies
+std::vector<double> sub_tallies(LAMMPS_NS::LAMMPS *lmp)
+{
+  std::vector<double> out;
+  for (const char *s : {"lj/cut", "soft"}) {
+    auto *p = lmp->force->pair_match(s, 1);
+    EXPECT_NE(p, nullptr) << s;
+    if (!p) continue;
+    out.push_back(p->eng_vdwl);
+    out.push_back(p->eng_coul);
+    for (int k = 0; k < 6; k++) out.push_back(p->virial[k]);
+  }
+  return out;
+}
+
+}    // namespace
+
+TEST(LocalForcesHybrid, SubStylesExactOnAnyRankCount)
+{
+  for (bool overlay : {false, true}) {
+    const std::string sys = overlay ? "hybrid/overlay" : "hybrid";
+    HSLammps h;
+    h.lines(hybrid_input(overlay));
+    auto *atom = h.lmp->atom;
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    ASSERT_TRUE(lf.exact()) << sys << ": " << lf.unrestrictable();
+    ASSERT_EQ(lf.rows_unsupported(), "") << sys;
+    Reference ref(h.lmp);
+    lf.set_reference(ref.get());
+    std::vector<double> X, F;
+    gather_by_tag(h.lmp, X, F);
+    const std::vector<int> T = gather_types(h.lmp);
+    double fscale = 0.0;
+    for (double v : F) fscale = std::max(fscale, std::fabs(v));
+    // the reference itself: with every atom in C it is LAMMPS' full force
+    {
+      std::set<int> every;
+      for (int t = 1; t <= (int) atom->natoms; t++) every.insert(t);
+      const auto full = brute_hybrid(h.lmp, overlay, X, T, every);
+      for (size_t k = 0; k < F.size(); k++)
+        ASSERT_NEAR(full[k], F[k], 1e-12 * fscale) << sys << ": the brute-force reference";
+    }
+    const std::vector<double> subs0 = sub_tallies(h.lmp);
+    auto check = [&](const std::set<int> &ctags, const std::string &what) {
+      const auto want = brute_hybrid(h.lmp, overlay, X, T, ctags);
+      double **fl = lf.forces();
+      std::set<int> seen;
+      for (int j : lf.touched()) {
+        const int t = (int) atom->tag[j];
+        EXPECT_TRUE(seen.insert(t).second) << what << " tag " << t << " reported twice";
+        for (int k = 0; k < 3; k++) {
+          const double w = ctags.count(t) ? F[3 * (t - 1) + k] : want[3 * (t - 1) + k];
+          EXPECT_NEAR(fl[j][k], w, 1e-12 * fscale)
+              << what << " tag " << t << (ctags.count(t) ? " member" : " partner") << " dim " << k;
+        }
+      }
+      EXPECT_EQ(sub_tallies(h.lmp), subs0) << what << ": a sub-style's tallies changed";
+    };
+    int cases = 0;
+    for (int n : {1, 2, 5, 30})
+      for (unsigned seed = 1; seed <= 4; seed++) {
+        const std::string what = sys + " |C| " + std::to_string(n) + " seed " + std::to_string(seed);
+        // rows: any local copies (ghosts included), no communication
+        const auto c = random_copies(h.lmp, n, 500u * seed + n + 11u * h.lmp->comm->me);
+        if (!c.empty()) {
+          ++cases;
+          // with V_C's energy (vci's evaluations: the sub-styles tally it)
+          lf.keep_energy(seed > 2);
+          const Snapshot before = snap(h.lmp);
+          lf.compute_rows(c.data(), (int) c.size());
+          expect_unchanged(h.lmp, before, what + " rows");
+          std::set<int> ctags;
+          for (int j : c) ctags.insert((int) atom->tag[j]);
+          check(ctags, what + " rows");
+          if (seed > 2) {
+            double e = 0.0;
+            brute_hybrid(h.lmp, overlay, X, T, ctags, &e);
+            EXPECT_NEAR(lf.energy(), e, 1e-12 * std::max(1.0, std::fabs(e))) << what << " V_C";
+          }
+          lf.keep_energy(false);
+          for (int j : c) EXPECT_TRUE(std::find(lf.touched().begin(), lf.touched().end(), j) !=
+                                      lf.touched().end()) << what << " rows: member not reported";
+        }
+        // compute(): owned atoms, collective (C is every rank's), with the
+        // terms recorded
+        const auto o = random_c(h.lmp, n, 700u * seed + n + 13u * h.lmp->comm->me, seed == 2);
+        const Snapshot before = snap(h.lmp);
+        lf.compute(o.data(), (int) o.size(), true);
+        expect_unchanged(h.lmp, before, what + " compute()");
+        std::vector<int> mine, all;
+        for (int j : o) mine.push_back((int) atom->tag[j]);
+        HardSphere::allgatherv(h.lmp->world, MPI_INT, mine, all);
+        check(std::set<int>(all.begin(), all.end()), what + " compute()");
+        const auto &tl = lf.term_local();
+        const auto &off = lf.term_offsets();
+        int covered_pairs = 0;
+        for (int t = 0; t < lf.npair_last(); t++) {
+          const int a = tl[off[t]], b = tl[off[t] + 1];
+          const bool some = hybrid_terms(overlay, atom->type[a], atom->type[b]) != 0;
+          EXPECT_TRUE(some) << what << ": a recorded pair term of types " << atom->type[a]
+                            << "-" << atom->type[b] << ", which no sub-style computes";
+          covered_pairs += some;
+        }
+        EXPECT_EQ(covered_pairs, lf.npair_last()) << what;
+      }
+    EXPECT_GE(cases, 12) << sys;
   }
 }

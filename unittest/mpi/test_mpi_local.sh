@@ -276,6 +276,48 @@ check_system pcvapoly in.local_pcvapoly "2 4" -var nsteps 200
 no_fallback pcvapoly "2 4"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
+# pair hybrid: the restricted rows split among the sub-styles' own lists by
+# their type skips (hs_local_forces.cpp, "pair hybrid"): a 50:50 mixture
+# with lj/cut between type 1 spheres, a soft repulsion between unlike ones
+# and nothing (none) between type 2 ones; cva and pcva, no fall-back
+hybrid_input() {
+  cat <<EOF2
+units       lj
+atom_style  atomic
+atom_modify map array
+lattice     sc 0.4
+region      box block 0 10 0 10 0 10
+create_box  2 box
+create_atoms 1 box
+set         group all type/fraction 2 0.5 4821
+mass        * 1.0
+velocity    all create 1.5 4928 mom yes rot no dist gaussian loop geom
+pair_style  hybrid lj/cut 2.5 soft 1.12
+pair_coeff  1 1 lj/cut 1.0 1.0 2.5
+pair_coeff  1 2 soft 5.0
+pair_coeff  2 2 none
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         hs all hardsphere/cva diameter 1.0
+timestep    0.005
+thermo      50
+run         \${nsteps}
+EOF2
+  result_line 6 9
+}
+hybrid_input > in.local_hybrid
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+echo "a mixture under pair hybrid (lj/cut, soft, none), 1000 atoms, 200 steps:"
+check_system hybrid in.local_hybrid "2 4" -var nsteps 200
+no_fallback hybrid "2 4"
+sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
+  in.local_hybrid > in.local_pcvahybrid
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
+echo "pcva: the same, 200 steps:"
+check_system pcvahybrid in.local_pcvahybrid "2 4" -var nsteps 200
+no_fallback pcvahybrid "2 4"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+
 # torques stay LAMMPS' own: dipolar spheres (lj/cut/dipole/cut writes
 # torques) with fix langevin (held forces: conservative forces evaluated
 # after LAMMPS' own at the step's end). The torques after a run must be

@@ -18,10 +18,10 @@ fi
 fail=0
 for np in 2 3 4; do
   out=$(mpirun -np "$np" --oversubscribe "$EXE" \
-        --gtest_filter='*LocalForcesFluid*:*LocalForcesMelt*:LocalForces.AfterReneighboring:LocalForcesRows.GhostCopiesOnAnyRankCount:LocalForcesRows.NearRowsAreTheContactNeighbours' 2>&1)
-  npass=$(printf '%s\n' "$out" | grep -c 'PASSED.*7 tests')
+        --gtest_filter='*LocalForcesFluid*:*LocalForcesMelt*:LocalForces.AfterReneighboring:LocalForcesRows.GhostCopiesOnAnyRankCount:LocalForcesRows.NearRowsAreTheContactNeighbours:LocalForcesHybrid.*' 2>&1)
+  npass=$(printf '%s\n' "$out" | grep -c 'PASSED.*8 tests')
   if [ "$npass" -eq "$np" ]; then
-    echo "ok: $np ranks, 7 tests passed on every rank"
+    echo "ok: $np ranks, 8 tests passed on every rank"
   else
     echo "FAIL: $np ranks"
     printf '%s\n' "$out" | grep -E 'Failure|Expected|actual|FAILED' | head -20
