@@ -99,11 +99,24 @@ std::string HSLocalEngine::limits()
   locf->init();
   if (!locf->exact()) add(locf->unrestrictable());
   // fixes with conservative forces: not part of the restricted V_C
+  gravity.clear();
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == sys->host || !(modify->fmask[k] & FixConst::POST_FORCE)) continue;
     const std::string base = HardSphere::base_style(other->style);
     if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
+    // m g on every atom of its group, whatever the positions: known on
+    // every copy (const_force()), so the members' flows take it with V_C
+    int dim = 0;
+    if (base == "gravity" && other->extract("gvec", dim)) {
+      if (meth.local_constant_forces())
+        gravity.push_back(other);
+      else
+        add(fmt::format("fix {} {} (the method's local step has no term for a constant field; "
+                        "hardsphere/cva's has)",
+                        other->id, other->style));
+      continue;
+    }
     const auto kind = HardSphere::fix_force_kind(other->style);
     if (kind == HardSphere::FixForceKind::CONSERVATIVE || kind == HardSphere::FixForceKind::UNKNOWN)
       add(fmt::format("fix {} {} (its forces are not restricted to the colliding spheres' "
@@ -1242,13 +1255,29 @@ void HSLocalEngine::held_of(Run &r)
   ncompute_here += 1.0;
   double **fl = locf->forces();
   const double ftm2v = force->ftm2v;
+  double fc[3] = {0.0, 0.0, 0.0};
   for (int i : need) {
     const double m = sys->mass_of(i) / ftm2v;
-    for (int d = 0; d < 3; d++) held0[i][d] = acc[i][d] * m - fl[i][d];
+    if (!gravity.empty()) const_force(i, fc);    // (in V_C, not held)
+    for (int d = 0; d < 3; d++) held0[i][d] = acc[i][d] * m - fl[i][d] - fc[d];
     hstampv[i] = heldepoch;
   }
   for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
   locf->set_labels(lab.data());
+}
+
+// fix gravity's force on copy i (force units; f += m g in its post_force(),
+// the same on every copy and rank); zero without one
+void HSLocalEngine::const_force(int i, double *out) const
+{
+  out[0] = out[1] = out[2] = 0.0;
+  for (Fix *g : gravity) {
+    if (!(atom->mask[i] & g->groupbit)) continue;
+    int dim = 0;
+    const auto *gv = static_cast<const double *>(g->extract("gvec", dim));
+    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+    for (int d = 0; d < 3; d++) out[d] += m * gv[d];
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -1273,7 +1302,9 @@ void HSLocalEngine::cross_at_start(Run &r, const std::vector<Vec> &fk, const std
   // first half's start). What is left is the cross terms'
   const int nm = (int) r.members.size();
   r.fx0.assign(nm, Vec{0.0, 0.0, 0.0});
-  if (!force->pair) return;
+  // (fix gravity's force is in LAMMPS' start force and in no term of fk:
+  // it is in F_X(x0) here, as cross_forces() puts it in F_X elsewhere)
+  if (!force->pair && gravity.empty()) return;
   double **acc = sys->acc;
   const double ftm2v = force->ftm2v;
   for (int k = 0; k < nm; k++) {
@@ -1303,7 +1334,10 @@ void HSLocalEngine::cross_at_start_evaluated(Run &r)
 {
   const int nm = (int) r.members.size();
   r.fx0.assign(nm, Vec{0.0, 0.0, 0.0});
-  if (!force->pair) return;
+  if (!force->pair) {
+    for (int k = 0; k < nm && !gravity.empty(); k++) const_force(r.members[k], r.fx0[k].data());
+    return;
+  }
   double **x = atom->x;
   const int key = lab[r.members[0]];
   cross_forces(r, r.fx0);
@@ -1393,9 +1427,13 @@ void HSLocalEngine::cross_forces(const Run &r, std::vector<Vec> &out)
   locf->set_labels(lab.data());
   double **fl = locf->forces();
   out.resize(nm);
+  double fc[3] = {0.0, 0.0, 0.0};
   for (int k = 0; k < nm; k++) {
     const int i = r.members[k];
-    out[k] = {fl[i][0], fl[i][1], fl[i][2]};
+    // fix gravity's constant force rides with the cross force: a constant
+    // force in each half of the members' flows (cross_at_start())
+    if (!gravity.empty()) const_force(i, fc);
+    out[k] = {fl[i][0] + fc[0], fl[i][1] + fc[1], fl[i][2] + fc[2]};
   }
 }
 
@@ -2986,9 +3024,11 @@ void HSLocalEngine::final_kick()
     locf->set_labels(nullptr);
     vc(all.data(), (int) all.size());
     double **fl = locf->forces();
+    double fc[3] = {0.0, 0.0, 0.0};
     for (int i : all) {
       const double dtfm = F.dtf / F.mass_of(i);
-      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fl[i][d]);
+      if (!gravity.empty()) const_force(i, fc);    // (in the members' flows)
+      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fl[i][d] - fc[d]);
     }
   }
   for (int i = 0; i < nlocal; i++) {

@@ -304,6 +304,12 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   int nmax = 0;
   double **x0 = nullptr, **v0 = nullptr;    // the step's start
   double **held0 = nullptr;                 // members' held force at the step's start
+  // fix gravity (limits()): a constant force per atom, m g, in the members'
+  // V_C (inside their flows, as part of the constant force of each half)
+  // and in V_R for everyone else (LAMMPS' forces); const_force() is that
+  // force on copy i, as the fix's post_force() adds it
+  std::vector<class Fix *> gravity;
+  void const_force(int i, double *out) const;
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;

@@ -403,6 +403,115 @@ TEST(LocalEngine, PairHybridSameAsItsSingleStyle)
   }
 }
 
+// fix gravity in the local engine: m g is in the members' V_C (a constant
+// force in each half of their flows, with the cross force) and in V_R for
+// everyone else. Verlet integrates a constant force exactly, and contacts
+// are found exactly, so hard spheres falling under gravity, bouncing on
+// the fix's wall and hitting each other head-on (through the periodic x
+// face as well) follow the analytic paths to round-off: positions and
+// velocities after 13.5 time units (2700 steps, 2 pair and 7 wall
+// collisions), energy (fix_modify energy yes) to 1e-12, the same on both
+// engines; the default engine is local. hardsphere/pcva and /vci fall back
+// (their local steps have no term for a constant field)
+TEST(LocalEngine, GravityExactFreeFall)
+{
+  const std::string in = R"LMP(
+units lj
+atom_style atomic
+atom_modify map array
+boundary p p f
+region box block -10 10 -10 10 0 20
+create_box 1 box
+create_atoms 1 single 0.0 0.0 5.0
+create_atoms 1 single 3.0 0.0 5.0
+create_atoms 1 single 6.0 3.0 3.0
+mass 1 1.0
+velocity all set 0.0 0.0 0.0
+set atom 1 vx 1.0
+set atom 2 vx -1.0
+pair_style zero 2.0
+pair_coeff * *
+fix g all gravity 1.0 vector 0 0 -1
+fix_modify g energy yes
+timestep 0.005
+thermo_style custom step ke pe etotal
+)LMP";
+  // analytic: spheres 1 and 2 (z 5) meet at t 1 (x 1 and 2) and again across
+  // the periodic face at t 10 (x -8 and 11), velocities exchanged each time;
+  // z falls to 0.5 (the wall at 0, radius 0.5) and bounces back to its top
+  auto zbounce = [](double z0, double t, double &z, double &vz) {
+    const double tf = std::sqrt(2.0 * (z0 - 0.5));    // first fall
+    if (t < tf) {
+      z = z0 - 0.5 * t * t;
+      vz = -t;
+      return;
+    }
+    const double tau = std::fmod(t - tf, 2.0 * tf);    // since the last bounce
+    z = 0.5 + tf * tau - 0.5 * tau * tau;
+    vz = tf - tau;
+  };
+  const double T = 13.5;
+  double z12, vz12, z3, vz3;
+  zbounce(5.0, T, z12, vz12);
+  zbounce(3.0, T, z3, vz3);
+  const double want[3][4] = {{-8.0 + (T - 10.0), z12, 1.0, vz12},
+                             {11.0 - (T - 10.0), z12, -1.0, vz12},
+                             {6.0, z3, 0.0, vz3}};
+  const double e0 = 0.5 * 2.0 + 5.0 + 5.0 + 3.0;    // ke + m g z (per atom below)
+  for (const std::string engine : {"", " substep global"}) {
+    HSLammps L;
+    L.lines(in + "fix hs all hardsphere/cva diameter 1.0 wall zlo 0.0" + engine + "\n");
+    L.lines("run 2700\n");
+    auto *atom = L.lmp->atom;
+    ASSERT_EQ(atom->nlocal, 3);
+    EXPECT_EQ(L.fix_vector("hs", 1), 2.0) << engine << ": pair collisions";
+    EXPECT_EQ(L.fix_vector("hs", 2), 7.0) << engine << ": wall collisions";
+    if (engine.empty()) EXPECT_EQ(L.fix_vector("hs", 9), 0.0) << "fell back";
+    for (int i = 0; i < 3; i++) {
+      const int t = (int) atom->tag[i] - 1;
+      const double xu = atom->x[i][0] + 20.0 * (double) ((atom->image[i] & IMGMASK) - IMGMAX);
+      const double got[4] = {xu, atom->x[i][2], atom->v[i][0], atom->v[i][2]};
+      const char *what[4] = {"xu", "z", "vx", "vz"};
+      for (int k = 0; k < 4; k++)
+        EXPECT_NEAR(got[k], want[t][k], 1e-9) << engine << " atom " << t + 1 << " " << what[k];
+    }
+    EXPECT_NEAR(L.thermo("etotal") * 3.0, e0, 1e-11) << engine << ": energy";
+  }
+  // with fix viscous beside (a held force: half kicks around the map on both
+  // engines; members' held forces are what is left of LAMMPS' force after
+  // V_C and gravity). The engines sample the viscous force at different
+  // velocities in a step with collisions (the global engine's at the end of
+  // its map, ~1e-7 apart in v per such step here), so they agree to 1e-4,
+  // not to round-off; gravity taken as held as well would put m g dt/2 =
+  // 2.5e-3 into each member's velocity at each collision
+  std::vector<double> ref;
+  for (const std::string engine : {" substep global", ""}) {
+    HSLammps L;
+    L.lines(in + "fix vi all viscous 0.05\nfix hs all hardsphere/cva diameter 1.0 wall zlo 0.0" +
+            engine + "\nrun 2700\n");
+    auto *atom = L.lmp->atom;
+    std::vector<double> got(12, 0.0);
+    for (int i = 0; i < 3; i++) {
+      const int t = (int) atom->tag[i] - 1;
+      got[4 * t + 0] = atom->x[i][0] + 20.0 * (double) ((atom->image[i] & IMGMASK) - IMGMAX);
+      got[4 * t + 1] = atom->x[i][2];
+      got[4 * t + 2] = atom->v[i][0];
+      got[4 * t + 3] = atom->v[i][2];
+    }
+    EXPECT_GE(L.fix_vector("hs", 0), 5.0) << "viscous" << engine;
+    if (ref.empty())
+      ref = got;
+    else
+      for (int k = 0; k < 12; k++) EXPECT_NEAR(got[k], ref[k], 1e-4) << "viscous, entry " << k;
+  }
+  for (const std::string m : {"pcva", "vci"}) {
+    RunResult r = run_lmp(in + "fix hs all hardsphere/" + m + " diameter 1.0 wall zlo 0.0\nrun 10\n");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << m;
+    EXPECT_NE(r.output.find("fix g gravity"), std::string::npos) << m << "\n" << r.output;
+  }
+}
+
 TEST(LocalEngine, FallsBackToGlobalWithAWarning)
 {
   const std::string base = fluid("", 0.005, 1, 3);

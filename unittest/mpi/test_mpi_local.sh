@@ -318,6 +318,42 @@ check_system pcvahybrid in.local_pcvahybrid "2 4" -var nsteps 200
 no_fallback pcvahybrid "2 4"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
+# fix gravity: m g in the members' V_C (inside their flows, with the cross
+# force) and in V_R for everyone else; a fluid settling onto the fix's wall
+# at zlo, with a wall at zhi: cva, no fall-back
+gravity_input() {
+  cat <<EOF2
+units       lj
+atom_style  atomic
+atom_modify map array
+boundary    p p f
+lattice     fcc 0.5729578
+region      box block 0 6 0 6 -0.5 6
+region      fill block 0 6 0 6 0.0 5.5
+create_box  1 box
+create_atoms 1 region fill
+mass        1 1.0
+velocity    all create 1.0 4928 mom yes rot no dist gaussian loop geom
+pair_style  lj/cut 2.5
+pair_coeff  1 1 1.0 1.0 2.5
+pair_modify shift yes
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         g all gravity 0.5 vector 0 0 -1
+fix_modify  g energy yes
+fix         hs all hardsphere/cva diameter 1.0 wall zlo EDGE wall zhi EDGE
+timestep    0.005
+thermo      50
+run         \${nsteps}
+EOF2
+  result_line 6 9
+}
+gravity_input > in.local_gravity
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+echo "a fluid settling under fix gravity onto a wall, 200 steps:"
+check_system gravity in.local_gravity "2 4" -var nsteps 200
+no_fallback gravity "2 4"
+
 # torques stay LAMMPS' own: dipolar spheres (lj/cut/dipole/cut writes
 # torques) with fix langevin (held forces: conservative forces evaluated
 # after LAMMPS' own at the step's end). The torques after a run must be
