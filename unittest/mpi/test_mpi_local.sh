@@ -263,18 +263,27 @@ no_fallback() {    # no_fallback <name> <rank counts>: no rank count took subste
     fi
   done
 }
+# cva_and_pcva <name> <what> <pcva's what> [sed for pcva's input]: in.local_<name>
+# with cva, then with pcva (its projections and skipped ones on the RESULT
+# line; in.local_pcva<name>), 200 steps on 1, 2, 4 ranks, neither falling
+# back to substep global
+cva_and_pcva() {
+  local name=$1 what=$2 pwhat=$3 extra=${4:-}
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+  echo "$what, 200 steps:"
+  check_system "$name" "in.local_$name" "2 4" -var nsteps 200
+  no_fallback "$name" "2 4"
+  sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
+    "in.local_$name" | sed "${extra:-}" > "in.local_pcva$name"
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
+  echo "pcva: $pwhat, 200 steps:"
+  check_system "pcva$name" "in.local_pcva$name" "2 4" -var nsteps 200
+  no_fallback "pcva$name" "2 4"
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+}
 poly_input > in.local_poly
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
-echo "polydisperse spheres (atom style sphere), 1000 atoms, 200 steps:"
-check_system poly in.local_poly "2 4" -var nsteps 200
-no_fallback poly "2 4"
-sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/; s/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/' \
-  in.local_poly > in.local_pcvapoly
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
-echo "pcva: the same with fix viscous 0.2 (held forces), 200 steps:"
-check_system pcvapoly in.local_pcvapoly "2 4" -var nsteps 200
-no_fallback pcvapoly "2 4"
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+cva_and_pcva poly "polydisperse spheres (atom style sphere), 1000 atoms" \
+  "the same with fix viscous 0.2 (held forces)" 's/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/'
 
 # pair hybrid: the restricted rows split among the sub-styles' own lists by
 # their type skips (hs_local_forces.cpp, "pair hybrid"): a 50:50 mixture
@@ -306,17 +315,7 @@ EOF2
   result_line 6 9
 }
 hybrid_input > in.local_hybrid
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
-echo "a mixture under pair hybrid (lj/cut, soft, none), 1000 atoms, 200 steps:"
-check_system hybrid in.local_hybrid "2 4" -var nsteps 200
-no_fallback hybrid "2 4"
-sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
-  in.local_hybrid > in.local_pcvahybrid
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
-echo "pcva: the same, 200 steps:"
-check_system pcvahybrid in.local_pcvahybrid "2 4" -var nsteps 200
-no_fallback pcvahybrid "2 4"
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+cva_and_pcva hybrid "a mixture under pair hybrid (lj/cut, soft, none), 1000 atoms" "the same"
 
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
 # force) and in V_R for everyone else; a fluid settling onto the fix's wall
