@@ -158,6 +158,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   const double *const *start_v_rows() const override { return v0; }
   void partner_kicks(int i, double *first, double *second) const override;
   HSLocalForces &local_forces() override { return *locf; }
+  void const_force(int i, double *out) const override;
   int owned(tagint t) const override;
   void put_v(int i, const double *vn) override { set_v(i, vn); }
   void put_x(int i, const double *xn) override { set_x(i, xn); }
@@ -309,7 +310,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // and in V_R for everyone else (LAMMPS' forces); const_force() is that
   // force on copy i, as the fix's post_force() adds it
   std::vector<class Fix *> gravity;
-  void const_force(int i, double *out) const;
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;

@@ -13,6 +13,7 @@
 #include "hs_system.h"
 
 #include "atom.h"
+#include "domain.h"
 #include "comm.h"
 #include "memory.h"
 #include "error.h"
@@ -357,7 +358,7 @@ void HSLocalModified::begin(HSStepView &eng)
       T += sys->mass_of(m) * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     }
   T *= 0.5 * force->mvv2e;
-  L0 = local_L(E, Q, T);
+  L0 = local_L(E, Q, T) + const_energy(eng, true);
   ptag.clear();
   pstart.clear();
   for (size_t s = 0; s < owners.size(); s++) {
@@ -374,6 +375,31 @@ void HSLocalModified::begin(HSStepView &eng)
     pstart.push_back(st);
   }
   zero_red();
+}
+
+/* ----------------------------------------------------------------------
+   the members' one-atom terms of constant force F (fix gravity: F = m g),
+   V = -F.q, in V_C: this rank's members at the step's start (x0, with the
+   image flags of the start: begin() runs before LAMMPS' reneighboring) or
+   end (x and image now), unwrapped, so that a member that crosses a
+   periodic face along F changes it by its displacement only
+------------------------------------------------------------------------- */
+
+double HSLocalModified::const_energy(HSStepView &eng, bool at_start) const
+{
+  const int *mask = atom->mask;
+  const int gb = sys->groupbit;
+  double V = 0.0, fc[3], q[3], xs[3];
+  for (int m : mem) {
+    if (!(mask[m] & gb)) continue;
+    eng.const_force(m, fc);
+    if (fc[0] == 0.0 && fc[1] == 0.0 && fc[2] == 0.0) continue;
+    const double *x = at_start ? eng.start_x(m) : atom->x[m];
+    for (int d = 0; d < 3; d++) xs[d] = x[d];
+    domain->unmap(xs, atom->image[m], q);
+    V -= fc[0] * q[0] + fc[1] * q[1] + fc[2] * q[2];
+  }
+  return V;
 }
 
 /* ----------------------------------------------------------------------
@@ -436,11 +462,14 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   lf.compute(set.data(), (int) set.size(), false);
   double **fl = lf.forces();
   const double dtf = sys->dtf;
+  double fc[3];
   for (int i : set) {
     const double s = (at_start ? dtf : -dtf) / sys->mass_of(i);
+    // (fix gravity's force: conservative, in no restricted evaluation)
+    eng.const_force(i, fc);
     for (int d = 0; d < 3; d++) {
-      fcons_[i][d] = fl[i][d];
-      vcons_[i][d] += s * (f[i][d] - fl[i][d]);
+      fcons_[i][d] = fl[i][d] + fc[d];
+      vcons_[i][d] += s * (f[i][d] - fcons_[i][d]);
     }
   }
   for (size_t k = 0; k < moved.size(); k++)
@@ -567,7 +596,7 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
       T += sys->mass_of(m) * (vm[0] * vm[0] + vm[1] * vm[1] + vm[2] * vm[2]);
     }
   T *= 0.5 * mvv2e;
-  const double L1 = local_L(E, Q, T);
+  const double L1 = local_L(E, Q, T) + const_energy(eng, false);
 
   // what the Phi_H1 flows did to H~2: the partners' kinetic energy and
   // dt^2/6 (V_R'' v)_p . dv_p, (V_R'' v)_p = -(F^R_p(end) - F^R_p(start)) / dt

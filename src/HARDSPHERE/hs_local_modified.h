@@ -79,6 +79,9 @@ class HSLocalModified : protected Pointers {
   void end(HSStepView &, double &A, double &B, double &C0);
   // v_i -> v_i + beta b_i on the members, with the b of end()
   void scale(HSStepView &, double beta);
+  // this rank's members' part of V_C from constant one-atom forces (fix
+  // gravity: -F.q, unwrapped), at the step's start or end
+  double const_energy(HSStepView &, bool at_start) const;
   int nmembers() const { return (int) mem.size(); }
 
  private:

@@ -51,8 +51,9 @@ class HSMethod : protected Pointers, public HSTypes {
   virtual std::string local_limits() { return ""; }
   // substep local: whether the method's local step can take a constant
   // force per atom (fix gravity) as part of the colliding spheres' V_C
-  // (their flows, the engine's business); pcva's projection and vci's
-  // discrete energy have no term for it
+  // (their flows, the engine's business; pcva's ledger holds its energy,
+  // HSLocalModified::const_energy()); vci's discrete energy has no term
+  // for it
   virtual bool local_constant_forces() const { return true; }
   // 1 if it needs derivatives of V (HSPotential's paths set up in init)
   virtual int needs_derivatives() const { return 0; }
@@ -111,6 +112,11 @@ class HSMethod : protected Pointers, public HSTypes {
 
  protected:
   HSSystem &S;
+  // for the methods that keep an energy of the whole system (pcva's
+  // H_[2,VV], mcva's, vci's E_d): an error naming each conservative fix
+  // whose energy is not in the potential energy (its force would change the
+  // kept energy, and the method would undo that change)
+  void require_fix_energies(const char *what) const;
 };
 
 }    // namespace LAMMPS_NS

@@ -60,6 +60,7 @@ HSMethodMCVA::~HSMethodMCVA()
 // after the fix's init() (which set up the derivative layer)
 void HSMethodMCVA::init()
 {
+  require_fix_energies("H_[2,VV] through collisional steps");
   // the stage equations continue a pair that leaves its cutoff in a
   // sub-step through single() past the cutoff (the frozen set): a table has
   // no values there (pair_table.cpp would stop the run mid-step)

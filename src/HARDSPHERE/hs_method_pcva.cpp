@@ -49,6 +49,7 @@ HSMethodPCVA::~HSMethodPCVA()
 void HSMethodPCVA::init()
 {
   S.track_atoms = true;
+  require_fix_energies("H_[2,VV] through collisional steps");
   // (the fix's init() found it: FixHardSphere::check_other_integrators())
   if (Fix *other = S.other_integrator)
     error->all(FLERR,
@@ -150,7 +151,8 @@ std::string HSMethodPCVA::local_limits()
 {
   std::string why;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
-  if (!S.pot->radial_only())
+  // (fix gravity's energy is the engine's: HSStepView::const_force())
+  if (!S.pot->radial_only_but_gravity())
     add(fmt::format("a potential with other than radial pair and bond terms ({}; the local "
                     "projection evaluates the colliding spheres' terms through single())",
                     S.pot->describe()));

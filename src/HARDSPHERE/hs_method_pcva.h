@@ -29,7 +29,6 @@ class HSMethodPCVA : public HSMethod {
   int needs_derivatives() const override { return 1; }
   void init() override;
   std::string local_limits() override;
-  bool local_constant_forces() const override { return false; }
 
   void begin_collisional_step() override;
   void end_substep(double tau) override;

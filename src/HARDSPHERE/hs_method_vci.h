@@ -28,6 +28,7 @@ class HSMethodVCI : public HSMethod {
   HSMethodVCI(class LAMMPS *, HSSystem &);
 
   int needs_derivatives() const override { return 1; }
+  void init() override { require_fix_energies("the discrete energy E_d at each contact"); }
 
   void finish_step(double tleft) override;
   bool advance_to_contact(double &tau, double tleft, const Impulse &) override;

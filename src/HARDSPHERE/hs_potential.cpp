@@ -1146,6 +1146,26 @@ std::string HSPotential::held_names() const
   return impl->names(impl->held);
 }
 
+std::string HSPotential::energyless_names() const
+{
+  std::vector<int> ks;
+  for (int k : impl->post_cons) {
+    Fix *fix = modify->fix[k];
+    if (fix->energy_global_flag && !fix->thermo_energy) ks.push_back(k);
+  }
+  return impl->names(ks);
+}
+
+bool HSPotential::radial_only_but_gravity() const
+{
+  const Impl &m = *impl;
+  if (m.fd_pair || m.fd_bond || m.fd_angle || m.fd_dihedral || m.fd_improper || m.fd_kspace)
+    return false;
+  for (int k : m.efix)
+    if (HardSphere::base_style(modify->fix[k]->style) != "gravity") return false;
+  return true;
+}
+
 std::string HSPotential::unknown_names() const
 {
   return impl->names(impl->unknown);

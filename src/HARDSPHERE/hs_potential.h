@@ -80,6 +80,13 @@ class HSPotential : protected Pointers {
   // rule does not know (treated as conservative), "" if none
   std::string held_names() const;
   std::string unknown_names() const;
+  // "fix ID style" of the conservative fixes with an energy that is not in
+  // the potential energy (fix_modify ID energy no, most fixes' default),
+  // "" if none
+  std::string energyless_names() const;
+  // radial_only() but for fix gravity's energy (a one-atom term the local
+  // engine takes itself, HSStepView::const_force())
+  bool radial_only_but_gravity() const;
 
   // --- a force (re-)evaluation as Verlet::run does it, at the current
   // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse

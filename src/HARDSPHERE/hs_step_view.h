@@ -36,6 +36,9 @@ class HSStepView {
   virtual void partner_kicks(int i, double *first, double *second) const = 0;
   // restricted force evaluations on the step's lists
   virtual HSLocalForces &local_forces() = 0;
+  // the constant one-atom force on copy i (fix gravity's m g; zero without
+  // one): part of V_C for a member, not in the restricted evaluations
+  virtual void const_force(int i, double *out) const = 0;
   // the owned index of atom ID t of the step's clusters at the step's end
   // (a rebuild may have sorted the atoms); an error if it is not owned
   virtual int owned(tagint t) const = 0;

@@ -86,7 +86,8 @@ TEST(MCVAErrors, FieldNotFinite)
                "create_atoms 1 single -5 0 0\ncreate_atoms 1 single -3.95 0 0\nmass * 1.0\n"
                "group a id 1\nvelocity a set 1 0 0\n"
                "variable fx atom 0.0*((0.0001-(x+5.0)^2)^0.5)\n"
-               "fix nan a addforce v_fx 0.0 0.0\nneighbor 0.5 bin\ncomm_modify cutoff 3.0\n"
+               "fix nan a addforce v_fx 0.0 0.0\nfix_modify nan energy yes\n"
+               "neighbor 0.5 bin\ncomm_modify cutoff 3.0\n"
                "fix hs all hardsphere/mcva diameter 1.0\ntimestep 0.1\nrun 2\n",
                {"vector field of the modified Hamiltonian is not finite", "step 1",
                 "iteration 1"});

@@ -160,6 +160,29 @@ TEST_P(SharedErrors, LostAtomIgnored)
   EXPECT_NE(r.output.find("\nATOMS 2 STEP 300"), std::string::npos) << r.output;
 }
 
+// pcva, mcva and vci keep an energy of the whole system; a conservative
+// fix's force whose energy is not in the potential energy (fix_modify ...
+// energy no, most fixes' default) changes it, and the method undid that:
+// spheres falling under fix gravity lost kinetic energy to pcva's
+// projection. Now an error naming the fix and fix_modify; with the energy
+// on, or with psa or cva (which keep no energy), the run goes on
+TEST_P(SharedErrors, ConservativeFixWithoutItsEnergy)
+{
+  const std::string method = GetParam();
+  const std::string base = fix(" diameter 1.0") + "\nfix g all gravity 1.0 vector 0 0 -1";
+  const bool keeps_energy = method == "pcva" || method == "mcva" || method == "vci";
+  if (keeps_energy)
+    expect_error(two_atoms("-1", "1", base),
+                 {"Fix " + style(), "fix g gravity adds forces whose energy is not in the "
+                  "potential energy", "fix_modify <fix-ID> energy yes"});
+  else {
+    RunResult r = run_lmp(two_atoms("-1", "1", base));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+  }
+  RunResult r = run_lmp(two_atoms("-1", "1", base + "\nfix_modify g energy yes"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 INSTANTIATE_TEST_SUITE_P(PSA, SharedErrors, ::testing::Values("psa"), case_name);
 INSTANTIATE_TEST_SUITE_P(CVA, SharedErrors, ::testing::Values("cva"), case_name);
 INSTANTIATE_TEST_SUITE_P(PCVA, SharedErrors, ::testing::Values("pcva"), case_name);

@@ -318,8 +318,9 @@ hybrid_input > in.local_hybrid
 cva_and_pcva hybrid "a mixture under pair hybrid (lj/cut, soft, none), 1000 atoms" "the same"
 
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
-# force) and in V_R for everyone else; a fluid settling onto the fix's wall
-# at zlo, with a wall at zhi: cva, no fall-back
+# force; pcva's ledger holds their -m g.q) and in V_R for everyone else; a
+# fluid settling onto the fix's wall at zlo, with a wall at zhi: cva and
+# pcva, no fall-back
 gravity_input() {
   cat <<EOF2
 units       lj
@@ -348,10 +349,7 @@ EOF2
   result_line 6 9
 }
 gravity_input > in.local_gravity
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
-echo "a fluid settling under fix gravity onto a wall, 200 steps:"
-check_system gravity in.local_gravity "2 4" -var nsteps 200
-no_fallback gravity "2 4"
+cva_and_pcva gravity "a fluid settling under fix gravity onto a wall" "the same"
 
 # torques stay LAMMPS' own: dipolar spheres (lj/cut/dipole/cut writes
 # torques) with fix langevin (held forces: conservative forces evaluated
