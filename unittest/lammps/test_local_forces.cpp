@@ -1012,7 +1012,12 @@ TEST(LocalForcesHybrid, SubStylesExactOnAnyRankCount)
               << what << " tag " << t << (ctags.count(t) ? " member" : " partner") << " dim " << k;
         }
       }
-      EXPECT_EQ(sub_tallies(h.lmp), subs0) << what << ": a sub-style's tallies changed";
+      // (bit for bit: a tally a sub-style never computed may hold garbage, a
+      // NaN now and then, which == would call changed; seen on 3 ranks)
+      const std::vector<double> subs = sub_tallies(h.lmp);
+      ASSERT_EQ(subs.size(), subs0.size());
+      EXPECT_EQ(0, memcmp(subs.data(), subs0.data(), subs.size() * sizeof(double)))
+          << what << ": a sub-style's tallies changed";
     };
     int cases = 0;
     for (int n : {1, 2, 5, 30})
