@@ -107,14 +107,11 @@ std::string HSLocalEngine::limits()
     if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
     // m g on every atom of its group, whatever the positions: known on
     // every copy (const_force()), so the members' flows take it with V_C
+    // (pcva's ledger holds its energy, HSLocalModified::const_energy();
+    // vci's flows count -F.dq of their constant force in their potential)
     int dim = 0;
     if (base == "gravity" && other->extract("gvec", dim)) {
-      if (meth.local_constant_forces())
-        gravity.push_back(other);
-      else
-        add(fmt::format("fix {} {} (the method's local step has no term for a constant field; "
-                        "hardsphere/cva's has)",
-                        other->id, other->style));
+      gravity.push_back(other);
       continue;
     }
     const auto kind = HardSphere::fix_force_kind(other->style);

@@ -49,12 +49,6 @@ class HSMethod : protected Pointers, public HSTypes {
   virtual int engines_supported() const { return ENGINE_BOTH; }
   // its own reasons it cannot run cluster by cluster with this set-up ("" if none)
   virtual std::string local_limits() { return ""; }
-  // substep local: whether the method's local step can take a constant
-  // force per atom (fix gravity) as part of the colliding spheres' V_C
-  // (their flows, the engine's business; pcva's ledger holds its energy,
-  // HSLocalModified::const_energy()); vci's discrete energy has no term
-  // for it
-  virtual bool local_constant_forces() const { return true; }
   // 1 if it needs derivatives of V (HSPotential's paths set up in init)
   virtual int needs_derivatives() const { return 0; }
   // at the end of the fix's init(); fix_modify keywords of its own

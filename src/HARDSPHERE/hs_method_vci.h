@@ -38,7 +38,6 @@ class HSMethodVCI : public HSMethod {
   // local form (rank-local inside a flow; the counters are summed over the
   // ranks at the end of each step taken by clusters)
   bool needs_flow_energy() const override { return true; }
-  bool local_constant_forces() const override { return false; }
   void flow_begun(const HSFlowView &) override;
   void flow_substep(const HSFlowView &) override;
   void modify_impulse_in_flow(Impulse &, HSFlowView &) override;

@@ -412,8 +412,8 @@ TEST(LocalEngine, PairHybridSameAsItsSingleStyle)
 // velocities after 13.5 time units (2700 steps, 2 pair and 7 wall
 // collisions), energy (fix_modify energy yes) to 1e-12, the same on both
 // engines, for cva and pcva (whose local projection counts the members'
-// -m g.q in V_C); the default engine is local. hardsphere/vci falls back
-// (its discrete energy has no term for a constant field)
+// -m g.q in V_C); vci (its flows' potential holds the constant force's
+// -F.dq) close to them; the default engine is local
 TEST(LocalEngine, GravityExactFreeFall)
 {
   const std::string in = R"LMP(
@@ -459,26 +459,33 @@ thermo_style custom step ke pe etotal
                              {11.0 - (T - 10.0), z12, -1.0, vz12},
                              {6.0, z3, 0.0, vz3}};
   const double e0 = 0.5 * 2.0 + 5.0 + 5.0 + 3.0;    // ke + m g z (per atom below)
-  for (const std::string engine : {"cva", "cva substep global", "pcva", "pcva substep global"}) {
+  for (const std::string engine :
+       {"cva", "cva substep global", "pcva", "pcva substep global", "vci"}) {
     HSLammps L;
     const std::string method = engine.substr(0, engine.find(' '));
     const std::string rest = engine.substr(method.size());
+    // vci's impulse matches its discrete energy E_d, not H: not exact here
+    // (measured: paths 2e-6, energy 1.4e-6 off the analytic ones)
+    const double tol = method == "vci" ? 1e-4 : 1e-9, etol = method == "vci" ? 1e-5 : 1e-11;
     L.lines(in + "fix hs all hardsphere/" + method + " diameter 1.0 wall zlo 0.0" + rest + "\n");
     L.lines("run 2700\n");
     auto *atom = L.lmp->atom;
     ASSERT_EQ(atom->nlocal, 3);
     EXPECT_EQ(L.fix_vector("hs", 1), 2.0) << engine << ": pair collisions";
     EXPECT_EQ(L.fix_vector("hs", 2), 7.0) << engine << ": wall collisions";
-    if (rest.empty()) EXPECT_EQ(L.fix_vector("hs", method == "cva" ? 9 : 12), 0.0) << "fell back";
+    // (steps that fell back: f_hs[10] of cva, f_hs[13] of pcva, f_hs[16] of vci)
+    if (rest.empty())
+      EXPECT_EQ(L.fix_vector("hs", method == "cva" ? 9 : method == "pcva" ? 12 : 15), 0.0)
+          << engine << ": fell back";
     for (int i = 0; i < 3; i++) {
       const int t = (int) atom->tag[i] - 1;
       const double xu = atom->x[i][0] + 20.0 * (double) ((atom->image[i] & IMGMASK) - IMGMAX);
       const double got[4] = {xu, atom->x[i][2], atom->v[i][0], atom->v[i][2]};
       const char *what[4] = {"xu", "z", "vx", "vz"};
       for (int k = 0; k < 4; k++)
-        EXPECT_NEAR(got[k], want[t][k], 1e-9) << engine << " atom " << t + 1 << " " << what[k];
+        EXPECT_NEAR(got[k], want[t][k], tol) << engine << " atom " << t + 1 << " " << what[k];
     }
-    EXPECT_NEAR(L.thermo("etotal") * 3.0, e0, 1e-11) << engine << ": energy";
+    EXPECT_NEAR(L.thermo("etotal") * 3.0, e0, etol) << engine << ": energy";
   }
   // with fix viscous beside (a held force: half kicks around the map on both
   // engines; members' held forces are what is left of LAMMPS' force after
@@ -509,12 +516,6 @@ thermo_style custom step ke pe etotal
     else
       for (int k = 0; k < 12; k++)
         EXPECT_NEAR(got[k], ref[k], 1e-4) << "viscous, " << engine << ", entry " << k;
-  }
-  for (const std::string m : {"vci"}) {
-    RunResult r = run_lmp(in + "fix hs all hardsphere/" + m + " diameter 1.0 wall zlo 0.0\nrun 10\n");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << m;
-    EXPECT_NE(r.output.find("fix g gravity"), std::string::npos) << m << "\n" << r.output;
   }
 }
 

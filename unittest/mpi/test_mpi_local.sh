@@ -318,9 +318,9 @@ hybrid_input > in.local_hybrid
 cva_and_pcva hybrid "a mixture under pair hybrid (lj/cut, soft, none), 1000 atoms" "the same"
 
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
-# force; pcva's ledger holds their -m g.q) and in V_R for everyone else; a
-# fluid settling onto the fix's wall at zlo, with a wall at zhi: cva and
-# pcva, no fall-back
+# force; pcva's ledger holds their -m g.q, vci's flows -F.dq) and in V_R
+# for everyone else; a fluid settling onto the fix's wall at zlo, with a
+# wall at zhi: cva, pcva and vci, no fall-back
 gravity_input() {
   cat <<EOF2
 units       lj
@@ -350,6 +350,13 @@ EOF2
 }
 gravity_input > in.local_gravity
 cva_and_pcva gravity "a fluid settling under fix gravity onto a wall" "the same"
+sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
+  in.local_gravity > in.local_vcigravity
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+echo "vci: the same, 200 steps:"
+check_system vcigravity in.local_vcigravity "2 4" -var nsteps 200
+no_fallback vcigravity "2 4"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 
 # torques stay LAMMPS' own: dipolar spheres (lj/cut/dipole/cut writes
 # torques) with fix langevin (held forces: conservative forces evaluated
