@@ -164,9 +164,10 @@ void HSLocalForces::find_sub_lists()
     s.list = nl;
     subs_.push_back(std::move(s));
     // the list the skips were taken from holds every pair; a sub-style's
-    // list without skips holds every pair itself
+    // list without skips holds every pair itself (a list LAMMPS copied
+    // from an identical request's holds what that one holds)
     NeighList *all = nl;
-    while (all->listskip) all = all->listskip;
+    while (all->listskip || all->listcopy) all = all->listskip ? all->listskip : all->listcopy;
     if (!hyb_all_) hyb_all_ = all;
   }
   if (subs_.empty() || !hyb_all_)
