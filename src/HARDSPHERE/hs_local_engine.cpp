@@ -110,8 +110,9 @@ std::string HSLocalEngine::limits()
     // (pcva's ledger holds its energy, HSLocalModified::const_energy();
     // vci's flows count -F.dq of their constant force in their potential)
     int dim = 0;
-    if (base == "gravity" && other->extract("gvec", dim)) {
-      gravity.push_back(other);
+    const void *gvec = base == "gravity" ? other->extract("gvec", dim) : nullptr;
+    if (gvec) {
+      gravity.push_back({other->groupbit, static_cast<const double *>(gvec)});
       continue;
     }
     const auto kind = HardSphere::fix_force_kind(other->style);
@@ -1268,12 +1269,10 @@ void HSLocalEngine::held_of(Run &r)
 void HSLocalEngine::const_force(int i, double *out) const
 {
   out[0] = out[1] = out[2] = 0.0;
-  for (Fix *g : gravity) {
-    if (!(atom->mask[i] & g->groupbit)) continue;
-    int dim = 0;
-    const auto *gv = static_cast<const double *>(g->extract("gvec", dim));
+  for (const Gravity &g : gravity) {
+    if (!(atom->mask[i] & g.groupbit)) continue;
     const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-    for (int d = 0; d < 3; d++) out[d] += m * gv[d];
+    for (int d = 0; d < 3; d++) out[d] += m * g.gvec[d];
   }
 }
 

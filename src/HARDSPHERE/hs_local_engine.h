@@ -308,8 +308,14 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // fix gravity (limits()): a constant force per atom, m g, in the members'
   // V_C (inside their flows, as part of the constant force of each half)
   // and in V_R for everyone else (LAMMPS' forces); const_force() is that
-  // force on copy i, as the fix's post_force() adds it
-  std::vector<class Fix *> gravity;
+  // force on copy i, as the fix's post_force() adds it: per fix, its
+  // group bit and its gvec (Fix::extract(), taken once per run; the fix
+  // updates the values in place)
+  struct Gravity {
+    int groupbit;
+    const double *gvec;
+  };
+  std::vector<Gravity> gravity;
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;

@@ -701,6 +701,11 @@ struct HSPotential::Impl : protected Pointers {
   }
 
   bool any_single() const { return pair_single || bond_single; }
+  // a style's (or kspace's) terms by force differences
+  bool fd_styles() const
+  {
+    return fd_pair || fd_bond || fd_angle || fd_dihedral || fd_improper || fd_kspace;
+  }
 
   // phi'' of every single term the same whether phi''' is asked for too:
   // not where a pair term's derivatives come from differences, whose
@@ -978,8 +983,7 @@ void HSPotential::init(Mode mode)
       m.efix.push_back(k);
     }
   }
-  m.fd_any = m.fd_pair || m.fd_bond || m.fd_angle || m.fd_dihedral || m.fd_improper ||
-      m.fd_kspace || !m.efix.empty();
+  m.fd_any = m.fd_styles() || !m.efix.empty();
 
   // length scale L of the differences along a field: a tenth of the
   // shortest pair cutoff or bond length in play; the skin otherwise
@@ -1159,8 +1163,7 @@ std::string HSPotential::energyless_names() const
 bool HSPotential::radial_only_but_gravity() const
 {
   const Impl &m = *impl;
-  if (m.fd_pair || m.fd_bond || m.fd_angle || m.fd_dihedral || m.fd_improper || m.fd_kspace)
-    return false;
+  if (m.fd_styles()) return false;
   for (int k : m.efix)
     if (HardSphere::base_style(modify->fix[k]->style) != "gravity") return false;
   return true;
