@@ -33,6 +33,7 @@
 #include "error.h"
 #include "fix.h"
 #include "force.h"
+#include "kspace.h"
 #include "memory.h"
 #include "modify.h"
 #include "neighbor.h"
@@ -98,6 +99,19 @@ std::string HSLocalEngine::limits()
   }
   locf->init();
   if (!locf->exact()) add(locf->unrestrictable());
+  // kspace and the fixes that only add a force of the positions: not
+  // evaluated at sub-steps. On a member their force G = f - F_C (f minus its
+  // restricted V_C force, held_of(), as a thermostat's) at the step's start
+  // rides inside both halves of its flow as a constant force, and the
+  // closing kick makes the step's impulse dt/2 (G(q0) + G(q1)) (flow(); doc
+  // fix_hardsphere "Held smooth forces"); everyone else takes them in
+  // LAMMPS' forces, as beside fix nve
+  held_smooth.clear();
+  auto hold = [this](const std::string &s) {
+    held_smooth += (held_smooth.empty() ? "" : ", ") + s;
+  };
+  if (force->kspace && force->kspace->compute_flag)
+    hold(std::string("kspace style ") + force->kspace_style);
   // fixes with conservative forces: not part of the restricted V_C
   gravity.clear();
   for (int k = 0; k < modify->nfix; k++) {
@@ -115,11 +129,17 @@ std::string HSLocalEngine::limits()
       gravity.push_back({other->groupbit, static_cast<const double *>(gvec)});
       continue;
     }
+    if (HardSphere::adds_force_only(other->style)) {
+      hold(fmt::format("fix {} {}", other->id, other->style));
+      continue;
+    }
     const auto kind = HardSphere::fix_force_kind(other->style);
     if (kind == HardSphere::FixForceKind::CONSERVATIVE || kind == HardSphere::FixForceKind::UNKNOWN)
-      add(fmt::format("fix {} {} (its forces are not restricted to the colliding spheres' "
-                      "terms)",
-                      other->id, other->style));
+      add(fmt::format("fix {} {} ({}: it does not only add a force to f, so it cannot be held "
+                      "as two half kicks)",
+                      other->id, other->style,
+                      kind == HardSphere::FixForceKind::UNKNOWN ? "a fix the package does not know"
+                                                                : "its forces replace or depend on f"));
   }
   // V_C's forces from rank-local rows (what several ranks need), else from
   // the pair list restriction (newton_pair off, neigh_modify exclude: one
@@ -167,6 +187,14 @@ std::string HSLocalEngine::limits()
 
 void HSLocalEngine::chosen()
 {
+  if (!held_smooth.empty() && held_smooth != held_smooth_told && me == 0)
+    utils::logmesg(lmp,
+                   "fix {}: substep local holds the forces of {} through collisional steps: "
+                   "on the colliding spheres their force at the step's start acts as a "
+                   "constant force inside the sub-stepped flows, the end's in the closing "
+                   "kick (second order; substep global evaluates them at every contact)\n",
+                   sys->style_name, held_smooth);
+  held_smooth_told = held_smooth;
   locf->keep_energy(meth.needs_flow_energy());
   locf->set_near(sys->list_cutoff, sys->groupbit);
   cutneigh = sys->list_cutoff;
@@ -1235,7 +1263,7 @@ bool HSLocalEngine::member_copies(Run &r)
 
 void HSLocalEngine::held_of(Run &r)
 {
-  if (!sys->nheld) return;
+  if (!holds()) return;
   std::vector<int> need;
   for (int l : r.members)
     if (hstampv[l] != heldepoch) need.push_back(l);
@@ -1262,6 +1290,16 @@ void HSLocalEngine::held_of(Run &r)
   }
   for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
   locf->set_labels(lab.data());
+}
+
+bool HSLocalEngine::holds() const
+{
+  return sys->nheld || !held_smooth.empty();
+}
+
+bool HSLocalEngine::rides() const
+{
+  return !held_smooth.empty();
 }
 
 // fix gravity's force on copy i (force units; f += m g in its post_force(),
@@ -1307,7 +1345,7 @@ void HSLocalEngine::cross_at_start(Run &r, const std::vector<Vec> &fk, const std
     const int i = r.members[k];
     const double m = sys->mass_of(i) / ftm2v;
     for (int d = 0; d < 3; d++) {
-      const double fall = acc[i][d] * m - (sys->nheld ? held0[i][d] : 0.0);
+      const double fall = acc[i][d] * m - (holds() ? held0[i][d] : 0.0);
       r.fx0[k][d] = fall - fk[mi[k]][d];
     }
   }
@@ -1722,13 +1760,22 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int d = 0; d < 3; d++)
       fc[k][d] = (first_half || !mid_known) ? r.fx0[k][d] :
           ((int) r.fx1.size() == nm ? r.fx1[k][d] : 2.0 * r.fx[k][d] - r.fx0[k][d]);
+  // held smooth forces (kspace, force fixes) ride as the constant force
+  // G(q0) = f - F_C in both halves, as the cross force does: held as a kick
+  // before the flow, a contact at t_c inside the step would get the normal
+  // velocity wrong by O(G dt) (a sphere bouncing under a constant force:
+  // first order in energy, measured); inside, by O(dt^2). The closing kick
+  // makes the step's impulse dt/2 (G(q0) + G(q1)) (second halves' end)
+  if (rides())
+    for (int k = 0; k < nm; k++)
+      for (int d = 0; d < 3; d++) fc[k][d] += held0[M[k]][d];
   if (first_half) {
     r.fk0 = fk;
     // the held forces' half kick (f - F_C: LAMMPS' forces minus V_C's)
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
       double vn[3] = {v0[i][0], v0[i][1], v0[i][2]};
-      if (F.nheld) {
+      if (holds() && !rides()) {
         const double dtfm = F.dtf / F.mass_of(i);
         for (int d = 0; d < 3; d++) vn[d] += dtfm * held0[i][d];
       }
@@ -2027,6 +2074,11 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       const int i = M[k];
       r.dxe[k] = {x[i][0] - x0[i][0], x[i][1] - x0[i][1], x[i][2] - x0[i][2]};
       r.ve[k] = {v[i][0], v[i][1], v[i][2]};
+      // (riding: the closing kick adds dt/2 G(q1); here -dt/2 G(q0))
+      if (rides()) {
+        const double dtfm = F.dtf / F.mass_of(i);
+        for (int d = 0; d < 3; d++) r.ve[k][d] -= dtfm * held0[i][d];
+      }
       set_x(i, r.xm[k].data());
       set_v(i, r.vm[k].data());
     }
@@ -3016,7 +3068,7 @@ void HSLocalEngine::final_kick()
     all.push_back(i);
   }
   // members' held forces: f - their conservative force from all their terms
-  if (F.nheld && !all.empty()) {
+  if (holds() && !all.empty()) {
     locf->set_labels(nullptr);
     vc(all.data(), (int) all.size());
     double **fl = locf->forces();

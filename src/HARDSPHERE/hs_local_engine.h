@@ -61,7 +61,11 @@
    Held (thermostat) forces: a member takes its held force (f minus the
    conservative force of all its terms) as two half kicks at the step's
    start and end (as the global engine's K_held(dt/2) . Phi . K_held(dt/2)),
-   a non-member with V_R in Phi_H2's kicks, as beside fix nve.
+   a non-member with V_R in Phi_H2's kicks, as beside fix nve. Held smooth
+   forces (kspace, fixes that only add a force: limits()) are in the same
+   f - F_C; with them it rides inside the members' flows instead (its start
+   value as a constant force in both halves, the end's in the closing
+   kick: rides()), since a kick before a flow errs by O(dt) at a contact.
 
    Rows: V_C's forces come from rank-local interaction rows of the
    members' copies (HSLocalForces::compute_rows) and their contact
@@ -94,10 +98,11 @@
    Restrictions (FixHardSphere::choose_engine() falls back to the global
    engine, or errors when `substep local` was given): an atom map; pair,
    bond, angle, dihedral and improper styles HSLocalForces can restrict
-   exactly (no kspace, many-body or hybrid pair styles), on several ranks
+   exactly (no many-body pair styles or hybrid/molecular), on several ranks
    through rows (newton_pair on, no neigh_modify exclude; molecular
    systems with the members' topology gathered by ID, gather_topology());
-   no fix with conservative forces except enforce2d.
+   no fix with conservative forces but enforce2d, gravity and those that
+   only add a force (held).
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_HS_LOCAL_ENGINE_H
@@ -316,6 +321,14 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     const double *gvec;
   };
   std::vector<Gravity> gravity;
+  // kspace and additive force fixes held as two half kicks (limits()):
+  // their names, "" if none
+  std::string held_smooth, held_smooth_told;
+  // members take a held force (f minus their V_C force) as two half kicks
+  bool holds() const;
+  // ... as a constant force inside their flows (held smooth forces, and
+  // then thermostats' too) instead of kicks before and after them
+  bool rides() const;
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;

@@ -66,7 +66,9 @@ void HSLocalForces::init()
                       "colliding atoms: use atom_modify map array (or yes)", owner_);
   why_.clear();
   auto add = [this](const std::string &s) { why_ += (why_.empty() ? "" : "; ") + s; };
-  if (force->kspace) add(std::string("kspace style ") + force->kspace_style + " (long-range)");
+  // (kspace is not a style of V_C's terms: the real-space part of a
+  // coul/long pair style restricts like any pair style, and the engine
+  // holds the reciprocal part with LAMMPS' forces, HSLocalEngine::limits())
   hybrid_ = false;
   if (force->pair) {
     const char *ps = force->pair_style;

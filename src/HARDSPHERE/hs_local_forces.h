@@ -17,13 +17,15 @@
    shares a term with C) receives only the part of its force from V_C.
 
    Exact only for styles whose energy is a sum of terms over the list
-   entries: unrestrictable() names the others (kspace, many-body pair
-   styles, pair styles with ghost neighbours, pair hybrid/molecular,
-   accelerator variants with thread-private force arrays); the engine then
+   entries: unrestrictable() names the others (many-body pair styles, pair
+   styles with ghost neighbours, pair hybrid/molecular, accelerator
+   variants with thread-private force arrays); the engine then
    falls back to `global`. Pair hybrid (and hybrid/overlay, hybrid/scaled):
    the restricted rows are split among the sub-styles' own lists by the
    type skips LAMMPS built them with, and hybrid's compute() runs on those.
-   Fixes' forces are not part of V_C here: the engine decides about them.
+   Fixes' forces and kspace are not part of V_C here: the engine decides
+   about them (it holds kspace: the real-space part of coul/long & co. is
+   an ordinary pair style).
 
    Version notes: compiled and tested against LAMMPS 29Sep2021 update 2
    (Debian 20220106)

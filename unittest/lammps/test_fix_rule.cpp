@@ -5,8 +5,10 @@
 //   of the integrator and of the tally's quadrature, which vanish as dt -> 0:
 //   small against the energy the thermostat exchanged, and smaller at dt/2;
 // - deterministic force fixes (spring/self, wall/lj93, efield on charged
-//   spheres) are evaluated again at every sub-step: each method keeps its
-//   energy order (psa 1, the others 2) with their energies in etotal;
+//   spheres) are evaluated again at every sub-step of the global engine, and
+//   held by the local one (cva, vci: riding in the members' flows): each
+//   method keeps its energy order (psa 1, the others 2) with their energies
+//   in etotal; which fixes the local engine can hold (only add to f);
 // - fixes that change the box, and langevin's gjf, are refused by name; a
 //   fix with forces of an unknown kind is named in a warning; the held
 //   thermostats are named in the log; compute hamiltonian/modified warns
@@ -15,6 +17,7 @@
 
 #include "hs_chain.h"
 #include "hs_errors.h"
+#include "hs_fix_rule.h"
 
 #include <algorithm>
 #include <cmath>
@@ -190,11 +193,17 @@ variable Emax equal max(f_Ev)
 variable E0 equal f_Ev[1]
 print "DE $(0.5*(v_Emax-v_Emin)+abs(0.5*(v_Emax+v_Emin)-v_E0))"
 print "NCOLL $(f_int[1])"
-)LMP";
+)LMP" + (method == "cva" || method == "vci"
+              ? std::string("print \"FELLBACK $(f_int[") + (method == "cva" ? "10" : "16") + "])\"\n"
+              : std::string());
   RunResult r = run_lmp(in);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   const double ncoll = printed(r.output, "NCOLL");
   EXPECT_GT(ncoll, 20.0) << "the case is meant to collide";
+  // cva and vci take the local engine (the fixes' forces held, riding in
+  // the members' flows); pcva and mcva the global one
+  if (method == "cva" || method == "vci")
+    EXPECT_EQ(printed(r.output, "FELLBACK"), 0.0) << method << " fell back to substep global";
   return printed(r.output, "DE");
 }
 
@@ -211,6 +220,19 @@ TEST_P(DeterministicFixes, EnergyOrder)
   printf("[ %s spring/self + wall/lj93 + efield ] max|E-E0|: %.3g %.3g %.3g, order %.2f\n",
          method.c_str(), errs[0], errs[1], errs[2], order);
   EXPECT_GT(order, method == "psa" ? 0.8 : 1.8);
+}
+
+// the local engine holds a conservative fix only if its post_force() adds a
+// force of the positions to f (independent of what f holds); fixes that set,
+// average, project or read f, thermostats and unknown fixes are not held
+TEST(FixRuleTable, AddsForceOnly)
+{
+  for (const char *s : {"addforce", "efield", "indent", "spring", "spring/self", "wall/lj93",
+                        "wall/harmonic", "wall/region", "restrain", "wall/lj93/omp"})
+    EXPECT_TRUE(HardSphere::adds_force_only(s)) << s;
+  for (const char *s : {"setforce", "aveforce", "freeze", "lineforce", "planeforce", "enforce2d",
+                        "store/force", "langevin", "viscous", "shake", "my/own/fix"})
+    EXPECT_FALSE(HardSphere::adds_force_only(s)) << s;
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, DeterministicFixes,

@@ -317,6 +317,54 @@ EOF2
 hybrid_input > in.local_hybrid
 cva_and_pcva hybrid "a mixture under pair hybrid (lj/cut, soft, none), 1000 atoms" "the same"
 
+# held smooth forces: kspace and force fixes that only add to f ride inside
+# the members' flows as the constant G(q0) = f - F_C (hs_local_engine.cpp,
+# held_smooth); charged hard spheres (coul/long + pppm) in a field (fix
+# efield), 1000 ions: cva and vci, no fall-back (pcva falls back: its
+# projection needs every term's energy)
+held_input() {
+  cat <<EOF2
+units       lj
+atom_style  charge
+atom_modify map array
+lattice     sc 0.2
+region      box block 0 10 0 10 0 10
+create_box  2 box
+create_atoms 1 box
+variable    odd atom id%2
+group       anion variable odd
+set         group anion type 2
+set         type 1 charge 1.0
+set         type 2 charge -1.0
+mass        * 1.0
+velocity    all create 1.0 4928 mom yes rot no dist gaussian loop geom
+pair_style  coul/long 4.0
+pair_coeff  * *
+kspace_style pppm 1e-4
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         ef all efield 0.2 0.0 0.0
+fix_modify  ef energy yes
+fix         hs all hardsphere/cva diameter 1.0
+timestep    0.005
+thermo      50
+run         \${nsteps}
+EOF2
+  result_line 6 9
+}
+held_input > in.local_held
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+echo "charged hard spheres, coul/long + pppm, fix efield (held smooth forces), 1000 ions, 200 steps:"
+check_system held in.local_held "2 4" -var nsteps 200
+no_fallback held "2 4"
+sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
+  in.local_held > in.local_vciheld
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+echo "vci: the same, 200 steps:"
+check_system vciheld in.local_vciheld "2 4" -var nsteps 200
+no_fallback vciheld "2 4"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
 # force; pcva's ledger holds their -m g.q, vci's flows -F.dq) and in V_R
 # for everyone else; a fluid settling onto the fix's wall at zlo, with a
