@@ -192,8 +192,9 @@ void HSLocalEngine::chosen()
                    "fix {}: substep local holds the forces of {} through collisional steps: "
                    "on the colliding spheres their force at the step's start acts as a "
                    "constant force inside the sub-stepped flows, the end's in the closing "
-                   "kick (second order; substep global evaluates them at every contact)\n",
-                   sys->style_name, held_smooth);
+                   "kick (second order; substep global evaluates them at every contact){}\n",
+                   sys->style_name, held_smooth,
+                   sys->nheld ? "; held thermostat forces ride with them" : "");
   held_smooth_told = held_smooth;
   locf->keep_energy(meth.needs_flow_energy());
   locf->set_near(sys->list_cutoff, sys->groupbit);

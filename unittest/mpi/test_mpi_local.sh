@@ -20,7 +20,8 @@
 # sphere leaves with the striker's velocity), and a pair plus two wall
 # contacts at a rank face. Then the error of a cluster that outgrows the
 # ghost region, the counted fall-back to the global engine (overflow
-# global) and the widened ghost cutoff (overflow widen); ghost lazy's
+# global) and the widened ghost cutoff (overflow widen); charged spheres
+# with pppm and fix efield (held smooth forces, cva and vci); ghost lazy's
 # shell (a collision-free run is fix nve's to the bit on 2 ranks, with its
 # ghost atoms; a dilute fluid whose shell widens and narrows many times
 # equals 1 rank). hardsphere/pcva on the fluids, the hot and held
@@ -281,6 +282,18 @@ cva_and_pcva() {
   no_fallback "pcva$name" "2 4"
   LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 }
+# vci_too <name>: in.local_<name> with hardsphere/vci (its solved, no-root and
+# zero-impulse counts on the RESULT line; in.local_vci<name>), 200 steps on
+# 1, 2, 4 ranks, no fall-back to substep global
+vci_too() {
+  sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
+    "in.local_$1" > "in.local_vci$1"
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
+  echo "vci: the same, 200 steps:"
+  check_system "vci$1" "in.local_vci$1" "2 4" -var nsteps 200
+  no_fallback "vci$1" "2 4"
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+}
 poly_input > in.local_poly
 cva_and_pcva poly "polydisperse spheres (atom style sphere), 1000 atoms" \
   "the same with fix viscous 0.2 (held forces)" 's/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/'
@@ -322,7 +335,7 @@ cva_and_pcva hybrid "a mixture under pair hybrid (lj/cut, soft, none), 1000 atom
 # held_smooth); charged hard spheres (coul/long + pppm) in a field (fix
 # efield), 1000 ions: cva and vci, no fall-back (pcva falls back: its
 # projection needs every term's energy)
-held_input() {
+charged_input() {
   cat <<EOF2
 units       lj
 atom_style  charge
@@ -352,18 +365,12 @@ run         \${nsteps}
 EOF2
   result_line 6 9
 }
-held_input > in.local_held
+charged_input > in.local_charged
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 echo "charged hard spheres, coul/long + pppm, fix efield (held smooth forces), 1000 ions, 200 steps:"
-check_system held in.local_held "2 4" -var nsteps 200
-no_fallback held "2 4"
-sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
-  in.local_held > in.local_vciheld
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
-echo "vci: the same, 200 steps:"
-check_system vciheld in.local_vciheld "2 4" -var nsteps 200
-no_fallback vciheld "2 4"
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+check_system charged in.local_charged "2 4" -var nsteps 200
+no_fallback charged "2 4"
+vci_too charged
 
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
 # force; pcva's ledger holds their -m g.q, vci's flows -F.dq) and in V_R
@@ -398,13 +405,7 @@ EOF2
 }
 gravity_input > in.local_gravity
 cva_and_pcva gravity "a fluid settling under fix gravity onto a wall" "the same"
-sed 's/hardsphere\/cva/hardsphere\/vci/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[8]) $(f_hs[12]) $(f_hs[15])/' \
-  in.local_gravity > in.local_vcigravity
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "solved" "noroot" "zero" "clusters" "rounds")
-echo "vci: the same, 200 steps:"
-check_system vcigravity in.local_vcigravity "2 4" -var nsteps 200
-no_fallback vcigravity "2 4"
-LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+vci_too gravity
 
 # torques stay LAMMPS' own: dipolar spheres (lj/cut/dipole/cut writes
 # torques) with fix langevin (held forces: conservative forces evaluated
