@@ -67,10 +67,10 @@ inline FixForceKind fix_force_kind(const std::string &style_in)
 
 // a CONSERVATIVE fix whose post_force() only adds a force of the positions
 // (and time) to f, whatever f already holds: the local engine can hold it
-// through a collisional step as two half kicks, K_S(dt/2) Phi K_S(dt/2),
-// LAMMPS' forces of the step's start and end (doc/fix_hardsphere.rst,
-// "Held smooth forces"). Not those that set, average, project or zero f
-// (their force depends on what f holds when they run) or read it
+// through a collisional step from LAMMPS' forces of the step's start and
+// end (f less the restricted terms' force: doc/fix_hardsphere.rst, "Held
+// smooth forces"). Not those that set, average, project or zero f (their
+// force depends on what f holds when they run) or read it
 inline bool adds_force_only(const std::string &style_in)
 {
   const std::string style = base_style(style_in);

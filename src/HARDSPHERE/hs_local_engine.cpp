@@ -135,8 +135,8 @@ std::string HSLocalEngine::limits()
     }
     const auto kind = HardSphere::fix_force_kind(other->style);
     if (kind == HardSphere::FixForceKind::CONSERVATIVE || kind == HardSphere::FixForceKind::UNKNOWN)
-      add(fmt::format("fix {} {} ({}: it does not only add a force to f, so it cannot be held "
-                      "as two half kicks)",
+      add(fmt::format("fix {} {} ({}: it does not only add a force to f, so the local "
+                      "engine cannot hold it as it holds kspace and force fixes)",
                       other->id, other->style,
                       kind == HardSphere::FixForceKind::UNKNOWN ? "a fix the package does not know"
                                                                 : "its forces replace or depend on f"));

@@ -321,8 +321,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     const double *gvec;
   };
   std::vector<Gravity> gravity;
-  // kspace and additive force fixes held as two half kicks (limits()):
-  // their names, "" if none
+  // kspace and additive force fixes, held (limits(), rides()): their
+  // names, "" if none
   std::string held_smooth, held_smooth_told;
   // members take a held force (f minus their V_C force) as two half kicks
   bool holds() const;
