@@ -134,12 +134,14 @@ std::string HSLocalEngine::limits()
       continue;
     }
     const auto kind = HardSphere::fix_force_kind(other->style);
-    if (kind == HardSphere::FixForceKind::CONSERVATIVE || kind == HardSphere::FixForceKind::UNKNOWN)
-      add(fmt::format("fix {} {} ({}: it does not only add a force to f, so the local "
-                      "engine cannot hold it as it holds kspace and force fixes)",
-                      other->id, other->style,
-                      kind == HardSphere::FixForceKind::UNKNOWN ? "a fix the package does not know"
-                                                                : "its forces replace or depend on f"));
+    if (kind != HardSphere::FixForceKind::CONSERVATIVE && kind != HardSphere::FixForceKind::UNKNOWN)
+      continue;
+    const char *what = kind == HardSphere::FixForceKind::UNKNOWN
+        ? "a fix the package does not know"
+        : "its forces replace or depend on f";
+    add(fmt::format("fix {} {} ({}: it does not only add a force to f, so the local engine "
+                    "cannot hold it as it holds kspace and force fixes)",
+                    other->id, other->style, what));
   }
   // V_C's forces from rank-local rows (what several ranks need), else from
   // the pair list restriction (newton_pair off, neigh_modify exclude: one
@@ -1342,11 +1344,12 @@ void HSLocalEngine::cross_at_start(Run &r, const std::vector<Vec> &fk, const std
   if (!force->pair && gravity.empty()) return;
   double **acc = sys->acc;
   const double ftm2v = force->ftm2v;
+  const bool held = holds();
   for (int k = 0; k < nm; k++) {
     const int i = r.members[k];
     const double m = sys->mass_of(i) / ftm2v;
     for (int d = 0; d < 3; d++) {
-      const double fall = acc[i][d] * m - (holds() ? held0[i][d] : 0.0);
+      const double fall = acc[i][d] * m - (held ? held0[i][d] : 0.0);
       r.fx0[k][d] = fall - fk[mi[k]][d];
     }
   }

@@ -527,37 +527,41 @@ thermo_style custom step ke pe etotal
   // constant G(q0) = f - F_C, exact for a constant force (held as kicks
   // around the flows, each bounce would be O(g dt) off); pcva falls back
   const std::string addforce = "fix g all addforce 0.0 0.0 -1.0\nfix_modify g energy yes\n";
-  for (const std::string &field : {gravity, addforce})
-  for (const std::string engine :
-       {"cva", "cva substep global", "pcva", "pcva substep global", "vci"}) {
-    if (field == addforce && engine == "pcva") continue;
-    HSLammps L;
-    const std::string method = engine.substr(0, engine.find(' '));
-    const std::string rest = engine.substr(method.size());
-    const std::string what_field = field == gravity ? "gravity, " : "addforce, ";
-    // vci's impulse matches its discrete energy E_d, not H: not exact here
-    // (measured: paths 2e-6, energy 1.4e-6 off the analytic ones)
-    const double tol = method == "vci" ? 1e-4 : 1e-9, etol = method == "vci" ? 1e-5 : 1e-11;
-    L.lines(in + field + "fix hs all hardsphere/" + method + " diameter 1.0 wall zlo 0.0" + rest +
-            "\n");
-    L.lines("run 2700\n");
-    auto *atom = L.lmp->atom;
-    ASSERT_EQ(atom->nlocal, 3);
-    EXPECT_EQ(L.fix_vector("hs", 1), 2.0) << what_field << engine << ": pair collisions";
-    EXPECT_EQ(L.fix_vector("hs", 2), 7.0) << what_field << engine << ": wall collisions";
-    // (steps that fell back: f_hs[10] of cva, f_hs[13] of pcva, f_hs[16] of vci)
-    if (rest.empty())
-      EXPECT_EQ(L.fix_vector("hs", method == "cva" ? 9 : method == "pcva" ? 12 : 15), 0.0)
-          << what_field << engine << ": fell back";
-    for (int i = 0; i < 3; i++) {
-      const int t = (int) atom->tag[i] - 1;
-      const double xu = atom->x[i][0] + 20.0 * (double) ((atom->image[i] & IMGMASK) - IMGMAX);
-      const double got[4] = {xu, atom->x[i][2], atom->v[i][0], atom->v[i][2]};
-      const char *what[4] = {"xu", "z", "vx", "vz"};
-      for (int k = 0; k < 4; k++)
-        EXPECT_NEAR(got[k], want[t][k], tol) << what_field << engine << " atom " << t + 1 << " " << what[k];
+  // (label, the field's fix commands)
+  const std::pair<std::string, std::string> fields[] = {{"gravity, ", gravity},
+                                                         {"addforce, ", addforce}};
+  for (const auto &[what_field, field] : fields) {
+    for (const std::string engine :
+         {"cva", "cva substep global", "pcva", "pcva substep global", "vci"}) {
+      if (field == addforce && engine == "pcva") continue;
+      HSLammps L;
+      const std::string method = engine.substr(0, engine.find(' '));
+      const std::string rest = engine.substr(method.size());
+      // vci's impulse matches its discrete energy E_d, not H: not exact here
+      // (measured: paths 2e-6, energy 1.4e-6 off the analytic ones)
+      const double tol = method == "vci" ? 1e-4 : 1e-9, etol = method == "vci" ? 1e-5 : 1e-11;
+      L.lines(in + field + "fix hs all hardsphere/" + method + " diameter 1.0 wall zlo 0.0" +
+              rest + "\n");
+      L.lines("run 2700\n");
+      auto *atom = L.lmp->atom;
+      ASSERT_EQ(atom->nlocal, 3);
+      EXPECT_EQ(L.fix_vector("hs", 1), 2.0) << what_field << engine << ": pair collisions";
+      EXPECT_EQ(L.fix_vector("hs", 2), 7.0) << what_field << engine << ": wall collisions";
+      // (steps that fell back: f_hs[10] of cva, f_hs[13] of pcva, f_hs[16] of vci)
+      if (rest.empty())
+        EXPECT_EQ(L.fix_vector("hs", method == "cva" ? 9 : method == "pcva" ? 12 : 15), 0.0)
+            << what_field << engine << ": fell back";
+      for (int i = 0; i < 3; i++) {
+        const int t = (int) atom->tag[i] - 1;
+        const double xu = atom->x[i][0] + 20.0 * (double) ((atom->image[i] & IMGMASK) - IMGMAX);
+        const double got[4] = {xu, atom->x[i][2], atom->v[i][0], atom->v[i][2]};
+        const char *what[4] = {"xu", "z", "vx", "vz"};
+        for (int k = 0; k < 4; k++)
+          EXPECT_NEAR(got[k], want[t][k], tol)
+              << what_field << engine << " atom " << t + 1 << " " << what[k];
+      }
+      EXPECT_NEAR(L.thermo("etotal") * 3.0, e0, etol) << what_field << engine << ": energy";
     }
-    EXPECT_NEAR(L.thermo("etotal") * 3.0, e0, etol) << what_field << engine << ": energy";
   }
   // with fix viscous beside (a held force: half kicks around the map on both
   // engines; members' held forces are what is left of LAMMPS' force after
