@@ -21,7 +21,8 @@
 # contacts at a rank face. Then the error of a cluster that outgrows the
 # ghost region, the counted fall-back to the global engine (overflow
 # global) and the widened ghost cutoff (overflow widen); charged spheres
-# with pppm and fix efield (held smooth forces, cva and vci); ghost lazy's
+# with pppm and fix efield (held smooth forces, cva and vci), also between
+# this fix's walls with pppm's slab correction; ghost lazy's
 # shell (a collision-free run is fix nve's to the bit on 2 ranks, with its
 # ghost atoms; a dilute fluid whose shell widens and narrows many times
 # equals 1 rank). hardsphere/pcva on the fluids, the hot and held
@@ -371,6 +372,19 @@ echo "charged hard spheres, coul/long + pppm, fix efield (held smooth forces), 1
 check_system charged in.local_charged "2 4" -var nsteps 200
 no_fallback charged "2 4"
 vci_too charged
+
+# the same ions between this fix's walls (boundary p p f, pppm with
+# kspace_modify slab), the field across them: held kspace and field forces
+# with wall contacts; cva and vci, no fall-back
+charged_input | sed -e 's/^atom_style  charge/&\nboundary    p p f/' \
+  -e 's/^region      box block 0 10 0 10 0 10/region      box block 0 10 0 10 -0.5 9.5/' \
+  -e 's/^kspace_style pppm 1e-4/&\nkspace_modify slab 3.0/' \
+  -e 's/^fix         ef all efield 0.2 0.0 0.0/fix         ef all efield 0.0 0.0 0.2/' \
+  -e 's/^fix         hs all hardsphere\/cva diameter 1.0/& wall zlo EDGE wall zhi EDGE/' > in.local_slab
+echo "the charged spheres between walls, pppm slab, the field across them, 200 steps:"
+check_system slab in.local_slab "2 4" -var nsteps 200
+no_fallback slab "2 4"
+vci_too slab
 
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
 # force; pcva's ledger holds their -m g.q, vci's flows -F.dq) and in V_R
