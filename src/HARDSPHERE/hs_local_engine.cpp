@@ -1677,7 +1677,28 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     for (int i : M) set_x(i, x0[i]);
   } else
     for (int k = 0; k < nm; k++) set_x(M[k], r.xm[k].data());
+  // the flow's energies, if the method asks (hs_flow_view.h)
+  const bool energies = meth.needs_flow_energy();
+  // a provisional second half: F_X at the members' ends is not known yet
+  // (cross terms, cross_at_end() not run since fx changed), so the
+  // corrector runs this half again with it. Until then only its end
+  // positions, contacts and segments are read: its last sub-step stops at
+  // the drift (no evaluation at the step's end, no closing kick or partner
+  // sums, which the run again replaces)
+  const bool provisional = !first_half && !energies && force->pair && !r.xnbrs.empty() &&
+      (int) r.fx1.size() != nm;
+  // a second half run again from where it last started (the corrector's
+  // run after the provisional one: the same lists, every copy in its terms
+  // at the same place) takes the forces of that start again
+  bool same_start = !first_half && !energies && r.xB.size() == r.snap.zero_list.size() &&
+      r.fkB.size() == r.touched.size();
+  for (size_t k = 0; same_start && k < r.xB.size(); k++) {
+    const double *xk = x[r.snap.zero_list[k]];
+    same_start = xk[0] == r.xB[k][0] && xk[1] == r.xB[k][1] && xk[2] == r.xB[k][2];
+  }
   if (first_half) vc(M.data(), nm);
+  else if (same_start)
+    locf->restore(r.snap);
   else {
     locf->recompute(r.snap);    // the lists of the first half
     ncompute_here += 1.0;
@@ -1687,6 +1708,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   if (first_half) {
     locf->save(r.snap);
     r.touched = locf->touched();
+    r.fkB.clear();    // (of the last snapshot's lists)
+    r.xB.clear();
     // the static atoms of this flow: partners and contact candidates
     r.env.clear();
     for (int t : r.touched)
@@ -1738,7 +1761,16 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   fk.resize(nt);
   fk1.resize(nt);
   double **fl = locf->forces();
-  for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
+  if (same_start)
+    fk = r.fkB;
+  else
+    for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
+  if (!first_half && !same_start && !energies) {
+    r.fkB = fk;
+    const std::vector<int> &Z = r.snap.zero_list;
+    r.xB.resize(Z.size());
+    for (size_t k = 0; k < Z.size(); k++) r.xB[k] = {x[Z[k]][0], x[Z[k]][1], x[Z[k]][2]};
+  }
   // where each member sits in T
   std::vector<int> &mi = scratch_mi;
   mi.resize(nm);
@@ -1905,9 +1937,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     }
   };
 
-  // the flow's energies, if the method asks (hs_flow_view.h): V_C of the
-  // restricted terms minus f_X . (q - q_start), 1/2 |v|^2_M of the members
-  const bool energies = meth.needs_flow_energy();
+  // the flow's energies (above): V_C of the restricted terms minus
+  // f_X . (q - q_start), 1/2 |v|^2_M of the members
   std::vector<Vec> &xs = scratch_xs;
   if (energies) {
     xs.resize(nm);
@@ -1987,6 +2018,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         segs[k].push_back(s);
       }
       kick_drift(d);
+      if (provisional && !hit) break;    // (above)
       const double kh = energies ? kinetic() : 0.0;
       locf->recompute();    // the same terms: their restricted lists again
       ncompute_here += 1.0;

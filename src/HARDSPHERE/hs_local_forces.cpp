@@ -976,8 +976,14 @@ void HSLocalForces::save(Snapshot &sn) const
 
 void HSLocalForces::recompute(const Snapshot &sn)
 {
+  restore(sn);
+  recompute();
+}
+
+void HSLocalForces::restore(const Snapshot &sn)
+{
   if ((comm->nprocs > 1 && !sn.rows) || sn.ncalls != list_epoch())
-    error->all(FLERR, "{}: local forces recomputed from a snapshot of another list", owner_);
+    error->all(FLERR, "{}: local forces restored from a snapshot of another list", owner_);
   rows_ = sn.rows;
   fold_ = sn.fold;
   NeighList *L = pair_list();
@@ -998,7 +1004,6 @@ void HSLocalForces::recompute(const Snapshot &sn)
   touched_owned_ = sn.touched;
   last_ncalls_ = sn.ncalls;
   last_nc_ = 1;
-  recompute();
 }
 
 /* ----------------------------------------------------------------------

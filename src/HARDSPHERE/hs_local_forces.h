@@ -137,6 +137,10 @@ class HSLocalForces : protected Pointers {
   };
   void save(Snapshot &) const;
   void recompute(const Snapshot &);
+  // a snapshot's lists made the current ones, nothing evaluated: the
+  // caller holds their forces at these positions already (recompute()
+  // then works on them); forces() and energy() are not theirs until it
+  void restore(const Snapshot &);
   const std::vector<int> &touched() const { return touched_owned_; }
 
   // ---- rank-local rows (issue 20: the local engine on several ranks)
