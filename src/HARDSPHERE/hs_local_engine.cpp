@@ -1683,14 +1683,15 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   // (cross terms, cross_at_end() not run since fx changed), so the
   // corrector runs this half again with it. Until then only its end
   // positions, contacts and segments are read: its last sub-step stops at
-  // the drift (no evaluation at the step's end, no closing kick or partner
-  // sums, which the run again replaces)
-  const bool provisional = !first_half && !energies && force->pair && !r.xnbrs.empty() &&
+  // the drift (no evaluation at the step's end, no closing kick, partner
+  // sums or method's check of that sub-step: the run again replaces them,
+  // and only a final run's counts reach the method, step_clusters())
+  const bool provisional = !first_half && force->pair && !r.xnbrs.empty() &&
       (int) r.fx1.size() != nm;
   // a second half run again from where it last started (the corrector's
   // run after the provisional one: the same lists, every copy in its terms
   // at the same place) takes the forces of that start again
-  bool same_start = !first_half && !energies && r.xB.size() == r.snap.zero_list.size() &&
+  bool same_start = !first_half && r.xB.size() == r.snap.zero_list.size() &&
       r.fkB.size() == r.touched.size();
   for (size_t k = 0; same_start && k < r.xB.size(); k++) {
     const double *xk = x[r.snap.zero_list[k]];
@@ -1765,8 +1766,9 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     fk = r.fkB;
   else
     for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
-  if (!first_half && !same_start && !energies) {
+  if (!first_half && !same_start) {
     r.fkB = fk;
+    r.eB = energies ? locf->energy() : 0.0;
     const std::vector<int> &Z = r.snap.zero_list;
     r.xB.resize(Z.size());
     for (size_t k = 0; k < Z.size(); k++) r.xB[k] = {x[Z[k]][0], x[Z[k]][1], x[Z[k]][2]};
@@ -1959,7 +1961,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   FlowView view;
   double Vnow = 0.0;
   if (energies) {
-    Vnow = potential();
+    Vnow = same_start ? r.eB : potential();    // (at the start x = xs)
     view.last = {0.0, kinetic(), Vnow, Vnow};
     meth.flow_begun(view);
     // the sub-step the flow would take after the contact's impulse imp

@@ -233,6 +233,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Vec> dvA, dvB, fend;    // runner, on touched: partner velocity changes, end forces
     std::vector<Vec> fkB, xB;    // runner: V_C's force on touched at the last second half's
                                  // start, and every copy in its terms (snap.zero_list) then
+    double eB = 0.0;             // runner: V_C there (a method that reads the flows' energies)
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
     std::vector<double> mcount[2];    // runner: the method's counts of each half's last flow
