@@ -196,7 +196,9 @@ void HSLocalEngine::chosen()
                    "constant force inside the sub-stepped flows, the end's in the closing "
                    "kick (second order; substep global evaluates them at every contact){}\n",
                    sys->style_name, held_smooth,
-                   sys->nheld ? "; held thermostat forces ride with them" : "");
+                   sys->nheld ? "; held thermostat forces ride with them, instead of the two "
+                                "half kicks"
+                              : "");
   held_smooth_told = held_smooth;
   locf->keep_energy(meth.needs_flow_energy());
   locf->set_near(sys->list_cutoff, sys->groupbit);
