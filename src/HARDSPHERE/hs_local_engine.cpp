@@ -1510,6 +1510,11 @@ void HSLocalEngine::cross_of(Run &r)
    Collective; true if any rank redoes a second half
 ------------------------------------------------------------------------- */
 
+bool HSLocalEngine::awaits_corrector(const Run &r) const
+{
+  return force->pair && !r.xnbrs.empty() && r.fx1.empty();
+}
+
 bool HSLocalEngine::cross_at_end()
 {
   int redo = 0;
@@ -1517,7 +1522,7 @@ bool HSLocalEngine::cross_at_end()
     double **x = atom->x;
     std::vector<tagint> keys;
     runs.for_each([&](tagint key, Run &r) {
-      if (r.mine && r.b_done && !r.xnbrs.empty() && r.fx1.empty()) keys.push_back(key);
+      if (r.mine && r.b_done && awaits_corrector(r)) keys.push_back(key);
     });
     if (!keys.empty()) {
       // every member copy with a known end at its end (they wait at their
@@ -1683,13 +1688,14 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   const bool energies = meth.needs_flow_energy();
   // a provisional second half: F_X at the members' ends is not known yet
   // (cross terms, cross_at_end() not run since fx changed), so the
-  // corrector runs this half again with it. Until then only its end
-  // positions, contacts and segments are read: its last sub-step stops at
-  // the drift (no evaluation at the step's end, no closing kick, partner
-  // sums or method's check of that sub-step: the run again replaces them,
-  // and only a final run's counts reach the method, step_clusters())
-  const bool provisional = !first_half && force->pair && !r.xnbrs.empty() &&
-      (int) r.fx1.size() != nm;
+  // corrector runs this half again with it (awaits_corrector(): what
+  // cross_at_end() picks; settle() runs it after every growth). Until then
+  // only the run's end positions, contacts and segments are read: its last
+  // sub-step stops at the drift (no evaluation at the step's end, no
+  // closing kick, partner sums or method's check of that sub-step: the run
+  // again replaces them, and only a final run's counts reach the method,
+  // step_clusters())
+  const bool provisional = !first_half && awaits_corrector(r);
   // a second half run again from where it last started (the corrector's
   // run after the provisional one: the same lists, every copy in its terms
   // at the same place) takes the forces of that start again

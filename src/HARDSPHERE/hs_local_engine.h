@@ -485,6 +485,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void label_cluster(int c);
   void cross_at_mid();
   bool cross_at_end();
+  // a run with cross terms whose second half still has the extrapolated
+  // cross force: cross_at_end() runs that half again (and flow() takes
+  // its first run as provisional)
+  bool awaits_corrector(const Run &r) const;
   std::vector<std::pair<int, Vec>> xend_saved;
   uint32_t xepoch = 0;
   void cross_of(Run &r);
