@@ -2983,6 +2983,10 @@ int HSLocalEngine::step_clusters()
       error->one(FLERR, "Fix {} substep local: internal error: cluster {} has no run",
                  F.style_name, key_of(c));
     const Run &r = *rp;
+    // (a provisional second half has no closing kick: never a final one)
+    if (r.mine && awaits_corrector(r))
+      error->one(FLERR, "Fix {} substep local: internal error: cluster {} ends step {} with a "
+                 "provisional second half", F.style_name, key_of(c), update->ntimestep);
     for (size_t k = 0; k < r.mtags.size(); k++) {
       const int l = atom->map(r.mtags[k]);
       if (l < 0 || l >= nlocal) continue;
