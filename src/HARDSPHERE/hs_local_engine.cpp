@@ -1696,9 +1696,9 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   // again replaces them, and only a final run's counts reach the method,
   // step_clusters())
   const bool provisional = !first_half && awaits_corrector(r);
-  // a second half run again from where it last started (the corrector's
-  // run after the provisional one: the same lists, every copy in its terms
-  // at the same place) takes the forces of that start again
+  // the corrector's run again of a provisional second half, from where that
+  // started (the same lists, every copy in its terms at the same place),
+  // takes the forces of that start again (kept by the provisional run)
   bool same_start = !first_half && r.xB.size() == r.snap.zero_list.size() &&
       r.fkB.size() == r.touched.size();
   for (size_t k = 0; same_start && k < r.xB.size(); k++) {
@@ -1774,7 +1774,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     fk = r.fkB;
   else
     for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
-  if (!first_half && !same_start) {
+  if (provisional && !same_start) {
     r.fkB = fk;
     r.eB = energies ? locf->energy() : 0.0;
     const std::vector<int> &Z = r.snap.zero_list;

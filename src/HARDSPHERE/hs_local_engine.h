@@ -231,8 +231,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<Vec> fx1;           // runner: F_X at the members' ends (the corrector's)
     std::vector<tagint> xnbrs;      // runner: clusters (keys) it has cross terms with
     std::vector<Vec> dvA, dvB, fend;    // runner, on touched: partner velocity changes, end forces
-    std::vector<Vec> fkB, xB;    // runner: V_C's force on touched at the last second half's
-                                 // start, and every copy in its terms (snap.zero_list) then
+    std::vector<Vec> fkB, xB;    // runner: V_C's force on touched at its provisional second
+                                 // half's start, and every copy in its terms (snap.zero_list) then
     double eB = 0.0;             // runner: V_C there (a method that reads the flows' energies)
     std::vector<std::vector<Seg>> segsA, segsB;    // per member, of each half's flow
     double npair[2] = {0.0, 0.0}, nwall[2] = {0.0, 0.0}, vir[2][6] = {};
@@ -243,7 +243,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
       for (auto *v : {&members, &touched, &env}) v->clear();
       mtags.clear();
       xnbrs.clear();
-      for (auto *v : {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &fx1, &dvA, &dvB, &fend, &fkB, &xB})
+      for (auto *v :
+           {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &fx1, &dvA, &dvB, &fend, &fkB, &xB})
         v->clear();
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
