@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <mpi.h>
 
 using namespace LAMMPS_NS;
@@ -673,10 +674,21 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
           });
       const int n0 = (int) neigh_.size();
       // a pair with another atom of C is taken from the lower tag's row:
-      // the row and ctag both ascend in tag, so one walk over ctag[0..q)
-      // finds them (by tag, as inC() by copy: no per-atom array read at a
-      // random place for every entry)
+      // the row and ctag both ascend in tag, so one forward search over
+      // ctag[0..q) finds them (by tag, as inC() by copy: no per-atom array
+      // read at a random place for every entry). It jumps by bisection
+      // where much of ctag is left: a walk from ctag's start for every row
+      // made an evaluation of a large C (final_kick()'s of every member,
+      // with held forces) quadratic in |C|
       size_t p = 0;
+      auto seek = [&](tagint tj) {
+        if (q - p > 16)
+          p = std::lower_bound(ctag.begin() + p, ctag.begin() + q,
+                               std::make_pair(tj, std::numeric_limits<int>::min())) -
+              ctag.begin();
+        else
+          while (p < q && ctag[p].first < tj) p++;
+      };
       // the entries' atoms are all over memory: their label, stamp, force
       // and position rows (read here and by the styles' compute()) are
       // asked for ahead, so the misses overlap (HardSphere::prefetch_row())
@@ -692,7 +704,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         const tagint tj = row[k].first;
         const int raw = row[k].second;
         if (tj < ta.first) {
-          while (p < q && ctag[p].first < tj) p++;
+          seek(tj);
           if (p < q && ctag[p].first == tj) continue;    // from tj's row
         }
         if (left_out(a, raw & NEIGHMASK)) continue;

@@ -529,7 +529,9 @@ TEST(LocalForcesRows, GhostCopiesOnAnyRankCount)
   double fscale = 0.0;
   for (double v : F) fscale = std::max(fscale, std::fabs(v));
   int nghost_members = 0, cases = 0;
-  for (int n : {1, 2, 4, 8, 40})
+  // (a C of 200: the search for pairs of two members jumps by bisection
+  // there, and walks for the small C of a cluster)
+  for (int n : {1, 2, 4, 8, 40, 200})
     for (unsigned seed = 1; seed <= 6; seed++) {
       const auto c = random_copies(h.lmp, n, 1000u * seed + n + 17u * h.lmp->comm->me);
       if (c.empty()) continue;
