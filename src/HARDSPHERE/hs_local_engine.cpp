@@ -1276,14 +1276,21 @@ void HSLocalEngine::held_of(Run &r)
   double **x = atom->x, **acc = sys->acc;
   locf->set_labels(nullptr);
   vc(need.data(), (int) need.size());
-  const std::vector<int> T = locf->touched();
-  std::vector<Vec> saved(T.size());
-  for (size_t k = 0; k < T.size(); k++) {
-    saved[k] = {x[T[k]][0], x[T[k]][1], x[T[k]][2]};
-    set_x(T[k], x0[T[k]]);
+  // the terms at x0: the atoms in them that are elsewhere (other clusters'
+  // members at their mid positions, drifted atoms after a growth round)
+  // back to x0 and evaluated again; where none is, vc()'s forces are
+  // those of x0 already (most runs of a step's first round)
+  std::vector<std::pair<int, Vec>> &away = scratch_away;
+  away.clear();
+  for (int t : locf->touched())
+    if (x[t][0] != x0[t][0] || x[t][1] != x0[t][1] || x[t][2] != x0[t][2]) {
+      away.push_back({t, Vec{x[t][0], x[t][1], x[t][2]}});
+      set_x(t, x0[t]);
+    }
+  if (!away.empty()) {
+    locf->recompute();
+    ncompute_here += 1.0;
   }
-  locf->recompute();
-  ncompute_here += 1.0;
   double **fl = locf->forces();
   const double ftm2v = force->ftm2v;
   double fc[3] = {0.0, 0.0, 0.0};
@@ -1293,7 +1300,7 @@ void HSLocalEngine::held_of(Run &r)
     for (int d = 0; d < 3; d++) held0[i][d] = acc[i][d] * m - fl[i][d] - fc[d];
     hstampv[i] = heldepoch;
   }
-  for (size_t k = 0; k < T.size(); k++) set_x(T[k], saved[k].data());
+  for (const auto &a : away) set_x(a.first, a.second.data());
   locf->set_labels(lab.data());
 }
 
