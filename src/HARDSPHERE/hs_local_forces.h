@@ -279,6 +279,11 @@ class HSLocalForces : protected Pointers {
   // restricted pair list storage
   std::vector<int> ilist_, neigh_;
   std::vector<std::pair<int, int>> extra_;    // (row i, raw j) for rows i not in C
+  // extra_ in (i, raw j) order by rows (sort_extra()): per-row counts (kept
+  // zero between calls), the rows present, a scratch copy
+  std::vector<int> xcount_, xrows_;
+  std::vector<std::pair<int, int>> xtmp_;
+  void sort_extra(int nall);
   int nmax_ = 0;
   int *numneigh_ = nullptr;
   int **firstneigh_ = nullptr;

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace HardSphere {
@@ -140,6 +141,48 @@ inline void prefetch_row(const double *base, int ncol, int i, bool write = false
     __builtin_prefetch(row);
     __builtin_prefetch(row + ncol - 1);
   }
+}
+
+// pairs (row, value) with rows in [0, nrows) put in the order std::sort
+// gives them (row ascending, then value), in O(pairs) plus the sorts of
+// the distinct rows and of each row's entries: for many pairs over few
+// entries per row (a restricted evaluation of a large set's terms) instead
+// of O(pairs log pairs). count: zero over [0, nrows) before and after;
+// rows, tmp: scratch
+inline void sort_by_row(std::vector<std::pair<int, int>> &pairs, int nrows,
+                        std::vector<int> &count, std::vector<int> &rows,
+                        std::vector<std::pair<int, int>> &tmp)
+{
+  const size_t n = pairs.size();
+  if (n < 64) {
+    std::sort(pairs.begin(), pairs.end());
+    return;
+  }
+  if ((int) count.size() < nrows) count.resize(nrows, 0);
+  rows.clear();
+  for (const auto &e : pairs)
+    if (count[e.first]++ == 0) rows.push_back(e.first);
+  std::sort(rows.begin(), rows.end());
+  int at = 0;    // counts -> each row's start
+  for (int i : rows) {
+    const int k = count[i];
+    count[i] = at;
+    at += k;
+  }
+  tmp.resize(n);
+  for (const auto &e : pairs) tmp[count[e.first]++] = e;
+  int begin = 0;    // (count[i] is row i's end now)
+  for (int i : rows) {
+    const int end = count[i];
+    if (end - begin > 1)
+      std::sort(tmp.begin() + begin, tmp.begin() + end,
+                [](const std::pair<int, int> &a, const std::pair<int, int> &b) {
+                  return a.second < b.second;
+                });
+    count[i] = 0;
+    begin = end;
+  }
+  pairs.swap(tmp);
 }
 
 }    // namespace HardSphere

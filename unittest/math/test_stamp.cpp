@@ -1,7 +1,8 @@
 // HardSphere::bump_epoch (hs_stamp.h): marks of one pass are not marks of
 // the next, also across the counter's wrap (where the stamps are cleared).
 // HardSphere::RowSet: the rows added, in any order and with repeats, come
-// back once each in increasing order (checked against std::set)
+// back once each in increasing order (checked against std::set).
+// HardSphere::sort_by_row: the order std::sort gives the pairs
 #include "hs_stamp.h"
 
 #include "gtest/gtest.h"
@@ -118,4 +119,23 @@ TEST(RowLists, ResizeKeepsTheRowsBelow)
   EXPECT_EQ(got, (std::vector<int>{7, 8, 9}));
   EXPECT_TRUE(rl.empty(500));
   EXPECT_FALSE(rl.empty(999));
+}
+
+TEST(Stamp, SortByRowIsStdSortOrder)
+{
+  std::mt19937 rng(7);
+  std::vector<int> count, rows;
+  std::vector<std::pair<int, int>> tmp;
+  for (int nrows : {5, 300, 5000})
+    for (int n : {0, 1, 63, 64, 1000, 20000}) {
+      std::uniform_int_distribution<int> row(0, nrows - 1), val(-50, 1 << 30);
+      std::vector<std::pair<int, int>> p(n);
+      for (auto &e : p) e = {row(rng), val(rng)};
+      if (n > 10) p[3] = p[7];    // a repeat
+      std::vector<std::pair<int, int>> want = p;
+      std::sort(want.begin(), want.end());
+      HardSphere::sort_by_row(p, nrows, count, rows, tmp);
+      EXPECT_EQ(p, want) << nrows << " rows, " << n << " pairs";
+      for (int c : count) ASSERT_EQ(c, 0) << "counts not left at zero";
+    }
 }
