@@ -424,7 +424,8 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
   cons_view = &eng;
   if (cons_direct) return;    // (cons(), vcons())
   HardSphere::bump_epoch(cepoch, cstamp);
-  std::vector<int> atoms;
+  std::vector<int> &atoms = cs_atoms;
+  atoms.clear();
   auto note = [&](int i) {
     if (cstamp[i] == cepoch) return;
     cstamp[i] = cepoch;
@@ -441,13 +442,16 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
 
   // F_cons of the group's owners: a restricted evaluation of all their
   // terms (collective: every rank calls it, with its own part)
-  std::vector<int> set;
+  std::vector<int> &set = cs_set;
+  set.clear();
   for (int i : atoms)
     if (mask[i] & gb) set.push_back(i);
   HSLocalForces &lf = eng.local_forces();
   lf.set_labels(nullptr);
-  std::vector<int> moved;
-  std::vector<Vec> saved;
+  std::vector<int> &moved = cs_moved;
+  std::vector<Vec> &saved = cs_saved;
+  moved.clear();
+  saved.clear();
   if (at_start) {
     lf.terms(set.data(), (int) set.size());
     // each copy in a term once, by stamp (as list_terms(): a sort of the

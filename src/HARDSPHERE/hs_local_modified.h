@@ -158,6 +158,11 @@ class HSLocalModified : protected Pointers {
   std::vector<Vec> fcons_, vcons_;
   std::vector<uint32_t> cstamp;
   uint32_t cepoch = 0;
+  // conservative_state()'s lists, kept: about half the atoms each at the
+  // fluid's collision rate, so fresh vectors were fresh pages every step
+  // (the kernel's page clearing 5 % of a pcva + langevin step at 2048000 atoms)
+  std::vector<int> cs_atoms, cs_set, cs_moved;
+  std::vector<Vec> cs_saved;
   bool cons_direct = false, cons_start = false;
   HSStepView *cons_view = nullptr;
   void conservative_state(HSStepView &, bool at_start);

@@ -5,6 +5,7 @@
    the memory-order helpers of the local engine: RowSet, a bitmap that
    reads listed rows back in index order, and prefetch_row() for loops
    whose order is fixed; RowLists, per-row lists in one flat array;
+   sort_by_row(), pairs in std::sort's order by per-row counts;
    capacity_bytes() for memory_usage(). LAMMPS-free.
 ------------------------------------------------------------------------- */
 
