@@ -160,7 +160,7 @@ class HSLocalModified : protected Pointers {
   uint32_t cepoch = 0;
   // conservative_state()'s lists, kept: about half the atoms each at the
   // fluid's collision rate, so fresh vectors were fresh pages every step
-  // (the kernel's page clearing 5 % of a pcva + langevin step at 2048000 atoms)
+  // (the kernel's page clearing 4 % of a pcva + langevin step at 2048000 atoms)
   std::vector<int> cs_atoms, cs_set, cs_moved;
   std::vector<Vec> cs_saved;
   bool cons_direct = false, cons_start = false;
