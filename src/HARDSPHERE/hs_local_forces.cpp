@@ -757,7 +757,11 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
           extra_.emplace_back(pinv_row_[p], pinv_val_[p]);
       }
     }
-    sort_extra(nall);
+    // in the order std::sort gives the pairs (row, then raw j), which the
+    // restricted lists and so the forces' round-off follow, by per-row
+    // counts: one sort of all of them was O(E log E) for pcva's evaluations
+    // of every owner's terms with held forces (C about half the atoms)
+    HardSphere::sort_by_row(extra_, nall, xcount_, xrows_, xtmp_);
     std::vector<int> &starts = starts_;
     starts.clear();
     for (size_t k = 0; k < extra_.size(); k++) {
@@ -877,19 +881,6 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   last_ncalls_ = list_epoch();
   last_nc_ = nc;
   ncalls += 1.0;
-}
-
-/* ----------------------------------------------------------------------
-   extra_ in the order std::sort gives the pairs (row i ascending, then raw
-   j), which the restricted lists and so the forces' round-off follow: the
-   rows by counts, then each row's few entries sorted. One sort of all the
-   pairs was O(E log E) for pcva's evaluations of every owner's terms with
-   held forces (C about half the atoms; 7 % of a pcva + fix langevin step)
-------------------------------------------------------------------------- */
-
-void HSLocalForces::sort_extra(int nall)
-{
-  HardSphere::sort_by_row(extra_, nall, xcount_, xrows_, xtmp_);
 }
 
 /* ----------------------------------------------------------------------

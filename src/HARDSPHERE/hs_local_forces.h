@@ -279,11 +279,10 @@ class HSLocalForces : protected Pointers {
   // restricted pair list storage
   std::vector<int> ilist_, neigh_;
   std::vector<std::pair<int, int>> extra_;    // (row i, raw j) for rows i not in C
-  // extra_ in (i, raw j) order by rows (sort_extra()): per-row counts (kept
-  // zero between calls), the rows present, a scratch copy
+  // HardSphere::sort_by_row()'s per-row counts (kept zero between calls),
+  // rows present and scratch copy, for extra_
   std::vector<int> xcount_, xrows_;
   std::vector<std::pair<int, int>> xtmp_;
-  void sort_extra(int nall);
   int nmax_ = 0;
   int *numneigh_ = nullptr;
   int **firstneigh_ = nullptr;
