@@ -1,9 +1,10 @@
 #!/bin/bash
 # bench/scaling/large.sh: the local engine beyond 256000 atoms, with a thermostat.
 # The 256000-atom fluid of run.sh and the same replicated 2 x 2 x 2 (2048000 atoms),
-# fix nve and the METHODS (default cva; their default engine), each beside fix langevin (EXTRA;
-# held forces: the members' conservative terms are evaluated at the step's start and
-# end), on NP ranks, repeats alternating the runs. Prints per run the time per step,
+# fix nve and the METHODS (default cva; their default engine), each beside fix langevin (EXTRA,
+# defined after the integrator: the held forces are f less LAMMPS' own conservative force,
+# copied before the thermostat's; doc/fix_hardsphere.rst "Held forces"), on NP ranks,
+# repeats alternating the runs. Prints per run the time per step,
 # collisions and clusters per step, restricted evaluations per cluster and LAMMPS'
 # memory per rank; then per size the medians and the cost per collision
 # ((cva - nve) / collisions per step), which should not grow with N (issue 22).

@@ -162,7 +162,8 @@ FixHardSphere::~FixHardSphere()
 
 int FixHardSphere::setmask()
 {
-  return INITIAL_INTEGRATE | FINAL_INTEGRATE | PRE_EXCHANGE | POST_NEIGHBOR;
+  // (post_force: the conservative forces before a thermostat's, capture_rule())
+  return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE | PRE_EXCHANGE | POST_NEIGHBOR;
 }
 
 void FixHardSphere::post_constructor()
@@ -249,12 +250,14 @@ void FixHardSphere::init()
     S.forces_present = 1;
   if (force->kspace && force->kspace->compute_flag) S.forces_present = 1;
   for (int k = 0; k < modify->nfix; k++)
-    if (modify->fmask[k] & (FixConst::PRE_FORCE | FixConst::PRE_REVERSE | FixConst::POST_FORCE))
+    if ((modify->fmask[k] & (FixConst::PRE_FORCE | FixConst::PRE_REVERSE | FixConst::POST_FORCE)) &&
+        !HardSphere::package_fix(modify->fix[k]->style))
       S.forces_present = 1;
 
   check_fixes_beside();
   check_peratom_virial();
   choose_engine();
+  capture_rule();
 
   // the contact list needs ghost atoms out to its cutoff: checked here,
   // before newer LAMMPS (4Feb2025) checks the request with a vaguer message,
@@ -381,6 +384,65 @@ void FixHardSphere::check_fixes_beside()
   held_told = held;
 }
 
+/* ----------------------------------------------------------------------
+   held forces without an evaluation: with the local engine and held
+   (thermostat) forces, a member's held force is f less its conservative
+   force. LAMMPS' f holds the conservative force between the post_force()
+   of the fixes whose forces are part of it (gravity, enforce2d) and those
+   of the held fixes, which add theirs in the input's order: if this fix
+   comes between them, its post_force() copies f there and the engine takes
+   f - that copy; else the engine evaluates the members' terms again (the
+   same forces, to round-off). The engine says whether it can
+   (HSStepEngine::takes_captured_forces())
+------------------------------------------------------------------------- */
+
+void FixHardSphere::capture_rule()
+{
+  S.cap_on = 0;
+  S.uncapture();
+  if (!engine || !engine->takes_captured_forces()) return;
+  std::string before, after;
+  bool self_seen = false;
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *other = modify->fix[k];
+    if (other == this) {
+      self_seen = true;
+      continue;
+    }
+    if (!(modify->fmask[k] & FixConst::POST_FORCE) || HardSphere::package_fix(other->style))
+      continue;
+    const std::string base = HardSphere::base_style(other->style);
+    if (base == "enforce2d") continue;    // (zeroes z: conservative forces have none)
+    const bool is_held =
+        HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::HELD;
+    const std::string name = fmt::format("fix {} {}", other->id, other->style);
+    if (!self_seen && is_held) before += (before.empty() ? "" : ", ") + name;
+    if (self_seen && !is_held) after += (after.empty() ? "" : ", ") + name;
+  }
+  if (before.empty() && after.empty()) {
+    S.cap_on = 1;
+    capture_told.clear();
+    return;
+  }
+  const std::string why = !before.empty()
+      ? fmt::format("{} come(s) before it in the input", before)
+      : fmt::format("{} come(s) after it in the input", after);
+  if (comm->me == 0 && why != capture_told)
+    utils::logmesg(lmp,
+                   "fix {}: {}, so LAMMPS' f holds no conservative force alone when this fix "
+                   "can read it: the held forces of colliding spheres come from a second "
+                   "evaluation of their terms each collisional step. Define thermostats "
+                   "after fix {} and force fixes (gravity) before it to save that\n",
+                   style_name, why, id);
+  capture_told = why;
+}
+
+// f between the force fixes' post_force and the held fixes' (capture_rule())
+void FixHardSphere::post_force(int)
+{
+  if (S.cap_on) S.capture_forces();
+}
+
 // the collisions' impulses enter the global virial only (add_impulse_virial):
 // a compute of per-atom virials (stress/atom, centroid/stress/atom) would sum
 // to the pressure without them, silently
@@ -477,6 +539,9 @@ void FixHardSphere::setup(int)
   S.screened_step = -1;
   S.held_step = -1;
   S.step_split = 0;
+  // the set-up's forces, for the first step (LAMMPS' set-up calls the fixes'
+  // setup() in the input's order; a thermostat's calls its post_force())
+  post_force(0);
 }
 
 // (the local engine's ghost shell narrows when no contact came for a while)
@@ -636,6 +701,7 @@ void FixHardSphere::box_changed()
 {
   S.held_step = -1;
   S.screened_step = -1;
+  S.uncapture();    // (forces of the old box)
 }
 
 /* ---------------------------------------------------------------------- */

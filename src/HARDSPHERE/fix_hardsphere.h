@@ -40,6 +40,7 @@ class FixHardSphere : public Fix, public HSTypes {
   void setup_post_neighbor() override;
   void post_neighbor() override;
   void initial_integrate(int) override;
+  void post_force(int) override;
   void final_integrate() override;
   void reset_dt() override;
   double compute_vector(int) override;
@@ -86,6 +87,8 @@ class FixHardSphere : public Fix, public HSTypes {
   std::string unknown_told, held_told;    // fixes named in the log already
   std::string peratom_told;               // computes warned about already
   void check_fixes_beside();
+  void capture_rule();
+  std::string capture_told;    // why held forces are not captured, in the log already
   void check_peratom_virial();
   void check_other_integrators();
   bool shares_atoms(class Fix *other);

@@ -37,6 +37,13 @@ inline std::string base_style(const std::string &style)
   return style;
 }
 
+// this package's integrators (hardsphere/cva, ...): their post_force() only
+// copies f (HSSystem::capture_forces()), it adds no force
+inline bool package_fix(const std::string &style_in)
+{
+  return base_style(style_in).compare(0, 11, "hardsphere/") == 0;
+}
+
 // the kind of the forces a fix adds in post_force, by its style name
 inline FixForceKind fix_force_kind(const std::string &style_in)
 {

@@ -116,7 +116,8 @@ std::string HSLocalEngine::limits()
   gravity.clear();
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
-    if (other == sys->host || !(modify->fmask[k] & FixConst::POST_FORCE)) continue;
+    if (!(modify->fmask[k] & FixConst::POST_FORCE) || HardSphere::package_fix(other->style))
+      continue;
     const std::string base = HardSphere::base_style(other->style);
     if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
     // m g on every atom of its group, whatever the positions: known on
@@ -1269,9 +1270,22 @@ bool HSLocalEngine::member_copies(Run &r)
 void HSLocalEngine::held_of(Run &r)
 {
   if (!holds()) return;
+  // an owned member's f less LAMMPS' own conservative force of the start,
+  // when the fix could copy it (HSSystem::capture_forces()): no evaluation.
+  // A ghost copy's (a member owned by another rank) is evaluated below
+  double **fcap = sys->captured(true);
+  const int nlocal = atom->nlocal;
   std::vector<int> need;
-  for (int l : r.members)
-    if (hstampv[l] != heldepoch) need.push_back(l);
+  for (int l : r.members) {
+    if (hstampv[l] == heldepoch) continue;
+    if (fcap && l < nlocal) {
+      const double *fl = atom->f[l];
+      for (int d = 0; d < 3; d++) held0[l][d] = fl[d] - fcap[l][d];
+      hstampv[l] = heldepoch;
+      continue;
+    }
+    need.push_back(l);
+  }
   if (need.empty()) return;
   double **x = atom->x, **acc = sys->acc;
   locf->set_labels(nullptr);
@@ -1312,6 +1326,11 @@ bool HSLocalEngine::holds() const
 bool HSLocalEngine::rides() const
 {
   return !held_smooth.empty();
+}
+
+bool HSLocalEngine::takes_captured_forces() const
+{
+  return sys->nheld && !rides();
 }
 
 // fix gravity's force on copy i (force units; f += m g in its post_force(),
@@ -3125,7 +3144,14 @@ void HSLocalEngine::final_kick()
     all.push_back(i);
   }
   // members' held forces: f - their conservative force from all their terms
-  if (holds() && !all.empty()) {
+  // (LAMMPS' own, if the fix copied it before the held fixes added theirs)
+  double **fcap = holds() ? sys->captured(false) : nullptr;
+  if (fcap)
+    for (int i : all) {
+      const double dtfm = F.dtf / F.mass_of(i);
+      for (int d = 0; d < 3; d++) v[i][d] += dtfm * (f[i][d] - fcap[i][d]);
+    }
+  else if (holds() && !all.empty()) {
     locf->set_labels(nullptr);
     vc(all.data(), (int) all.size());
     double **fl = locf->forces();

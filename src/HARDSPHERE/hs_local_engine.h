@@ -59,7 +59,9 @@
    unittest/math/test_local_splitting.cpp.
 
    Held (thermostat) forces: a member takes its held force (f minus the
-   conservative force of all its terms) as two half kicks at the step's
+   conservative force of all its terms: LAMMPS' own, copied by the fix
+   before the held fixes' post_force when the input's order allows,
+   HSSystem::captured(); else evaluated) as two half kicks at the step's
    start and end (as the global engine's K_held(dt/2) . Phi . K_held(dt/2)),
    a non-member with V_R in Phi_H2's kicks, as beside fix nve. Held smooth
    forces (kspace, fixes that only add a force: limits()) are in the same
@@ -151,6 +153,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void pre_exchange() override;
   double counter(int k) override;
   double memory_usage() const override;
+  // (not with kspace or fixes that only add a force, held by limits():
+  // their force is in LAMMPS' f but in no restricted evaluation)
+  bool takes_captured_forces() const override;
 
   // HSStepView: the step's clusters and state, for a method's own
   // bookkeeping (hs_local_modified.h); valid from step() to the

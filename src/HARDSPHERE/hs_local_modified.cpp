@@ -440,12 +440,26 @@ void HSLocalModified::conservative_state(HSStepView &eng, bool at_start)
       vcons_[i][d] = at_start ? eng.start_v(i)[d] : v[i][d];
     }
 
-  // F_cons of the group's owners: a restricted evaluation of all their
-  // terms (collective: every rank calls it, with its own part)
+  // F_cons of the group's owners: LAMMPS' own if the fix copied f before
+  // the held fixes added theirs (HSSystem::capture_forces(); the same
+  // forces as below, to round-off), else a restricted evaluation of all
+  // their terms (collective: every rank calls it, with its own part; the
+  // choice is the same on every rank, FixHardSphere::capture_rule())
   std::vector<int> &set = cs_set;
   set.clear();
   for (int i : atoms)
     if (mask[i] & gb) set.push_back(i);
+  if (double **fcap = sys->captured(at_start)) {
+    const double dtf = sys->dtf;
+    for (int i : set) {
+      const double s = (at_start ? dtf : -dtf) / sys->mass_of(i);
+      for (int d = 0; d < 3; d++) {
+        fcons_[i][d] = fcap[i][d];
+        vcons_[i][d] += s * (f[i][d] - fcons_[i][d]);
+      }
+    }
+    return;
+  }
   HSLocalForces &lf = eng.local_forces();
   lf.set_labels(nullptr);
   std::vector<int> &moved = cs_moved;

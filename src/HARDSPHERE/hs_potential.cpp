@@ -1129,6 +1129,7 @@ void HSPotential::init_fixes()
   m.unknown.clear();
   for (int k = 0; k < modify->nfix; k++) {
     if (!(modify->fmask[k] & FixConst::POST_FORCE)) continue;
+    if (HardSphere::package_fix(modify->fix[k]->style)) continue;    // (adds no force)
     m.post_all.push_back(k);
     const auto kind = HardSphere::fix_force_kind(modify->fix[k]->style);
     if (kind == HardSphere::FixForceKind::HELD) {

@@ -33,6 +33,10 @@ class HSStepEngine : protected Pointers {
   // from the fix's init(), once this engine is chosen: what it needs of the
   // set-up before the run's set-up (the local engine: its ghost cutoff)
   virtual void chosen() {}
+  // true if the engine takes held forces as f less LAMMPS' own conservative
+  // force when the fix can copy it (HSSystem::captured()): only if every
+  // force in f but the held ones is in its restricted evaluations
+  virtual bool takes_captured_forces() const { return false; }
   // initial_integrate of a step in which screening found spheres that may
   // touch: the step up to its closing half kick (collective). Returns false
   // if the engine declined the step, with the state left as before (the

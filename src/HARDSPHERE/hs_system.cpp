@@ -49,6 +49,7 @@ HSSystem::~HSSystem()
   memory->destroy(ftot);
   memory->destroy(fcons);
   memory->destroy(fheld);
+  memory->destroy(fcap);
 }
 
 const char *HSSystem::fix_id() const
@@ -914,6 +915,40 @@ void HSSystem::split_held_forces()
     }
 }
 
+// f of the owned atoms as it is now (called between the force fixes'
+// post_force and the held fixes'): one copy, no evaluation
+void HSSystem::capture_forces()
+{
+  const int nlocal = atom->nlocal;
+  if (atom->nmax > nmax_cap) {
+    nmax_cap = atom->nmax;
+    memory->destroy(fcap);
+    memory->create(fcap, nmax_cap, 3, "hardsphere:fcap");
+  }
+  if (nlocal > 0) memcpy(&fcap[0][0], &atom->f[0][0], 3 * sizeof(double) * (size_t) nlocal);
+  cap_step = update->ntimestep;
+  cap_ncalls = neighbor->ncalls;
+  cap_nlocal = nlocal;
+}
+
+// the start's forces are the last step's end (captured before this step's
+// integrate: no list build since, which would sort or move atoms), the
+// end's this step's post_force (after any build of the step). The same
+// answer on every rank (callers choose collective evaluations by it)
+double **HSSystem::captured(bool at_start) const
+{
+  if (!cap_on) return nullptr;
+  const bigint want = update->ntimestep - (at_start ? 1 : 0);
+  if (cap_step != want || cap_ncalls != neighbor->ncalls) return nullptr;
+  if (cap_nlocal != atom->nlocal)
+    error->one(FLERR,
+               "Fix {}: the atoms changed between the force evaluation of step {} and step "
+               "{} without a neighbor list build ({} atoms on this rank, {} then); after "
+               "adding or deleting atoms, run with pre yes",
+               style_name, cap_step, update->ntimestep, atom->nlocal, cap_nlocal);
+  return fcap;
+}
+
 /* ----------------------------------------------------------------------
    the closing half kick of a step without sub-steps (fix nve's, with the
    step's last dtf). With no end_of_step fix, nothing can change velocities
@@ -979,7 +1014,8 @@ template <bool LIST> int HSSystem::kick_and_screen(double t2, double h4)
 
 double HSSystem::memory_usage() const
 {
-  return (double) nmax_hs * 8 * sizeof(double) + HardSphere::capacity_bytes(cand) +
+  return (double) nmax_hs * 8 * sizeof(double) + (double) nmax_cap * 3 * sizeof(double) +
+      HardSphere::capacity_bytes(cand) +
       HardSphere::capacity_bytes(cand_r) + HardSphere::capacity_bytes(near_atoms) +
       HardSphere::capacity_bytes(unscreened);
 }

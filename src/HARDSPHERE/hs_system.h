@@ -134,6 +134,18 @@ class HSSystem : protected Pointers, public HSTypes {
   // at the current x with atom->f = f_c + f_h: ftot = that, fcons = f_c
   // (left in atom->f), fheld = f_h
   void split_held_forces();
+  // LAMMPS' conservative forces of a step, f before the held fixes' post_force
+  // adds theirs: copied by the fix's own post_force() when it comes after
+  // every force fix and before every held one (FixHardSphere::
+  // capture_rule()). The local engine's held force is then f - fcap, with
+  // no evaluation of the members' terms (doc/fix_hardsphere.rst "Fixes
+  // beside the integrator")
+  int cap_on = 0;
+  void capture_forces();
+  // fcap of the step's start (the last step's end: at_start) or end, if it
+  // holds this step's forces under the current local indices; else null
+  double **captured(bool at_start) const;
+  void uncapture() { cap_step = -1; }
   Fix *other_integrator = nullptr;    // a fix that integrates atoms outside the group
 
   // screening (screened ahead by the closing kick, see closing_kick())
@@ -252,6 +264,9 @@ class HSSystem : protected Pointers, public HSTypes {
  private:
   int nmax_hs = 0;
   int nmax_held = 0;
+  double **fcap = nullptr;    // [nmax_cap][3], owned atoms
+  int nmax_cap = 0, cap_nlocal = -1;
+  bigint cap_step = -1, cap_ncalls = -1;
   std::vector<int> near;    // scratch: one list row's pairs within reach
 };
 

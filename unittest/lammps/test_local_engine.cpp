@@ -595,6 +595,61 @@ thermo_style custom step ke pe etotal
   }
 }
 
+// a member's held force is f less its conservative force. With the
+// thermostat after the integrator in the input, the fix copies LAMMPS' f
+// in its post_force() before the thermostat adds its force, and takes f
+// less that copy; with it before, the engine evaluates the members' terms
+// again (and says why in the log). Both are the same forces, summed in
+// another order: fix viscous (deterministic) gives the same trajectory to
+// round-off over 100 steps with collisions (while viscous 0.3 moves the
+// energy by far more: a held force a step off, or missing, would show),
+// and the copy saves the evaluations (engine's entry 5: cva 10, pcva 13)
+TEST(LocalEngine, HeldForceFromLAMMPSForceAsFromEvaluation)
+{
+  for (const std::string method : {"cva", "pcva", "vci"}) {
+    const std::string hs = "fix hs all hardsphere/" + method + " diameter 1.0";
+    const std::string vi = "fix vi all viscous 0.3";
+    const int evals = method == "cva" ? 10 : method == "pcva" ? 13 : 16;
+    double e[3], t[3], ev[3], coll[3];
+    const std::string fixes[3] = {hs + "\n" + vi, vi + "\n" + hs, hs};
+    for (int k = 0; k < 3; k++) {
+      HSLammps L;
+      L.lines(fluid(fixes[k], 0.005, 87287, 5));
+      L.cmd("run 100");
+      e[k] = L.thermo("etotal");
+      t[k] = L.thermo("temp");
+      ev[k] = L.fix_vector("hs", evals);
+      coll[k] = L.fix_vector("hs", 0);
+    }
+    std::printf("%s: etotal %.15g (copy) %.15g (evaluated) %.15g (no viscous); "
+                "restricted evaluations %g / %g; collisions %g / %g\n",
+                method.c_str(), e[0], e[1], e[2], ev[0], ev[1], coll[0], coll[1]);
+    EXPECT_GT(coll[0], 20.0) << method;
+    EXPECT_EQ(coll[0], coll[1]) << method;
+    EXPECT_NEAR(e[0], e[1], 1e-10 * std::fabs(e[1])) << method;
+    EXPECT_NEAR(t[0], t[1], 1e-10 * t[1]) << method;
+    EXPECT_GT(std::fabs(e[0] - e[2]), 1e-3 * std::fabs(e[2])) << method;
+    EXPECT_LT(ev[0], ev[1]) << method;
+  }
+  // the log says why the forces are evaluated again: a thermostat before
+  // the integrator, or a force fix (gravity) after it
+  const std::string base = fluid("", 0.005, 87287, 3);
+  RunResult before = run_lmp(base + "fix vi all viscous 0.3\nfix hs all hardsphere/cva "
+                                    "diameter 1.0\nrun 20\n");
+  EXPECT_EQ(before.exit_code, 0) << before.output;
+  EXPECT_NE(before.output.find("fix vi viscous come(s) before it in the input"), std::string::npos)
+      << before.output;
+  RunResult after = run_lmp(base + "fix hs all hardsphere/cva diameter 1.0\nfix vi all viscous "
+                                   "0.3\nfix g all gravity 0.1 vector 0 0 -1\nrun 20\n");
+  EXPECT_EQ(after.exit_code, 0) << after.output;
+  EXPECT_NE(after.output.find("fix g gravity come(s) after it in the input"), std::string::npos)
+      << after.output;
+  RunResult good = run_lmp(base + "fix g all gravity 0.1 vector 0 0 -1\nfix hs all hardsphere/cva "
+                                  "diameter 1.0\nfix vi all viscous 0.3\nrun 20\n");
+  EXPECT_EQ(good.exit_code, 0) << good.output;
+  EXPECT_EQ(good.output.find("second evaluation"), std::string::npos) << good.output;
+}
+
 TEST(LocalEngine, FallsBackToGlobalWithAWarning)
 {
   const std::string base = fluid("", 0.005, 1, 3);
