@@ -295,7 +295,11 @@ double HSLocalForces::memory_usage() const
   double b = (double) nmax_ * ((tq_ ? 6 : 3) * sizeof(double) + sizeof(int) + sizeof(int *));
   b += bytes(in_c_) + bytes(zeroed_) + bytes(has_row_) + bytes(pinv_off_) + bytes(pinv_row_) +
       bytes(pinv_val_) + bytes(ilist_) + bytes(neigh_) + bytes(zero_list_) + bytes(term_local_) +
-      bytes(term_off_) + bytes(term_extra_) + bytes(covered_);
+      bytes(term_off_) + bytes(term_extra_) + bytes(covered_) + bytes(extra_) + bytes(xcount_) +
+      bytes(xrows_) + bytes(xtmp_) + bytes(tstamp_) + bytes(touched_owned_) + bytes(marked_) +
+      bytes(starts_);
+  for (const auto &B : bonded_)
+    b += bytes(B.off) + bytes(B.rows) + bytes(B.stamp) + bytes(B.sub);
   for (const SubList &sl : subs_)
     b += bytes(sl.ilist) + bytes(sl.neigh) + bytes(sl.starts) + bytes(sl.num) + bytes(sl.first);
   return b;

@@ -59,6 +59,19 @@ void HSLocalModified::grow()
   }
 }
 
+double HSLocalModified::memory_usage() const
+{
+  const auto bytes = [](const auto &vec) { return HardSphere::capacity_bytes(vec); };
+  double b = (double) nmax * 14 * sizeof(double);    // red, fwd
+  b += bytes(mtag) + bytes(mem) + bytes(cid) + bytes(ptag) + bytes(pstart) + bytes(remap_ms) +
+      bytes(remap_ps) + bytes(remap_st) + bytes(remap_out) + bytes(remap_all) + bytes(pidx) +
+      bytes(tloc) + bytes(toff) + bytes(textra) + bytes(tcopies) + bytes(owners) +
+      bytes(is_mem) + bytes(ghosted) + bytes(ostamp) + bytes(rel) + bytes(red_rows) +
+      bytes(pmark) + bytes(fcons_) + bytes(vcons_) + bytes(cstamp) + bytes(cs_atoms) +
+      bytes(cs_set) + bytes(cs_moved) + bytes(cs_saved);
+  return b;
+}
+
 void HSLocalModified::zero_red()
 {
   for (int l : red_rows)

@@ -82,6 +82,8 @@ class HSLocalModified : protected Pointers {
   // this rank's members' part of V_C from constant one-atom forces (fix
   // gravity: -F.q, unwrapped), at the step's start or end
   double const_energy(HSStepView &, bool at_start) const;
+  // bytes of its per-copy columns and kept lists (the fix's memory_usage())
+  double memory_usage() const;
   int nmembers() const { return (int) mem.size(); }
 
  private:

@@ -252,3 +252,9 @@ std::vector<double *> HSMethodPCVA::counters()
 {
   return {&nproj, &nskip, &maxdev};
 }
+
+// the local projection's columns and lists (HSLocalModified)
+double HSMethodPCVA::memory_usage()
+{
+  return lmod ? lmod->memory_usage() : 0.0;
+}

@@ -38,6 +38,7 @@ class HSMethodPCVA : public HSMethod {
 
   int nvector() const override { return 3; }
   double vector(int) override;
+  double memory_usage() override;
   std::vector<double *> counters() override;
 
  private:

@@ -20,7 +20,7 @@
 namespace HardSphere {
 
 // the bytes a vector holds (its capacity), for the fix's memory_usage()
-template <class T> double capacity_bytes(const std::vector<T> &v)
+template <class T, class A> double capacity_bytes(const std::vector<T, A> &v)
 {
   return (double) v.capacity() * sizeof(T);
 }

@@ -283,12 +283,14 @@ TEST(LocalEngine, OutputVector)
 // arrays (fix memory_usage()): at least the per-copy columns it keeps (start
 // state x0, v0 and held forces, Phi_H2's w with a flag, three 7-column sums
 // and the quick guess's 7-column rows, free gap and flag: 43 doubles per
-// copy, atom->nmax copies), and not absurdly more
+// copy, atom->nmax copies), and not absurdly more; pcva's local projection
+// at least its two 7-column sums per copy more than cva's
 TEST(LocalEngine, MemoryUsageCountsTheEngine)
 {
-  auto usage = [](const std::string &substep, double &nmax) {
+  auto usage = [](const std::string &substep, double &nmax, const std::string &method = "cva") {
     HSLammps L;
-    L.lines(fluid("fix hs all hardsphere/cva diameter 1.0 substep " + substep, 0.005, 87287, 6));
+    L.lines(fluid("fix hs all hardsphere/" + method + " diameter 1.0 substep " + substep, 0.005,
+                  87287, 6));
     L.cmd("run 20");
     nmax = L.lmp->atom->nmax;
     LAMMPS_NS::Fix *f = L.lmp->modify->fix[L.lmp->modify->find_fix("hs")];
@@ -301,6 +303,12 @@ TEST(LocalEngine, MemoryUsageCountsTheEngine)
   ASSERT_EQ(nmax_l, nmax_g);
   EXPECT_GE(local - global, 43.0 * sizeof(double) * nmax_l);
   EXPECT_LE(local - global, 2000.0 * nmax_l);
+  double nmax_p = 0.0;
+  const double pcva = usage("local", nmax_p, "pcva");
+  std::printf("memory: pcva substep local %g bytes (nmax %g)\n", pcva, nmax_p);
+  ASSERT_EQ(nmax_p, nmax_l);
+  EXPECT_GE(pcva - local, 14.0 * sizeof(double) * nmax_p);
+  EXPECT_LE(pcva - local, 1000.0 * nmax_p);
 }
 
 // Charged hard spheres (216 ions, coul/long 4.0 with kspace ewald; pair_modify
