@@ -385,15 +385,16 @@ void FixHardSphere::check_fixes_beside()
 }
 
 /* ----------------------------------------------------------------------
-   held forces without an evaluation: with the local engine and held
-   (thermostat) forces, a member's held force is f less its conservative
-   force. LAMMPS' f holds the conservative force between the post_force()
-   of the fixes whose forces are part of it (gravity, enforce2d) and those
-   of the held fixes, which add theirs in the input's order: if this fix
-   comes between them, its post_force() copies f there and the engine takes
-   f - that copy; else the engine evaluates the members' terms again (the
-   same forces, to round-off). The engine says whether it can
-   (HSStepEngine::takes_captured_forces())
+   held forces without an evaluation: with held (thermostat) forces, the
+   engines split f into its conservative and held parts (the local engine
+   for the colliding spheres, the global one for all). LAMMPS' f holds the
+   conservative force between the post_force() of the fixes whose forces
+   are part of it (gravity, enforce2d; with the global engine any
+   conservative fix) and those of the held fixes, which add theirs in the
+   input's order: if this fix comes between them, its post_force() copies
+   f there and the engine takes f - that copy; else the engine evaluates
+   the conservative force again (the same forces, to round-off). The
+   engine says whether it can (HSStepEngine::takes_captured_forces())
 ------------------------------------------------------------------------- */
 
 void FixHardSphere::capture_rule()

@@ -128,6 +128,13 @@ bool HSGlobalEngine::finish()
   return true;
 }
 
+// every force in LAMMPS' f but the held ones is in the evaluation the copy
+// replaces (HSPotential::evaluate(): the styles, kspace, the conservative fixes)
+bool HSGlobalEngine::takes_captured_forces() const
+{
+  return S.nheld != 0;
+}
+
 // only the count of steps that fell back to this engine from the local one
 double HSGlobalEngine::counter(int k)
 {
@@ -151,14 +158,14 @@ void HSGlobalEngine::begin_held_split()
     for (int i = 0; i < atom->nlocal; i++)
       for (int k = 0; k < 3; k++) f[i][k] = S.fcons[i][k];
   } else
-    S.split_held_forces();
+    S.split_held_forces(true);
   S.kick_dtf(S.dtf, S.fheld);    // K_held(dt/2)
   S.step_split = 1;
 }
 
 void HSGlobalEngine::end_held_split()
 {
-  S.split_held_forces();    // at the step's end
+  S.split_held_forces(false);    // at the step's end
   S.kick_dtf(S.dtf_last);     // the method's closing kick, conservative forces
   if (S.step_substeps) M.end_collisional_step();
   S.kick_dtf(S.dtf, S.fheld);    // K_held(dt/2)

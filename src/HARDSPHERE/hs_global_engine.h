@@ -29,6 +29,7 @@ class HSGlobalEngine : public HSStepEngine, public HSTypes {
   HSGlobalEngine(class LAMMPS *, HSSystem &, HSMethod &);
   bool step() override;
   bool finish() override;
+  bool takes_captured_forces() const override;
   double counter(int k) override;
 
  private:

@@ -891,8 +891,10 @@ void HSSystem::apply_impulse(const Impulse &imp)
 }
 
 // at the current x with atom->f = f_c + f_h (LAMMPS' forces): ftot = that,
-// fcons = f_c (one conservative evaluation, left in atom->f), fheld = f_h
-void HSSystem::split_held_forces()
+// fcons = f_c (left in atom->f), fheld = f_h. f_c is LAMMPS' own force
+// before the held fixes' post_force if the fix copied it (captured(): the
+// step's start, at_start, or end), else one conservative evaluation
+void HSSystem::split_held_forces(bool at_start)
 {
   if (atom->nmax > nmax_held) {
     nmax_held = atom->nmax;
@@ -907,6 +909,14 @@ void HSSystem::split_held_forces()
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < 3; k++) ftot[i][k] = f[i][k];
+  if (double **fc = captured(at_start)) {
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 3; k++) {
+        fcons[i][k] = f[i][k] = fc[i][k];
+        fheld[i][k] = ftot[i][k] - fc[i][k];
+      }
+    return;
+  }
   pot->evaluate(0);
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < 3; k++) {

@@ -133,7 +133,7 @@ class HSSystem : protected Pointers, public HSTypes {
   double **ftot = nullptr, **fcons = nullptr, **fheld = nullptr;    // [nmax_held][3]
   // at the current x with atom->f = f_c + f_h: ftot = that, fcons = f_c
   // (left in atom->f), fheld = f_h
-  void split_held_forces();
+  void split_held_forces(bool at_start);
   // LAMMPS' conservative forces of a step, f before the held fixes' post_force
   // adds theirs: copied by the fix's own post_force() when it comes after
   // every force fix and before every held one (FixHardSphere::

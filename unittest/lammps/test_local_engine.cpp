@@ -611,13 +611,20 @@ thermo_style custom step ke pe etotal
 // another order: fix viscous (deterministic) gives the same trajectory to
 // round-off over 100 steps with collisions (while viscous 0.3 moves the
 // energy by far more: a held force a step off, or missing, would show),
-// and the copy saves the evaluations (engine's entry 5: cva 10, pcva 13)
+// and the copy saves the evaluations (the local engine's restricted ones,
+// its entry 5: cva 10, pcva 13, vci 16; the global engine's full ones,
+// entry 4, which split LAMMPS' force at the step's start and end)
 TEST(LocalEngine, HeldForceFromLAMMPSForceAsFromEvaluation)
 {
-  for (const std::string method : {"cva", "pcva", "vci"}) {
-    const std::string hs = "fix hs all hardsphere/" + method + " diameter 1.0";
+  for (const std::string method :
+       {"cva", "pcva", "vci", "cva substep global", "pcva substep global"}) {
+    const std::string hs = "fix hs all hardsphere/" + method.substr(0, method.find(' ')) +
+        " diameter 1.0" + (method.find(' ') == std::string::npos ? "" : method.substr(method.find(' ')));
     const std::string vi = "fix vi all viscous 0.3";
-    const int evals = method == "cva" ? 10 : method == "pcva" ? 13 : 16;
+    const int evals = method.find("global") != std::string::npos ? 4
+        : method == "cva"                                      ? 10
+        : method == "pcva"                                     ? 13
+                                                               : 16;
     double e[3], t[3], ev[3], coll[3];
     const std::string fixes[3] = {hs + "\n" + vi, vi + "\n" + hs, hs};
     for (int k = 0; k < 3; k++) {
@@ -630,7 +637,7 @@ TEST(LocalEngine, HeldForceFromLAMMPSForceAsFromEvaluation)
       coll[k] = L.fix_vector("hs", 0);
     }
     std::printf("%s: etotal %.15g (copy) %.15g (evaluated) %.15g (no viscous); "
-                "restricted evaluations %g / %g; collisions %g / %g\n",
+                "evaluations %g / %g; collisions %g / %g\n",
                 method.c_str(), e[0], e[1], e[2], ev[0], ev[1], coll[0], coll[1]);
     EXPECT_GT(coll[0], 20.0) << method;
     EXPECT_EQ(coll[0], coll[1]) << method;
