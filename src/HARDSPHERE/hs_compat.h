@@ -202,6 +202,15 @@ namespace HSCompat {
     return n == 3 || (n == 6 && atom->torque_flag);
   }
 
+  // neigh_modify exclude is in effect. Neighbor::exclude says so only from
+  // Neighbor::init() on, which runs after the fixes' init() and leaves it
+  // unset before the first run (both versions): a fix's init() that read it
+  // read garbage there. The counts the command sets are set from the start
+  inline bool excludes(const Neighbor *neighbor)
+  {
+    return neighbor->nex_type || neighbor->nex_group || neighbor->nex_mol;
+  }
+
 }    // namespace HSCompat
 }    // namespace LAMMPS_NS
 

@@ -547,7 +547,8 @@ std::string HSLocalForces::rows_unsupported() const
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
   if (force->pair && force->pair->compute_flag && !force->newton_pair)
     add("newton_pair off (the pair style then does not write the forces of ghost atoms)");
-  if (neighbor->exclude) add("neigh_modify exclude (the rows do not apply exclusions)");
+  if (HSCompat::excludes(neighbor))
+    add("neigh_modify exclude (the rows do not apply exclusions)");
   if (comm->nprocs > 1 && atom->molecular != Atom::ATOMIC && !topo_)
     add("a molecular system on several ranks without the members' topology (ghost atoms carry "
         "no special neighbours or bonded terms)");

@@ -21,6 +21,7 @@
 #include "domain.h"
 #include "fix.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "lmptype.h"
 
 #include <array>
@@ -663,6 +664,32 @@ TEST(LocalEngine, HeldForceFromLAMMPSForceAsFromEvaluation)
                                   "diameter 1.0\nfix vi all viscous 0.3\nrun 20\n");
   EXPECT_EQ(good.exit_code, 0) << good.output;
   EXPECT_EQ(good.output.find("second evaluation"), std::string::npos) << good.output;
+}
+
+// the fixes' init() runs before Neighbor::init(), which sets
+// neighbor->exclude only then: before a LAMMPS instance's first run it is
+// whatever the heap held (a fresh process: zero; an instance made after
+// others in the same process, as a Python script or these tests make them:
+// anything). The engine read it there to choose its force rows, so such a
+// run took the list restriction instead (other round-off) or, on several
+// ranks, fell back to the global engine naming neigh_modify exclude.
+// Garbage planted there must change nothing, bit for bit
+TEST(LocalEngine, EngineChoiceIgnoresNeighborStateBeforeItsInit)
+{
+  double e[2], c[2];
+  for (int k = 0; k < 2; k++) {
+    HSLammps L;
+    L.lines(fluid("fix hs all hardsphere/cva diameter 1.0", 0.005, 87287, 5));
+    // (fluid()'s set-up ran already: plant the garbage; the run's init() follows)
+    if (k == 1) L.lmp->neighbor->exclude = 1;
+    L.cmd("run 200");
+    e[k] = L.thermo("etotal");
+    c[k] = L.fix_vector("hs", 0);
+  }
+  std::printf("etotal %.17g / %.17g, collisions %g / %g\n", e[0], e[1], c[0], c[1]);
+  EXPECT_GT(c[0], 50.0);
+  EXPECT_EQ(c[0], c[1]);
+  EXPECT_EQ(e[0], e[1]);
 }
 
 TEST(LocalEngine, FallsBackToGlobalWithAWarning)
