@@ -444,6 +444,11 @@ void FixHardSphere::post_force(int)
   if (S.cap_on) S.capture_forces();
 }
 
+double **FixHardSphere::captured_forces() const
+{
+  return S.captured(false);
+}
+
 // the collisions' impulses enter the global virial only (add_impulse_virial):
 // a compute of per-atom virials (stress/atom, centroid/stress/atom) would sum
 // to the pressure without them, silently

@@ -58,6 +58,9 @@ class FixHardSphere : public Fix, public HSTypes {
   // positions and the box changed at the end of a step (caches of the
   // step's end, the held-force split and the screening ahead, are stale)
   double sphere_radius(int i) const;
+  // LAMMPS' conservative forces of this step's end, copied before the held
+  // fixes' post_force (HSSystem::captured()); null if not copied
+  double **captured_forces() const;
   void box_changed();
 
  protected:

@@ -589,15 +589,24 @@ void FixHardSpherePress::forces_after_move()
   }
 }
 
-// f - its conservative part at the current x: the thermostats' forces
+// f - its conservative part at the current x: the thermostats' forces. The
+// conservative part is LAMMPS' own if an integrator copied it before the
+// held fixes' post_force on this step, with no list build since (FixHardSphere::
+// captured_forces(): the same on every rank); else one evaluation
 void FixHardSpherePress::save_held_forces()
 {
   const int nlocal = atom->nlocal;
+  double **f = atom->f;
+  for (auto *h : hs)
+    if (double **fc = h->captured_forces()) {
+      for (int i = 0; i < nlocal; i++)
+        for (int d = 0; d < 3; d++) fheld[i][d] = f[i][d] - fc[i][d];
+      return;
+    }
   fcons.resize(3 * (size_t) MAX(nlocal, 1));
   std::vector<double *> rows(MAX(nlocal, 1));
   for (int i = 0; i < nlocal; i++) rows[i] = &fcons[3 * (size_t) i];
   pot->conservative_forces(rows.data());
-  double **f = atom->f;
   for (int i = 0; i < nlocal; i++)
     for (int d = 0; d < 3; d++) fheld[i][d] = f[i][d] - rows[i][d];
 }
