@@ -430,9 +430,9 @@ void FixHardSphere::capture_rule()
       : fmt::format("{} come(s) after it in the input", after);
   if (comm->me == 0 && why != capture_told)
     utils::logmesg(lmp,
-                   "fix {}: {}, so LAMMPS' f holds no conservative force alone when this fix "
-                   "can read it: the held forces of colliding spheres come from a second "
-                   "evaluation of their terms each collisional step. Define thermostats "
+                   "fix {}: {}, so the force it sees in its post_force stage is not the "
+                   "conservative force alone: the held forces come from a second evaluation "
+                   "of the conservative forces in each collisional step. Define thermostats "
                    "after fix {} and force fixes (gravity) before it to save that\n",
                    style_name, why, id);
   capture_told = why;

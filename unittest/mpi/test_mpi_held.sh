@@ -34,7 +34,7 @@ for method in cva pcva vci; do
     -e 's/^\(fix         hs all hardsphere.*\)$/\1\nfix         vi all viscous 0.2/' > in.held_after_$method
   echo "fluid + fix viscous after the integrator, $method, substep local, 100 steps, on 1, 2, 4 ranks:"
   check_system "held_after_$method" in.held_after_$method "2 4" -var nsteps 100
-  if grep -q "a second evaluation of their terms" out.held_after_$method.1 ||
+  if grep -q "a second evaluation of the conservative forces" out.held_after_$method.1 ||
      ! grep -q "forces of fix vi viscous held" out.held_after_$method.1; then
     echo "FAIL: $method with fix viscous after it did not take LAMMPS' conservative forces"
     fail=1
