@@ -15,8 +15,10 @@
    when V is flat: roots near 0, the trivial one, and near 1) and may jump
    where the length of the next sub-step (the time to the next contact)
    changes with s. vci_root() finds the nontrivial root in [smin, smax]
-   (smin = 1/2 keeps the contact separating): model steps from s = 1 with
-   the slope a until the sign changes, then a bracketed secant (Illinois)
+   (smin = 1/2 keeps the contact separating): steps from s = 1 on the
+   model a (s^2 - s) + F(1), then on secants corrected by the known
+   quadratic term a s^2 (quad_secant(): exact where F is that term plus a
+   linear one), until the sign changes; then a bracketed secant (Illinois)
    with bisection as safeguard, to round-off. Where no sub-step follows
    the contact (the next one at the same instant), E_d^+ does not exist:
    eval returns NaN there and the solve reports no root.
@@ -47,6 +49,27 @@ struct VciRoot {
   VciStatus status;
 };
 
+// the root nearest x1 of a x^2 + G(x), G the line through (x0, f0 - a x0^2)
+// and (x1, f1 - a x1^2): the secant step of F less its kinetic quadratic
+// term a s^2 (exact for E_d^+ when V is linear along the trial sub-step's
+// move; a plain secant errs by a (x - x0)(x - x1) there). NaN if there is
+// no real root
+inline double quad_secant(double x0, double f0, double x1, double f1, double a)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!(a > 0.0) || x1 == x0) return nan;
+  const double g0 = f0 - a * x0 * x0, g1 = f1 - a * x1 * x1;
+  const double m = (g1 - g0) / (x1 - x0);
+  const double c = g1 - m * x1;
+  const double disc = m * m - 4.0 * a * c;
+  if (!(disc >= 0.0) || !std::isfinite(disc)) return nan;
+  // the two roots without cancellation: q / a and c / q
+  const double q = -0.5 * (m + std::copysign(std::sqrt(disc), m));
+  const double r1 = q / a, r2 = (q != 0.0) ? c / q : nan;
+  if (!std::isfinite(r2)) return r1;
+  return (std::fabs(r1 - x1) <= std::fabs(r2 - x1)) ? r1 : r2;
+}
+
 // eval(s, scale) returns F(s) and sets scale, the size of the terms whose
 // difference F is (|F| <= ftol_rel * scale counts as zero); NaN where F is
 // not defined. f1 and scale1:
@@ -66,7 +89,10 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
   const double dir = (f1 > 0.0) ? -1.0 : 1.0;
   const double limit = (dir < 0.0) ? smin : smax;
   double a = 1.0, fa = f1;
-  double s = 1.0 - f1 / slope;
+  // the model's root near 1: a (s^2 - s) + F(1) = 0 (F'(1) = a), the line
+  // F(1) + a (s - 1) where it has none
+  const double disc = 0.25 - f1 / slope;
+  double s = disc >= 0.0 ? 0.5 + std::sqrt(disc) : 1.0 - f1 / slope;
   if (!std::isfinite(s) || (s - limit) * dir > 0.0) s = limit;
   double b = 0.0, fb = 0.0;
   bool bracketed = false;
@@ -99,9 +125,11 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
       r.status = VCI_NO_ROOT;
       return r;
     }
-    // secant through the last two points if it moves on towards the limit,
-    // else twice the last step; never past the limit
-    double next = s - fs * (s - a) / (fs - fa);
+    // secant through the last two points (less the quadratic term) if it
+    // moves on towards the limit, else twice the last step; never past the
+    // limit
+    double next = quad_secant(a, fa, s, fs, slope);
+    if (!std::isfinite(next)) next = s - fs * (s - a) / (fs - fa);
     if (!std::isfinite(next) || (next - s) * dir <= 0.0) next = s + 2.0 * (s - a);
     if ((next - limit) * dir > 0.0) next = limit;
     a = s;
@@ -115,9 +143,12 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     return r;
   }
 
-  // --- refine in [a, b] (F(a), F(b) of opposite signs): Illinois
-  // regula falsi, bisection when it stalls
+  // --- refine in [a, b] (F(a), F(b) of opposite signs): the secant less
+  // the quadratic term on the true values (ta, tb), Illinois regula falsi
+  // where it leaves the bracket or the same end was kept last time,
+  // bisection when that stalls
   int side = 0;
+  double ta = fa, tb = fb;
   while (r.evals < maxit) {
     const double lo = std::min(a, b), hi = std::max(a, b);
     if (hi - lo <= 4.0 * eps * std::max(std::fabs(lo), std::fabs(hi))) {
@@ -130,7 +161,9 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
       r.status = VCI_JUMP;
       return r;
     }
-    double c = b - fb * (b - a) / (fb - fa);
+    double c = (side == -1) ? std::numeric_limits<double>::quiet_NaN()
+                            : quad_secant(a, ta, b, tb, slope);
+    if (!(c > lo && c < hi)) c = b - fb * (b - a) / (fb - fa);
     if (!(c > lo && c < hi)) c = 0.5 * (a + b);
     double scale;
     const double fc = eval(c, scale);
@@ -153,14 +186,15 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     if ((fc > 0.0) == (fb > 0.0)) {
       // c replaces b; a is kept: halve its weight if kept twice (Illinois)
       b = c;
-      fb = fc;
+      fb = tb = fc;
       if (side == -1) fa *= 0.5;
       side = -1;
     } else {
       a = b;
       fa = fb;
+      ta = tb;
       b = c;
-      fb = fc;
+      fb = tb = fc;
       side = +1;
     }
   }

@@ -26,6 +26,7 @@
 #include "library.h"
 
 #include <cmath>
+#include <limits>
 
 namespace {
 
@@ -212,9 +213,13 @@ TEST_P(VCISpring, MatchesReferenceImplementation)
   // ... and the fix follows the reference, not the elastic run
   EXPECT_NEAR(f.x, ref.x, 1e-10);
   EXPECT_NEAR(f.v, ref.v, 1e-10 * std::fabs(U.v0));
-  // discrete energy matched across every bounce (energies ~ 0.5)
+  // discrete energy matched across every bounce (energies ~ 0.5): the
+  // reference's bisection to the last bit, the fix's solve to its tolerance,
+  // |F| <= 64 eps times the terms' size (about 1 here: 1.4e-14); its
+  // quadratic-corrected steps stop there, the plain secant it replaced
+  // happened to land further in
   EXPECT_LT(ref.max_ed_mismatch, 1e-14);
-  EXPECT_LT(f.maxdiff, 1e-14);
+  EXPECT_LT(f.maxdiff, 64.0 * std::numeric_limits<double>::epsilon() * 1.5);
   EXPECT_GT(f.nevals, (double) ref.bounces);
   EXPECT_LE(f.maxevals, 12.0);
 }

@@ -144,11 +144,61 @@ TEST(VciRoot, UndefinedValueIsNoRoot)
 
 TEST(VciRoot, IterationLimitIsReported)
 {
-  Quadratic q{1.0, 1e-2};
-  const VciRoot r = solve(q, 0.5, 2.0, 2);
+  // (not the quadratic model itself: its first step is its root)
+  auto F = [](double s, double &scale) {
+    scale = s * s + s + 1.0;
+    return s * s - s + 1e-2 + 0.3 * std::pow(s - 1.0, 3);
+  };
+  double sc;
+  const double f1 = F(1.0, sc);
+  const VciRoot r = vci_root(F, f1, sc, 1.0, 0.5, 2.0, 2);
   EXPECT_EQ(r.status, VCI_NOT_CONVERGED);
   EXPECT_EQ(r.evals, 2);
   EXPECT_EQ(r.s, 1.0);
+}
+
+// the first step is the root of the model a (s^2 - s) + F(1), and later
+// ones secants less the quadratic term a s^2: where F is that quadratic
+// plus any line (a linear V along the trial step) the solve takes two
+// evaluations, F(1) and the root (a plain secant from the line model took
+// 4-6 here)
+TEST(VciRoot, QuadraticPlusLineInTwoEvaluations)
+{
+  for (double m : {0.0, 0.05, -0.08})
+    for (double c : {1e-3, -1e-3, 0.05, -0.2, 1e-9}) {
+      const double a = 1.3;
+      int calls = 0;
+      auto F = [&](double s, double &scale) {
+        calls++;
+        scale = a * (s * s + s) + std::fabs(c) + std::fabs(m);
+        return a * (s * s - s) + m * (s - 1.0) + c;
+      };
+      double sc;
+      const double f1 = F(1.0, sc);
+      const VciRoot r = vci_root(F, f1, sc, a, 0.5, 2.0, 60);
+      ASSERT_EQ(r.status, VCI_CONVERGED) << "m " << m << " c " << c;
+      // a s^2 + (m - a) s + (c - m) = 0, the root near 1
+      const double B = m - a, C = c - m;
+      const double exact = (-B + std::sqrt(B * B - 4.0 * a * C)) / (2.0 * a);
+      EXPECT_NEAR(r.s, exact, 1e-13) << "m " << m << " c " << c;
+      EXPECT_LE(r.evals, m == 0.0 ? 2 : 3) << "m " << m << " c " << c;
+      EXPECT_EQ(r.evals, calls);
+    }
+}
+
+// quad_secant() against the closed form: through two points of
+// a x^2 + m x + b it returns that quadratic's root nearest the second
+TEST(VciRoot, QuadSecantIsExactOnTheModel)
+{
+  const double a = 0.7, m = -0.9, b = 0.1;
+  auto f = [&](double x) { return a * x * x + m * x + b; };
+  const double r_lo = (-m - std::sqrt(m * m - 4 * a * b)) / (2 * a),
+               r_hi = (-m + std::sqrt(m * m - 4 * a * b)) / (2 * a);
+  EXPECT_NEAR(quad_secant(1.0, f(1.0), 1.2, f(1.2), a), r_hi, 1e-14);
+  EXPECT_NEAR(quad_secant(0.1, f(0.1), 0.2, f(0.2), a), r_lo, 1e-14);
+  // no real root, and no quadratic term: NaN (the caller's plain secant)
+  EXPECT_TRUE(std::isnan(quad_secant(1.0, a + 1.0, 1.2, a * 1.44 + 1.0, a)));    // a x^2 + 1
+  EXPECT_TRUE(std::isnan(quad_secant(1.0, 0.1, 1.2, 0.2, 0.0)));
 }
 
 TEST(VciRoot, PerturbedModelsAgainstBisection)
