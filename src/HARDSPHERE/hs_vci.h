@@ -144,11 +144,11 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
   }
 
   // --- refine in [a, b] (F(a), F(b) of opposite signs): the secant less
-  // the quadratic term on the true values (ta, tb), Illinois regula falsi
-  // where it leaves the bracket or the same end was kept last time,
-  // bisection when that stalls
+  // the quadratic term on the true values (ta: F(a) before Illinois halves
+  // fa), Illinois regula falsi where it leaves the bracket or the same end
+  // was kept last time, bisection when that stalls
   int side = 0;
-  double ta = fa, tb = fb;
+  double ta = fa;
   while (r.evals < maxit) {
     const double lo = std::min(a, b), hi = std::max(a, b);
     if (hi - lo <= 4.0 * eps * std::max(std::fabs(lo), std::fabs(hi))) {
@@ -162,7 +162,7 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
       return r;
     }
     double c = (side == -1) ? std::numeric_limits<double>::quiet_NaN()
-                            : quad_secant(a, ta, b, tb, slope);
+                            : quad_secant(a, ta, b, fb, slope);
     if (!(c > lo && c < hi)) c = b - fb * (b - a) / (fb - fa);
     if (!(c > lo && c < hi)) c = 0.5 * (a + b);
     double scale;
@@ -186,15 +186,14 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     if ((fc > 0.0) == (fb > 0.0)) {
       // c replaces b; a is kept: halve its weight if kept twice (Illinois)
       b = c;
-      fb = tb = fc;
+      fb = fc;
       if (side == -1) fa *= 0.5;
       side = -1;
     } else {
       a = b;
-      fa = fb;
-      ta = tb;
+      fa = ta = fb;
       b = c;
-      fb = tb = fc;
+      fb = fc;
       side = +1;
     }
   }
