@@ -473,19 +473,27 @@ void HSLocalEngine::build_adjacency()
   const tagint *tag = atom->tag;
   const std::vector<int> &cand = sys->cand;
   const int np = (int) cand.size() / 2;
+  // a pair of an atom with its own image (left out) is within the list
+  // cutoff only in a periodic dimension shorter than that: else no pair's
+  // tags are read
+  bool images = false;
+  for (int d = 0; d < domain->dimension; d++)
+    images = images || (domain->periodicity[d] && domain->prd[d] <= sys->list_cutoff);
+  auto skip = [&](int a, int b) { return images && tag[a] == tag[b]; };
   adj_off.assign(nall + 1, 0);
   for (int p = 0; p < np; p++) {
     const int a = cand[2 * p], b = cand[2 * p + 1];
-    if (tag[a] == tag[b]) continue;
+    if (skip(a, b)) continue;
     adj_off[a + 1]++;
     adj_off[b + 1]++;
   }
   for (int i = 0; i < nall; i++) adj_off[i + 1] += adj_off[i];
   adj.resize(adj_off[nall]);
-  std::vector<int> pos(adj_off.begin(), adj_off.end() - 1);
+  std::vector<int> &pos = adj_pos;
+  pos.assign(adj_off.begin(), adj_off.end() - 1);
   for (int p = 0; p < np; p++) {
     const int a = cand[2 * p], b = cand[2 * p + 1];
-    if (tag[a] == tag[b]) continue;
+    if (skip(a, b)) continue;
     adj[pos[a]++] = p;
     adj[pos[b]++] = p;
   }
@@ -500,11 +508,16 @@ void HSLocalEngine::build_adjacency()
   // build, paths included, is out of reach)
   const std::vector<double> &r0 = sys->cand_r;
   cand_slack.resize(np);
-  for (int p = 0; p < np; p++) {
-    const double sm =
-        (sys->radius_of(cand[2 * p]) + sys->radius_of(cand[2 * p + 1])) * (1.0 + LINE_MARGIN);
-    cand_slack[p] = r0[p] - sm * (1.0 + 1.0e-10);
-  }
+  if (sys->diameter_flag) {
+    // (radius_of() of both: 0.5 d + 0.5 d = d exactly)
+    const double sm = sys->diameter * (1.0 + LINE_MARGIN) * (1.0 + 1.0e-10);
+    for (int p = 0; p < np; p++) cand_slack[p] = r0[p] - sm;
+  } else
+    for (int p = 0; p < np; p++) {
+      const double sm =
+          (sys->radius_of(cand[2 * p]) + sys->radius_of(cand[2 * p + 1])) * (1.0 + LINE_MARGIN);
+      cand_slack[p] = r0[p] - sm * (1.0 + 1.0e-10);
+    }
   pstamp.assign(np, 0u);
   pepoch = 0;
   cand_version = sys->cand_version;

@@ -382,6 +382,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bigint cand_version = -1;
   std::vector<int> adj_off, adj;            // local copy -> candidate pairs
   std::vector<int> cand_ghosts;             // ghost copies in a candidate pair
+  std::vector<int> adj_pos;                 // scratch of build_adjacency()
   // candidate pair's distance at the list build less its reach without
   // paths (contact distance and line margin, a relative 1e-10 more)
   std::vector<double> cand_slack;
