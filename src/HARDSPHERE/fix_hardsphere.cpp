@@ -140,8 +140,6 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
                "Fix {} needs the diameter keyword, or an atom style with a per-atom "
                "radius (atom_style sphere)",
                style_name);
-  if (domain->triclinic)
-    error->all(FLERR, "Fix {} does not support triclinic boxes", style_name);
   for (const Wall &w : S.walls) {
     std::string name;
     S.wall_name(w, name);
@@ -175,8 +173,24 @@ void FixHardSphere::post_constructor()
 
 void FixHardSphere::init()
 {
+  // a wall is the plane x[dim] = coord: in a triclinic box it is the
+  // box's face only where no tilt factor leans that face (the x faces
+  // lean with xy and xz, the y faces with yz; the z faces never do)
   if (domain->triclinic)
-    error->all(FLERR, "Fix {} does not support triclinic boxes", style_name);
+    for (const Wall &w : S.walls) {
+      const double lean = w.dim == 0 ? fabs(domain->xy) + fabs(domain->xz)
+                                     : (w.dim == 1 ? fabs(domain->yz) : 0.0);
+      if (lean != 0.0) {
+        std::string name;
+        S.wall_name(w, name);
+        error->all(FLERR,
+                   "Fix {} wall {}: in a triclinic box a wall must be a face of the box, and "
+                   "the tilt factors (xy {}, xz {}, yz {}) lean the {} faces: use a wall on a "
+                   "face no tilt factor leans, or an orthogonal box",
+                   style_name, name, domain->xy, domain->xz, domain->yz,
+                   std::string(1, "xyz"[w.dim]));
+      }
+    }
   // rRESPA calls only the *_respa integrate stages, which a step with
   // collisions has no form for: the atoms would silently not move
   if (utils::strmatch(update->integrate_style, "^respa"))

@@ -298,7 +298,10 @@ void HSLocalEngine::reborder()
   if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
   atom->nghost = 0;
   atom->avec->clear_bonus();
+  // (borders() works in box fractions in a triclinic box, as Verlet calls it)
+  if (domain->triclinic) domain->x2lamda(atom->nlocal);
   comm->borders();
+  if (domain->triclinic) domain->lamda2x(atom->nlocal + atom->nghost);
   modify->pre_neighbor();
   neighbor->build(1);
   modify->post_neighbor();

@@ -279,8 +279,9 @@ void HSSystem::reset_reference(int at_setup)
     int **nspecial = atom->nspecial;
     tagint **special = atom->special;
     // map()'s copy is the closest image when it lies within half the
-    // shortest periodic length of i (another image is a box length away
-    // in some periodic dimension: farther; boxes are orthogonal here), so
+    // shortest periodic length of i (another image is a lattice vector
+    // away, and every lattice vector, tilted or not, is at least the
+    // shortest periodic length long: h is upper triangular), so
     // Domain::closest_image()'s walk over every copy (random reads of x,
     // ~20 % of this filter on a bead-spring melt) is needed only otherwise
     double half = BIG;

@@ -61,21 +61,24 @@ TEST(CVAErrors, SecondIntegratorOnSubset)
                {"other", "hs", "both time-integrate"});
 }
 
-TEST(CVAErrors, TriclinicBox)
+TEST(CVAErrors, TriclinicWallOnALeaningFace)
 {
+  // x non-periodic, xy tilted: the x faces lean, a wall plane x = const is
+  // no face of the box (a wall on a face no tilt leans: test_triclinic.cpp)
   const std::string input = R"(
 units lj
 atom_style atomic
+boundary f p p
 region box prism -5 5 -5 5 -5 5 0.5 0 0 units box
 create_box 1 box
 create_atoms 1 single -1 0 0 units box
 create_atoms 1 single 1 0 0 units box
 mass 1 1.0
 comm_modify cutoff 3.0
-fix hs all hardsphere/cva diameter 1.0
+fix hs all hardsphere/cva diameter 1.0 wall xlo EDGE
 run 10
 )";
-  expect_error(input, {"triclinic"});
+  expect_error(input, {"wall xlo", "triclinic box", "xy 0.5", "lean the x faces"});
 }
 
 TEST(CVAErrors, GhostCutoffTooSmall)

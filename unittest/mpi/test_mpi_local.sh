@@ -25,7 +25,7 @@
 # this fix's walls with pppm's slab correction; ghost lazy's
 # shell (a collision-free run is fix nve's to the bit on 2 ranks, with its
 # ghost atoms; a dilute fluid whose shell widens and narrows many times
-# equals 1 rank). hardsphere/pcva on the fluids, the hot and held
+# equals 1 rank); a triclinic box. hardsphere/pcva on the fluids, the hot and held
 # fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
 # the hot and held fluid and the melt.
 
@@ -298,6 +298,16 @@ vci_too() {
 poly_input > in.local_poly
 cva_and_pcva poly "polydisperse spheres (atom style sphere), 1000 atoms" \
   "the same with fix viscous 0.2 (held forces)" 's/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/'
+
+# a triclinic box, tilted by whole lattice cells (the fcc crystal fits):
+# ghost lazy's widening rebuilds the ghost atoms, in box fractions as
+# Verlet does (with Cartesian positions every rank count but 1 missed
+# collisions at step 8)
+lj_fluid_input cva 6 9 | sed "s/ substep global//; s/^region      box block 0 5 0 5 0 5$/region      box prism 0 5 0 5 0 5 2 1 2/; s/^atom_style  atomic/atom_style  atomic\natom_modify map array/" > in.local_tri
+grep -q "^region      box prism 0 5 0 5 0 5 2 1 2$" in.local_tri || { echo "FAIL: in.local_tri has no triclinic box"; exit 1; }
+cva_and_pcva tri "a triclinic box (tilts xy 2, xz 1, yz 2 lattice cells), 500 atoms" \
+  "the same triclinic box"
+vci_too tri
 
 # pair hybrid: the restricted rows split among the sub-styles' own lists by
 # their type skips (hs_local_forces.cpp, "pair hybrid"): a 50:50 mixture
