@@ -471,9 +471,9 @@ void FixHardSpherePSA::initial_integrate(int)
       else S.ncoll_wall += 1.0;
       collided = true;
     } else if (++stuck > MAX_STUCK) {
-      S.resting_contact_error(imp);
+      S.resting_contact_error(imp, true);
     }
-    S.check_runaway(++nevents);
+    S.check_runaway(++nevents, true);
   }
 
   // free flight of every sphere to the end of the step (fix nve's drift

@@ -92,14 +92,14 @@ bool HSGlobalEngine::step()
       else S.ncoll_wall += 1.0;
       S.step_collided = 1;
     } else if (tau == 0.0 && ++stuck > MAX_STUCK) {
-      S.resting_contact_error(imp);
+      S.resting_contact_error(imp, true);
     }
     if (tau > 0.0) stuck = 0;
     M.end_substep(tau);    // hook: after each collisional sub-step
 
     tleft -= tau;
     S.screen(tleft);
-    S.check_runaway(++nsub);
+    S.check_runaway(++nsub, true);
   }
   if (S.step_collided) S.ncoll_steps += 1.0;
   if (contact_seen && S.fallback_counting) S.nfallback += 1.0;

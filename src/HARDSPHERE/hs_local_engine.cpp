@@ -2135,8 +2135,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       if (b.bwall >= 0) F.ncoll_wall += 1.0;
       else F.ncoll_pair += 1.0;
     } else if (d == 0.0 && ++stuck > MAX_STUCK)
-      F.resting_contact_error(imp);
-    F.check_runaway(++nsub);
+      F.resting_contact_error(imp, false);
+    F.check_runaway(++nsub, false);
   }
 
   keep_counts();

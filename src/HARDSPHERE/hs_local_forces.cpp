@@ -555,11 +555,13 @@ std::string HSLocalForces::rows_unsupported() const
   return why;
 }
 
+// (error->one here and below: on several ranks a cluster's evaluation runs
+// on the rank that runs it alone; error->all would wait for the others)
 void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
 {
-  if (!initialized_) error->all(FLERR, "{}: local forces used before init()", owner_);
+  if (!initialized_) error->one(FLERR, "{}: local forces used before init()", owner_);
   if (!exact())
-    error->all(FLERR, "{}: local forces are not exact with {}; use substep global", owner_, why_);
+    error->one(FLERR, "{}: local forces are not exact with {}; use substep global", owner_, why_);
 
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
@@ -569,7 +571,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   if (hybrid_ && hyb_run_ != run_epoch_) find_sub_lists();
   NeighList *L = pair_list();
   if (force->pair && force->pair->compute_flag && !L)
-    error->all(FLERR, "{}: pair style {} has no neighbor list to restrict", owner_,
+    error->one(FLERR, "{}: pair style {} has no neighbor list to restrict", owner_,
                force->pair_style);
   build_index(!rows_);
 
@@ -954,7 +956,7 @@ void HSLocalForces::terms(const int *c, int nc)
 void HSLocalForces::recompute()
 {
   if ((comm->nprocs > 1 && !rows_) || last_ncalls_ != list_epoch() || last_nc_ < 0)
-    error->all(FLERR, "{}: local forces recomputed without a compute() on this list", owner_);
+    error->one(FLERR, "{}: local forces recomputed without a compute() on this list", owner_);
   for (int j : zero_list_) fl_[j][0] = fl_[j][1] = fl_[j][2] = 0.0;
   bool present[4];
   presence(present);
@@ -1004,7 +1006,7 @@ void HSLocalForces::recompute(const Snapshot &sn)
 void HSLocalForces::restore(const Snapshot &sn)
 {
   if ((comm->nprocs > 1 && !sn.rows) || sn.ncalls != list_epoch())
-    error->all(FLERR, "{}: local forces restored from a snapshot of another list", owner_);
+    error->one(FLERR, "{}: local forces restored from a snapshot of another list", owner_);
   rows_ = sn.rows;
   fold_ = sn.fold;
   NeighList *L = pair_list();

@@ -1207,7 +1207,7 @@ void HSPotential::hess_vec(double **w, double **hw)
 void HSPotential::hess_third_vec(double **w, double **hw, double **tw, double **a, double **ha)
 {
   Impl &m = *impl;
-  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.initialized) error->one(FLERR, "{}: derivatives used before init()", owner);
   m.grow();
   m.zero_field(hw);
   if (tw) m.zero_field(tw);
@@ -1229,7 +1229,7 @@ void HSPotential::hess_third_vec(double **w, double **hw, double **tw, double **
 void HSPotential::hess_third(double **w, double **hw, double **tw)
 {
   Impl &m = *impl;
-  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.initialized) error->one(FLERR, "{}: derivatives used before init()", owner);
   m.grow();
   m.zero_field(hw);
   if (tw) m.zero_field(tw);
@@ -1245,7 +1245,7 @@ double HSPotential::d2(double **w)
 double HSPotential::d2_mixed(double **a, double **b)
 {
   Impl &m = *impl;
-  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.initialized) error->one(FLERR, "{}: derivatives used before init()", owner);
   m.grow();
   m.mask_field(a, m.al);
   const double bmax = m.mask_field(b, m.wl);
@@ -1273,7 +1273,7 @@ double HSPotential::d2_mixed(double **a, double **b)
 double HSPotential::d3_mixed(double **a, double **w)
 {
   Impl &m = *impl;
-  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.initialized) error->one(FLERR, "{}: derivatives used before init()", owner);
   m.grow();
   m.mask_field(a, m.al);
   const double wmax = m.mask_field(w, m.wl);
@@ -1304,7 +1304,7 @@ double HSPotential::d3_mixed(double **a, double **w)
 double HSPotential::d4(double **w)
 {
   Impl &m = *impl;
-  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.initialized) error->one(FLERR, "{}: derivatives used before init()", owner);
   m.grow();
   const double wmax = m.mask_field(w, m.wl);
   if (wmax == 0.0) return 0.0;
@@ -1389,7 +1389,7 @@ void HSPotential::radial_terms(
     const std::function<void(int, int, const double *, double, double, bool, bool)> &fn)
 {
   Impl &m = *impl;
-  if (!m.initialized) error->all(FLERR, "{}: derivatives used before init()", owner);
+  if (!m.initialized) error->one(FLERR, "{}: derivatives used before init()", owner);
   if (!m.any_single()) return;
   comm->forward_comm();
   m.for_each_radial(2, [&](int i, int j, const double *del, const double *phi, double, bool ui,

@@ -100,22 +100,29 @@ void HSSystem::pair_overlap_error(int i, int j, double r, double sigma)
              style_name, atom->tag[i], atom->tag[j], sigma - r, r, sigma, update->ntimestep);
 }
 
-void HSSystem::check_runaway(bigint ncollisions)
+// every_rank: the caller's step is collective (global engine, psa), so
+// every rank stops here alike; else (the local engine's cluster, run by one
+// rank) error->one, which ends every rank without waiting for them
+void HSSystem::check_runaway(bigint ncollisions, bool every_rank)
 {
-  if (ncollisions > max_substeps)
-    error->all(FLERR,
+  if (ncollisions <= max_substeps) return;
+  const std::string msg = fmt::format(
                "Fix {}: more than {} collisions in step {}: a sequence of contacts that does "
                "not end (e.g. a sphere pressed against a wall or a neighbour with almost no "
                "normal velocity) or a timestep far too large for this system",
                style_name, max_substeps, update->ntimestep);
+  if (every_rank) error->all(FLERR, msg);
+  error->one(FLERR, msg);
 }
 
-void HSSystem::resting_contact_error(const Impulse &imp)
+void HSSystem::resting_contact_error(const Impulse &imp, bool every_rank)
 {
-  error->all(FLERR,
-             "Fix {}: {} stay in contact with no normal velocity on step {} "
-             "(a resting contact), which impulsive hard spheres cannot resolve",
-             style_name, contact_name(imp), update->ntimestep);
+  const std::string msg =
+      fmt::format("Fix {}: {} stay in contact with no normal velocity on step {} "
+                  "(a resting contact), which impulsive hard spheres cannot resolve",
+                  style_name, contact_name(imp), update->ntimestep);
+  if (every_rank) error->all(FLERR, msg);
+  error->one(FLERR, msg);
 }
 
 // a touching contact that a method found separating on its own flow:

@@ -255,9 +255,9 @@ class HSSystem : protected Pointers, public HSTypes {
 
   // errors
   std::string contact_name(const Impulse &) const;
-  void resting_contact_error(const Impulse &);
+  void resting_contact_error(const Impulse &, bool every_rank);
   void pair_overlap_error(int i, int j, double r, double sigma);
-  void check_runaway(bigint ncollisions);
+  void check_runaway(bigint ncollisions, bool every_rank);
 
   double memory_usage() const;
 

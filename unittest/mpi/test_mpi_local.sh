@@ -25,7 +25,8 @@
 # this fix's walls with pppm's slab correction; ghost lazy's
 # shell (a collision-free run is fix nve's to the bit on 2 ranks, with its
 # ghost atoms; a dilute fluid whose shell widens and narrows many times
-# equals 1 rank); a triclinic box. hardsphere/pcva on the fluids, the hot and held
+# equals 1 rank); a triclinic box; an error found by one rank inside a
+# cluster ends every rank. hardsphere/pcva on the fluids, the hot and held
 # fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
 # the hot and held fluid and the melt.
 
@@ -855,5 +856,22 @@ if ! grep -q '^RESULT ' out.widen_tiled.2 && grep -q "overflow widen needs comm_
 else
   echo "  FAIL: overflow widen with comm_style tiled:"; tail -3 out.widen_tiled.2; fail=1
 fi
+
+# an error found by one rank inside a cluster's flow (the resting contact of
+# examples/stress/in.resting, a sphere pressed onto a wall by a spring) ends
+# every rank (error->one): with error->all the rank that ran the cluster
+# waited in MPI_Barrier and the other in the step's packet gather, forever
+for m in cva pcva vci; do
+  timeout 120 mpirun -np 2 --oversubscribe "$LMP" -in "$SRC/examples/stress/in.resting" \
+    -var method "$m" -var T 1 -log none -echo none > "out.resting.$m" 2>&1
+  rc=$?
+  if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "(a resting contact)" "out.resting.$m"; then
+    echo "  resting contact, $m on 2 ranks: the error, every rank ended: ok"
+  else
+    echo "  FAIL: resting contact, $m on 2 ranks: exit $rc (124: hung until the timeout)"
+    tail -3 "out.resting.$m"
+    fail=1
+  fi
+done
 
 mpi_finish
