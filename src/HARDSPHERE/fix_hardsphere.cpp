@@ -61,6 +61,9 @@ FixHardSphere::FixHardSphere(LAMMPS *lmp, int narg, char **arg) :
     if (strcmp(arg[iarg], "diameter") == 0) {
       if (iarg + 2 > narg)
         error->all(FLERR, "Illegal fix {} command: diameter needs a value", style_name);
+      if (S.diameter_flag)
+        error->all(FLERR, "Fix {} diameter given twice ({} and {})", style_name, S.diameter,
+                   arg[iarg + 1]);
       S.diameter = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (!(S.diameter > 0.0))
         error->all(FLERR, "Fix {} diameter must be > 0, got {}", style_name, arg[iarg + 1]);
@@ -173,6 +176,29 @@ void FixHardSphere::post_constructor()
 
 void FixHardSphere::init()
 {
+  // a wall on a shrink-wrapped face at EDGE would follow the outermost
+  // sphere centres (the box edge is where they are); a wall outside the
+  // box on a fixed face is never reached: spheres leave the box first
+  // (LAMMPS' "Lost atoms" some steps later)
+  for (const Wall &w : S.walls) {
+    const int b = domain->boundary[w.dim][w.side < 0 ? 0 : 1];
+    std::string name;
+    S.wall_name(w, name);
+    if (w.edge && b == 2)
+      error->all(FLERR,
+                 "Fix {} wall {} EDGE on a shrink-wrapped face (boundary s): the box edge "
+                 "follows the outermost sphere centres, so the wall would pass through them: "
+                 "use boundary f or m there, or give the wall a coordinate",
+                 style_name, name);
+    const double lo = domain->boxlo[w.dim], hi = domain->boxhi[w.dim];
+    if (!w.edge && b == 1 && (w.side < 0 ? w.coord < lo : w.coord > hi))
+      error->all(FLERR,
+                 "Fix {} wall {} at {} lies outside the box ({} to {} on a fixed boundary): "
+                 "spheres would leave the box, and be lost, before they reach it: put the "
+                 "wall inside the box, use EDGE, or a shrink-wrapped boundary (s or m)",
+                 style_name, name, w.coord, lo, hi);
+  }
+
   // a wall is the plane x[dim] = coord: in a triclinic box it is the
   // box's face only where no tilt factor leans that face (the x faces
   // lean with xy and xz, the y faces with yz; the z faces never do)
@@ -559,9 +585,46 @@ void FixHardSphere::setup(int)
   S.screened_step = -1;
   S.held_step = -1;
   S.step_split = 0;
+  set_up = true;
   // the set-up's forces, for the first step (LAMMPS' set-up calls the fixes'
   // setup() in the input's order; a thermostat's calls its post_force())
   post_force(0);
+}
+
+// the state a run ends with: the next run, if it skips its set-up, must
+// start from it (check_state_kept())
+void FixHardSphere::post_run()
+{
+  end_state = S.state_fingerprint();
+  ended = true;
+  set_up = false;
+}
+
+// at the first step of a run without set-up (run ... pre no): LAMMPS then
+// builds no lists and computes no forces, and the ghost atoms keep what
+// they were sent at the last reneighboring; a command between the runs
+// that changed positions, radii, masses or the box (set, displace_atoms,
+// change_box, mass, ...) would leave the contact candidates, their gaps,
+// the ghosts' copies and the forces of the old state (fix nve, which reads
+// only owned atoms' masses, is not affected; this fix would collide with
+// stale radii and masses, differently on different numbers of ranks)
+void FixHardSphere::check_state_kept()
+{
+  if (set_up) return;
+  set_up = true;    // (checked once per run)
+  if (!ended)
+    error->all(FLERR,
+               "Fix {} was defined after the last run, and this run skipped its set-up (run "
+               "... pre no): a new fix needs the set-up (use pre yes)",
+               style_name);
+  if (S.state_fingerprint() != end_state)
+    error->all(FLERR,
+               "Fix {}: the atoms' positions, radii or masses, or the box, changed since the "
+               "last run ended (set, displace_atoms, change_box, mass, write_restart, ...) and "
+               "this run skipped its set-up (run ... pre no), which would leave the neighbor "
+               "lists, ghost atoms, forces and contact candidates of the old state: use pre "
+               "yes after such a change",
+               style_name);
 }
 
 // (the local engine's ghost shell narrows when no contact came for a while)
@@ -597,7 +660,8 @@ void FixHardSphere::begin_step_virial()
 void FixHardSphere::initial_integrate(int)
 {
   begin_step_virial();
-  S.check_atoms_unchanged();
+  S.check_atoms_unchanged();    // (per rank: names the rank and the counts)
+  check_state_kept();
   S.grow_peratom();
   S.update_walls();
   S.step_collided = 0;

@@ -36,6 +36,7 @@ class FixHardSphere : public Fix, public HSTypes {
   void init() override;
   void init_list(int, class NeighList *) override;
   void setup(int) override;
+  void post_run() override;
   void pre_exchange() override;
   void setup_post_neighbor() override;
   void post_neighbor() override;
@@ -80,6 +81,12 @@ class FixHardSphere : public Fix, public HSTypes {
   int substep_mode = SUBSTEP_DEFAULT;    // the keyword
   HSStepEngine *stepped = nullptr;       // the engine that took the current step
   bigint virial_step = -1;               // the step whose collisions virial holds
+  // a run that skips its set-up (run ... pre no) goes on from the last
+  // run's end: HSSystem::state_fingerprint() then and at its first step
+  bool set_up = false;                   // setup() ran since the last run ended
+  bool ended = false;                    // a run ended (end_state valid)
+  uint64_t end_state = 0;
+  void check_state_kept();
   void begin_step_virial();              // a step's: from zero (initial_integrate())
   HSStepEngine *engine = nullptr;        // this run's, or none (psa)
   HSStepEngine *global_engine = nullptr, *local_engine = nullptr;

@@ -187,10 +187,51 @@ void HSSystem::check_atoms_unchanged()
     error->one(FLERR,
                "Fix {}: {} owned and {} ghost atoms on rank {} at step {}, {} and {} when the "
                "neighbor lists were last built: atoms were created or deleted (delete_atoms, "
-               "create_atoms, read_data add, ...) and the run skipped its set-up (run ... pre "
-               "no): use pre yes after such a change",
+               "create_atoms, read_data add, ...) or moved between ranks (displace_atoms, "
+               "change_box, balance, write_restart, ...) and the run skipped its set-up (run "
+               "... pre no): use pre yes after such a change",
                style_name, atom->nlocal, atom->nghost, comm->me, update->ntimestep, nlocal_ref,
                nghost_ref);
+}
+
+// splitmix64's finalizer: every input bit moves every output bit
+static inline uint64_t mix64(uint64_t z)
+{
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+static inline uint64_t bits_of(double v)
+{
+  uint64_t b;
+  memcpy(&b, &v, sizeof(b));
+  return b;
+}
+
+uint64_t HSSystem::state_fingerprint() const
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **x = atom->x;
+  const double *radius = atom->radius_flag ? atom->radius : nullptr;
+  const double *rmass = atom->rmass;
+  uint64_t mine = 0;
+  for (int i = 0; i < nlocal; i++) {
+    uint64_t h = mix64((uint64_t) tag[i]);
+    for (int d = 0; d < 3; d++) h = mix64(h ^ bits_of(x[i][d]));
+    if (radius) h = mix64(h ^ bits_of(radius[i]));
+    if (rmass) h = mix64(h ^ bits_of(rmass[i]));
+    mine += h;    // (modulo 2^64: the same for any order and any ranks)
+  }
+  uint64_t all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_UINT64_T, MPI_SUM, world);
+  uint64_t g = 0x9e3779b97f4a7c15ULL;
+  for (int d = 0; d < 3; d++) g = mix64(g ^ bits_of(domain->boxlo[d]) ^ mix64(bits_of(domain->boxhi[d])));
+  for (double t : {domain->xy, domain->xz, domain->yz}) g = mix64(g ^ bits_of(t));
+  if (atom->mass)
+    for (int t = 1; t <= atom->ntypes; t++) g = mix64(g ^ bits_of(atom->mass[t]));
+  return all ^ g;
 }
 
 void HSSystem::reset_reference(int at_setup)
@@ -215,8 +256,8 @@ void HSSystem::reset_reference(int at_setup)
   // at set-up the likely cause is the input, not a missed collision
   const char *when = at_setup
       ? "at set-up (the initial configuration, or a change_box, displace_atoms, set, "
-        "create_atoms or read_data since the last run, placed them closer than their "
-        "contact distance)"
+        "create_atoms, read_data or minimize since the last run, placed them closer than "
+        "their contact distance)"
       : "after a step (a collision was missed)";
   const double cut2 = list_cutoff * list_cutoff;
 

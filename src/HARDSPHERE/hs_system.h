@@ -20,6 +20,7 @@
 #include "hs_types.h"
 #include "pointers.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -185,6 +186,13 @@ class HSSystem : protected Pointers, public HSTypes {
   // last list build (between runs, with "run ... pre no", which skips the
   // set-up that would rebuild them: else every reference is another atom's)
   void check_atoms_unchanged();
+  // what the last step, its list build and its forces depend on besides
+  // velocities, as one number the same on every rank and for every
+  // distribution of the atoms over the ranks: the box, the per-type
+  // masses and every owned atom's ID, position, radius and per-atom mass
+  // (an exact sum of hashed bits: no round-off, no order). Taken when a
+  // run ends and compared when the next skips its set-up (run ... pre no)
+  uint64_t state_fingerprint() const;
   // accelerations of owned atoms, then v, a and active to the ghosts
   void comm_vel_acc();
   // its two parts: the owned atoms' accelerations; v, a and active to the

@@ -76,6 +76,42 @@ TEST_P(SharedErrors, WallGivenTwice)
                {"Fix " + style() + " wall xlo given twice"});
 }
 
+TEST_P(SharedErrors, DiameterGivenTwice)
+{
+  // (the last one silently won before)
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 diameter 0.5")),
+               {"Fix " + style() + " diameter given twice (1 and 0.5)"});
+}
+
+// a wall below the box's fixed lower face (box -5 to 5): the spheres left
+// the box ("Lost atoms") before they reached it
+TEST_P(SharedErrors, WallOutsideAFixedBox)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo -6.0")),
+               {"Fix " + style() + " wall xlo at -6 lies outside the box (-5 to 5 on a fixed "
+                "boundary)"});
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall yhi 5.5")),
+               {"Fix " + style() + " wall yhi at 5.5 lies outside the box"});
+  // inside, at the face, and outside a shrink-wrapped face: runs
+  for (const std::string &w : {" wall xlo -4.5", " wall xlo -5.0"}) {
+    RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0" + w)));
+    EXPECT_EQ(r.exit_code, 0) << w << "\n" << r.output;
+  }
+  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo -6.0"), "", "m f f"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// EDGE on a shrink-wrapped face: the box edge is the outermost centre, so
+// the wall went through that sphere ("atom 1 is 0.5 through wall", blaming
+// the configuration)
+TEST_P(SharedErrors, WallAtTheEdgeOfAShrinkWrappedFace)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo EDGE"), "", "s f f"),
+               {"Fix " + style() + " wall xlo EDGE on a shrink-wrapped face (boundary s)"});
+  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo EDGE"), "", "f f f"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 TEST_P(SharedErrors, SecondIntegratorOnSameAtoms)
 {
   // defined before the hardsphere fix ...
@@ -114,6 +150,45 @@ TEST_P(SharedErrors, AtomsDeletedBeforeRunPreNo)
   RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0")) +
                         "group first id 1\ndelete_atoms group first\nrun 10\n");
   EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// a change between runs that keeps every rank's atom counts (a position, a
+// mass, a radius, the box), then a run that skips its set-up: LAMMPS builds
+// no lists and the ghosts keep their old copies; the fix would go on from
+// the old state (measured before the check: "set density" left momentum
+// off by 5e-3 on 2 ranks and each rank count on another trajectory). A run
+// with only velocities changed goes on as a run with its set-up does
+TEST_P(SharedErrors, StateChangedBeforeRunPreNo)
+{
+  const std::vector<std::string> needles = {
+      "Fix " + style() + ": the atoms' positions, radii or masses, or the box, changed since "
+      "the last run ended", "run ... pre no", "pre yes"};
+  const std::string base = two_atoms("-1", "1", fix(" diameter 1.0"), "", "f f f");
+  expect_error(base + "displace_atoms all move 0.1 0 0 units box\nrun 10 pre no\n", needles);
+  expect_error(base + "mass 1 2.0\nrun 10 pre no\n", needles);
+  expect_error(base + "change_box all x final -6 5 units box\nrun 10 pre no\n", needles);
+  // per-atom radius and mass (atom style sphere, no diameter keyword)
+  std::string sph = two_atoms("-1", "1", fix(""), "set atom * diameter 1.0\n", "f f f", "sphere");
+  sph.replace(sph.find("mass 1 1.0\n"), 11, "");    // (per-atom masses: set by the diameter)
+  expect_error(sph + "set atom 2 diameter 0.8\nrun 10 pre no\n", needles);
+  expect_error(sph + "set atom 2 density 3.0\nrun 10 pre no\n", needles);
+  // velocities changed, positions kept: runs, as with its set-up
+  for (const std::string &pre : {"no", "yes"}) {
+    RunResult r = run_lmp(base + "velocity all set 0.5 0 0\nrun 10 pre " + pre +
+                          "\nprint \"END $(x[1]:%.15g)\"\n");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("END -0.975"), std::string::npos) << r.output;
+  }
+}
+
+// the fix defined between runs, then a run without set-up: the fix had no
+// list build, references or forces of its own (a segmentation fault before)
+TEST_P(SharedErrors, FixDefinedBeforeRunPreNo)
+{
+  expect_error(two_atoms("-1", "1", "fix nv all nve", "", "f f f") + "unfix nv\n" +
+                   fix(" diameter 1.0") + "\nrun 10 pre no\n",
+               {"Fix " + style() + " was defined after the last run, and this run skipped its "
+                "set-up (run ... pre no)", "pre yes"});
 }
 
 // fix wall/reflect moves atoms after the fix's step without regard to the
