@@ -598,6 +598,9 @@ void FixHardSphere::post_run()
   end_state = S.state_fingerprint();
   ended = true;
   set_up = false;
+  // (a minimization calls post_run() too, its whichflag still set: its
+  // list builds and forces are the minimizer's, not this fix's)
+  minimized = update->whichflag == 2;
 }
 
 // at the first step of a run without set-up (run ... pre no): LAMMPS then
@@ -617,6 +620,13 @@ void FixHardSphere::check_state_kept()
                "Fix {} was defined after the last run, and this run skipped its set-up (run "
                "... pre no): a new fix needs the set-up (use pre yes)",
                style_name);
+  if (minimized)
+    error->all(FLERR,
+               "Fix {}: a minimization ran since the last run, and this run skipped its "
+               "set-up (run ... pre no): the neighbor lists, ghost atoms and forces are the "
+               "minimizer's: use pre yes after minimize",
+               style_name);
+  S.check_atoms_unchanged();    // (per rank: names the rank and the counts)
   if (S.state_fingerprint() != end_state)
     error->all(FLERR,
                "Fix {}: the atoms' positions, radii or masses, or the box, changed since the "
@@ -660,8 +670,8 @@ void FixHardSphere::begin_step_virial()
 void FixHardSphere::initial_integrate(int)
 {
   begin_step_virial();
-  S.check_atoms_unchanged();    // (per rank: names the rank and the counts)
-  check_state_kept();
+  check_state_kept();    // (a run without set-up: its first step)
+  S.check_atoms_unchanged();
   S.grow_peratom();
   S.update_walls();
   S.step_collided = 0;

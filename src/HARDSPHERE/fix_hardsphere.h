@@ -85,6 +85,7 @@ class FixHardSphere : public Fix, public HSTypes {
   // run's end: HSSystem::state_fingerprint() then and at its first step
   bool set_up = false;                   // setup() ran since the last run ended
   bool ended = false;                    // a run ended (end_state valid)
+  bool minimized = false;                // ... and it was a minimization
   uint64_t end_state = 0;
   void check_state_kept();
   void begin_step_virial();              // a step's: from zero (initial_integrate())

@@ -387,8 +387,8 @@ void FixHardSpherePSA::after_collision(tagint tg)
 void FixHardSpherePSA::initial_integrate(int)
 {
   begin_step_virial();
-  S.check_atoms_unchanged();    // (per rank: names the rank and the counts)
-  check_state_kept();
+  check_state_kept();    // (a run without set-up: its first step)
+  S.check_atoms_unchanged();
   S.grow_peratom();
   S.update_walls();
 

@@ -191,6 +191,20 @@ TEST_P(SharedErrors, FixDefinedBeforeRunPreNo)
                 "set-up (run ... pre no)", "pre yes"});
 }
 
+// minimize, then a run without set-up: the minimizer rebuilt the lists and
+// ghosts without this fix (ended in the atom-count error, naming other
+// commands); with pre yes the run goes on
+TEST_P(SharedErrors, MinimizeBeforeRunPreNo)
+{
+  const std::string base = two_atoms("-1", "1", fix(" diameter 1.0"), "", "f f f") +
+      "minimize 1e-4 1e-6 10 100\n";
+  expect_error(base + "run 10 pre no\n",
+               {"Fix " + style() + ": a minimization ran since the last run, and this run "
+                "skipped its set-up (run ... pre no)", "use pre yes after minimize"});
+  RunResult r = run_lmp(base + "run 10\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // fix wall/reflect moves atoms after the fix's step without regard to the
 // contacts: it ended in "a collision was missed" some steps later
 // (measured: a 2048-atom fluid, step 44); now an error naming the wall keyword
