@@ -7,21 +7,9 @@
 
 #include "hs_test_main.h"
 
-#include "library.h"
-
-#include <cmath>
-#include <sstream>
+#include "hs_eos.h"
 
 namespace {
-
-double fix_value(HSLammps &h, const char *id, int style, int type, int i)
-{
-  auto *p = (double *) lammps_extract_fix(h.lmp, id, style, type, i, 0);
-  if (!p) return NAN;
-  double v = *p;
-  lammps_free(p);
-  return v;
-}
 
 class HardSphereFluid : public ::testing::TestWithParam<const char *> {};
 
@@ -34,66 +22,7 @@ std::string case_name(const ::testing::TestParamInfo<const char *> &info)
 
 TEST_P(HardSphereFluid, CarnahanStarlingAndTemperatureConservation)
 {
-  const std::string method = GetParam();
-  const double PI = 3.14159265358979323846;
-  const double eta = 0.3;
-  const double rho = 6.0 * eta / PI;
-  const double zcs = (1 + eta + eta * eta - eta * eta * eta) / std::pow(1 - eta, 3);
-  char rhos[32];
-  snprintf(rhos, sizeof(rhos), "%.17g", rho);
-
-  HSLammps h;
-  h.lines(std::string("units lj\natom_style atomic\nlattice fcc ") + rhos + "\n" + R"(
-region box block 0 5 0 5 0 5
-create_box 1 box
-create_atoms 1 box
-mass 1 1.0
-velocity all create 1.0 5287 mom yes rot yes dist gaussian
-comm_modify cutoff 1.7
-neighbor 0.3 bin
-neigh_modify every 1 delay 0 check yes
-timestep 0.01
-thermo_style custom step temp press ke
-thermo_modify norm no
-run 0
-)");
-  const double T0 = h.thermo("temp");
-  ASSERT_NEAR(T0, 1.0, 1e-12);
-  EXPECT_EQ(h.thermo("atoms"), 500.0);
-  h.cmd("fix hs all hardsphere/" + method + " diameter 1.0");
-  h.lines(R"(
-run 500
-reset_timestep 0
-variable T0 equal temp
-variable dT equal abs(temp-1.0)
-fix avg all ave/time 1 2000 2000 c_thermo_press c_thermo_temp
-fix dTv all vector 10 v_dT
-variable dTmax equal max(f_dTv)
-run 2000
-)");
-  const double P = fix_value(h, "avg", 0, 1, 0);
-  const double Tavg = fix_value(h, "avg", 0, 1, 1);
-  const double ncoll = fix_value(h, "hs", 0, 1, 0);
-  const double dTmax = h.variable("dTmax");
-  printf("[ %s eos  ] eta %.2f rho %.5f: <P> = %.5f, rho T Z_CS = %.5f (ratio %.4f), "
-         "<T> - 1 = %.2e, max|T-1| = %.2e, %g collisions\n",
-         method.c_str(), eta, rho, P, rho * Tavg * zcs, P / (rho * Tavg * zcs), Tavg - 1.0, dTmax,
-         ncoll);
-
-  // the collision count matches the Enskog collision frequency per particle
-  // nu = 4 sigma^2 rho g(sigma) sqrt(pi T/m), contact value g = (Z_CS-1)/(4 eta),
-  // over the 500 + 2000 steps the fix has counted
-  const double rate = 4.0 * rho * (zcs - 1.0) / (4.0 * eta) * std::sqrt(PI * 1.0);
-  const double expected = 0.5 * 500.0 * rate * 2500 * 0.01;    // pairs over 2500 steps
-  EXPECT_NEAR(ncoll / expected, 1.0, 0.05) << ncoll << " vs " << expected;
-
-  // temperature conserved to round-off
-  EXPECT_NEAR(Tavg, 1.0, 1e-10);
-  EXPECT_LT(dTmax, 1e-10);
-  EXPECT_NEAR(h.thermo("temp"), 1.0, 1e-10);
-
-  // Carnahan-Starling within 2 %
-  EXPECT_NEAR(P / (rho * Tavg * zcs), 1.0, 0.02) << "P " << P << " expected " << rho * zcs;
+  hs_eos::carnahan_starling(GetParam(), "region box block 0 5 0 5 0 5", "eos ");
 }
 
 INSTANTIATE_TEST_SUITE_P(PSA, HardSphereFluid, ::testing::Values("psa"), case_name);

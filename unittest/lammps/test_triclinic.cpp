@@ -13,6 +13,8 @@
 
 #include "hs_test_main.h"
 
+#include "hs_eos.h"
+
 #include "library.h"
 
 #include <cctype>
@@ -104,63 +106,14 @@ class TriclinicHardSpheres : public ::testing::TestWithParam<const char *> {};
 
 TEST_P(TriclinicHardSpheres, CarnahanStarlingInATiltedBox)
 {
-  const std::string method = GetParam();
-  const double PI = 3.14159265358979323846;
-  const double eta = 0.3;
-  const double rho = 6.0 * eta / PI;
-  const double zcs = (1 + eta + eta * eta - eta * eta * eta) / std::pow(1 - eta, 3);
-  char rhos[32];
-  snprintf(rhos, sizeof(rhos), "%.17g", rho);
-
-  HSLammps h;
   // tilts of 2, 1 and 2 lattice cells (LAMMPS allows up to half the box)
-  h.lines(std::string("units lj\natom_style atomic\nlattice fcc ") + rhos + "\n" + R"(
-region box prism 0 5 0 5 0 5 2 1 2
-create_box 1 box
-create_atoms 1 box
-mass 1 1.0
-velocity all create 1.0 5287 mom yes rot yes dist gaussian
-comm_modify cutoff 1.7
-neighbor 0.3 bin
-neigh_modify every 1 delay 0 check yes
-timestep 0.01
-thermo_style custom step temp press ke xy xz yz
-thermo_modify norm no
-run 0
-)");
-  ASSERT_EQ(h.thermo("atoms"), 500.0);
-  ASSERT_GT(h.thermo("xy"), 1.0);
-  ASSERT_GT(h.thermo("yz"), 1.0);
-  h.cmd("fix hs all hardsphere/" + method + " diameter 1.0");
-  h.lines(R"(
-run 500
-reset_timestep 0
-variable dT equal abs(temp-1.0)
-fix avg all ave/time 1 2000 2000 c_thermo_press c_thermo_temp
-fix dTv all vector 10 v_dT
-variable dTmax equal max(f_dTv)
-run 2000
-)");
-  auto *pp = (double *) lammps_extract_fix(h.lmp, "avg", 0, 1, 0, 0);
-  auto *pt = (double *) lammps_extract_fix(h.lmp, "avg", 0, 1, 1, 0);
-  ASSERT_TRUE(pp && pt);
-  const double P = *pp, Tavg = *pt;
-  lammps_free(pp);
-  lammps_free(pt);
-  const double ncoll = fix_value(h, "hs", 0);
-  printf("[ %s tilted ] <P> = %.5f, rho T Z_CS = %.5f (ratio %.4f), max|T-1| = %.2e, %g "
-         "collisions\n",
-         method.c_str(), P, rho * Tavg * zcs, P / (rho * Tavg * zcs), h.variable("dTmax"), ncoll);
-
-  // Enskog: nu = 4 sigma^2 rho g(sigma) sqrt(pi T/m), g = (Z_CS - 1)/(4 eta),
-  // over the 2500 steps counted
-  const double rate = 4.0 * rho * (zcs - 1.0) / (4.0 * eta) * std::sqrt(PI * 1.0);
-  const double expected = 0.5 * 500.0 * rate * 2500 * 0.01;
-  EXPECT_NEAR(ncoll / expected, 1.0, 0.05) << ncoll << " vs " << expected;
-  EXPECT_NEAR(Tavg, 1.0, 1e-10);
-  EXPECT_LT(h.variable("dTmax"), 1e-10);
-  // Carnahan-Starling within 2 % (the orthogonal box's test and bound)
-  EXPECT_NEAR(P / (rho * Tavg * zcs), 1.0, 0.02) << "P " << P << " expected " << rho * zcs;
+  hs_eos::carnahan_starling(GetParam(), "region box prism 0 5 0 5 0 5 2 1 2", "tilted",
+                            [](HSLammps &h) {
+                              h.cmd("thermo_style custom step temp press ke xy xz yz");
+                              h.cmd("run 0");
+                              ASSERT_GT(h.thermo("xy"), 1.0);
+                              ASSERT_GT(h.thermo("yz"), 1.0);
+                            });
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, TriclinicHardSpheres, ::testing::Values("psa", "cva"),
