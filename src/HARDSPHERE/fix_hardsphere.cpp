@@ -179,7 +179,10 @@ void FixHardSphere::init()
   // a wall on a shrink-wrapped face at EDGE would follow the outermost
   // sphere centres (the box edge is where they are); a wall outside the
   // box on a fixed face is never reached: spheres leave the box first
-  // (LAMMPS' "Lost atoms" some steps later)
+  // (LAMMPS' "Lost atoms" some steps later). A wall is the plane x[dim] =
+  // coord: in a triclinic box it is the box's face only where no tilt
+  // factor leans that face (the x faces lean with xy and xz, the y faces
+  // with yz; the z faces never do)
   for (const Wall &w : S.walls) {
     const int b = domain->boundary[w.dim][w.side < 0 ? 0 : 1];
     std::string name;
@@ -197,26 +200,19 @@ void FixHardSphere::init()
                  "spheres would leave the box, and be lost, before they reach it: put the "
                  "wall inside the box, use EDGE, or a shrink-wrapped boundary (s or m)",
                  style_name, name, w.coord, lo, hi);
+    const double lean = !domain->triclinic ? 0.0
+        : w.dim == 0                       ? fabs(domain->xy) + fabs(domain->xz)
+        : w.dim == 1                       ? fabs(domain->yz)
+                                           : 0.0;
+    if (lean != 0.0)
+      error->all(FLERR,
+                 "Fix {} wall {}: in a triclinic box a wall must be a face of the box, and "
+                 "the tilt factors (xy {}, xz {}, yz {}) lean the {} faces: use a wall on a "
+                 "face no tilt factor leans, or an orthogonal box",
+                 style_name, name, domain->xy, domain->xz, domain->yz,
+                 std::string(1, "xyz"[w.dim]));
   }
 
-  // a wall is the plane x[dim] = coord: in a triclinic box it is the
-  // box's face only where no tilt factor leans that face (the x faces
-  // lean with xy and xz, the y faces with yz; the z faces never do)
-  if (domain->triclinic)
-    for (const Wall &w : S.walls) {
-      const double lean = w.dim == 0 ? fabs(domain->xy) + fabs(domain->xz)
-                                     : (w.dim == 1 ? fabs(domain->yz) : 0.0);
-      if (lean != 0.0) {
-        std::string name;
-        S.wall_name(w, name);
-        error->all(FLERR,
-                   "Fix {} wall {}: in a triclinic box a wall must be a face of the box, and "
-                   "the tilt factors (xy {}, xz {}, yz {}) lean the {} faces: use a wall on a "
-                   "face no tilt factor leans, or an orthogonal box",
-                   style_name, name, domain->xy, domain->xz, domain->yz,
-                   std::string(1, "xyz"[w.dim]));
-      }
-    }
   // rRESPA calls only the *_respa integrate stages, which a step with
   // collisions has no form for: the atoms would silently not move
   if (utils::strmatch(update->integrate_style, "^respa"))

@@ -294,33 +294,22 @@ void FixHardSpherePSA::place_copies(tagint tg, const double *xc, double t)
   double **x = atom->x;
   double **v = atom->v;
   const int *periodic = domain->periodicity;
-  const double *prd = domain->prd;
+  // h, h_inv: the box's lattice vectors, upper triangular in Voigt order
+  // (xx yy zz yz xz xy), diagonal (the box lengths) in an orthogonal box
   const double *h = domain->h, *hi = domain->h_inv;
-  const bool tri = domain->triclinic;
   for_copies(tg, [&](int c) {
     const double s = t - tloc[c];
-    if (tri) {
-      // the copy's image: the lattice vector h n nearest its own move, n
-      // from the offset in box fractions (h upper triangular, Voigt order
-      // xx yy zz yz xz xy)
-      double dl[3];
-      for (int d = 0; d < 3; d++) dl[d] = x[c][d] + s * v[c][d] - xc[d];
-      const double f[3] = {hi[0] * dl[0] + hi[5] * dl[1] + hi[4] * dl[2],
-                           hi[1] * dl[1] + hi[3] * dl[2], hi[2] * dl[2]};
-      double n[3];
-      for (int d = 0; d < 3; d++) n[d] = periodic[d] ? std::round(f[d]) : 0.0;
-      x[c][0] = xc[0] + h[0] * n[0] + h[5] * n[1] + h[4] * n[2];
-      x[c][1] = xc[1] + h[1] * n[1] + h[3] * n[2];
-      x[c][2] = xc[2] + h[2] * n[2];
-    } else
-      for (int d = 0; d < 3; d++) {
-        double xn = xc[d];
-        if (periodic[d]) {
-          const double xl = x[c][d] + s * v[c][d];
-          xn += prd[d] * std::round((xl - xc[d]) / prd[d]);
-        }
-        x[c][d] = xn;
-      }
+    // the copy's image: the lattice vector h n nearest its own move, n
+    // from that move in box fractions
+    double dl[3];
+    for (int d = 0; d < 3; d++) dl[d] = x[c][d] + s * v[c][d] - xc[d];
+    const double f[3] = {hi[0] * dl[0] + hi[5] * dl[1] + hi[4] * dl[2],
+                         hi[1] * dl[1] + hi[3] * dl[2], hi[2] * dl[2]};
+    double n[3];
+    for (int d = 0; d < 3; d++) n[d] = periodic[d] ? std::round(f[d]) : 0.0;
+    x[c][0] = xc[0] + h[0] * n[0] + h[5] * n[1] + h[4] * n[2];
+    x[c][1] = xc[1] + h[1] * n[1] + h[3] * n[2];
+    x[c][2] = xc[2] + h[2] * n[2];
     tloc[c] = t;
   });
 }

@@ -227,7 +227,8 @@ uint64_t HSSystem::state_fingerprint() const
   uint64_t all = 0;
   MPI_Allreduce(&mine, &all, 1, MPI_UINT64_T, MPI_SUM, world);
   uint64_t g = 0x9e3779b97f4a7c15ULL;
-  for (int d = 0; d < 3; d++) g = mix64(g ^ bits_of(domain->boxlo[d]) ^ mix64(bits_of(domain->boxhi[d])));
+  for (int d = 0; d < 3; d++)
+    g = mix64(g ^ bits_of(domain->boxlo[d]) ^ mix64(bits_of(domain->boxhi[d])));
   for (double t : {domain->xy, domain->xz, domain->yz}) g = mix64(g ^ bits_of(t));
   if (atom->mass)
     for (int t = 1; t <= atom->ntypes; t++) g = mix64(g ^ bits_of(atom->mass[t]));
