@@ -23,7 +23,7 @@ for I in nve cva; do
     --toggle-collect='LAMMPS_NS::Verlet::run(int)' "$LMP" -screen none -log "$OUT/log.$I" \
     -in "$HERE/in.lj-bonds" -var integrator $I -var data "$SCR/chains.data" -var N "$N" \
     -var warm "$WARM" > "$OUT/valgrind.$I.txt" 2>&1)
-  callgrind_annotate --threshold=100 --inclusive=no --show=Ir "$OUT/cg.$I" > "$OUT/self.$I.txt"
+  callgrind_annotate --auto=no --threshold=100 --inclusive=no --show=Ir "$OUT/cg.$I" > "$OUT/self.$I.txt"
 done
 /usr/bin/python3 - "$OUT" <<'EOF'
 import re, sys

@@ -49,13 +49,13 @@ total = mpi = 0
 llr = llw = 0
 for f in sys.argv[5:]:
     # last-level misses, if the run simulated the cache
-    tot = subprocess.run(['callgrind_annotate', '--threshold=100', '--show=DLmr,DLmw', f],
+    tot = subprocess.run(['callgrind_annotate', '--auto=no', '--threshold=100', '--show=DLmr,DLmw', f],
                          capture_output=True, text=True).stdout
     m = re.search(r'^\s*([\d,]+) \([^)]*\)\s+([\d,]+) \([^)]*\)\s+PROGRAM TOTALS', tot, re.M)
     if m:
         llr += int(m.group(1).replace(',', ''))
         llw += int(m.group(2).replace(',', ''))
-    out = subprocess.run(['callgrind_annotate', '--threshold=100', '--inclusive=no', '--show=Ir', f],
+    out = subprocess.run(['callgrind_annotate', '--auto=no', '--threshold=100', '--inclusive=no', '--show=Ir', f],
                          capture_output=True, text=True, check=True).stdout
     for line in out.splitlines():
         m = re.match(r'\s*([\d,]+) \(\s*[\d.]+%\)\s+(\S.*)', line)
