@@ -254,6 +254,23 @@ inline RunResult run_lmp(const std::string &input_text,
   return run_program(hs_test_paths::lmp_binary, input_text, extra_args, nprocs);
 }
 
+// the run ends without error (exit code 0) and its output holds every
+// string of `present` and none of `absent` (hs_errors::expect_error() is
+// the failing counterpart); returned for the checks of its printed values
+inline RunResult expect_runs(const std::string &input_text,
+                             const std::vector<std::string> &present = {},
+                             const std::vector<std::string> &absent = {},
+                             const std::vector<std::string> &extra_args = {}, int nprocs = 1)
+{
+  RunResult r = run_lmp(input_text, extra_args, nprocs);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const auto &s : present)
+    EXPECT_NE(r.output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << r.output;
+  for (const auto &s : absent)
+    EXPECT_EQ(r.output.find(s), std::string::npos) << "unexpected '" << s << "' in:\n" << r.output;
+  return r;
+}
+
 #ifndef HS_TEST_NO_MAIN
 int main(int argc, char **argv)
 {

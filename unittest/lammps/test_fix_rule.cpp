@@ -93,8 +93,7 @@ print "ECOUPLE $(max(f_ecv[2]))"
     const std::string from = "fix int all hardsphere/nve diameter 1.05";
     in.replace(in.find(from), from.size(), "fix int all nve");
   }
-  RunResult r = run_lmp(in);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  RunResult r = expect_runs(in);
   dEc = printed(r.output, "DEC");
   ecmax = printed(r.output, "ECOUPLE");
 }
@@ -199,8 +198,7 @@ variable E0 equal f_Ev[1]
 print "DE $(0.5*(v_Emax-v_Emin)+abs(0.5*(v_Emax+v_Emin)-v_E0))"
 print "NCOLL $(f_int[1])"
 )LMP" + (fellback.empty() ? "" : "print \"FELLBACK $(f_int[" + fellback + "])\"\n");
-  RunResult r = run_lmp(in);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  RunResult r = expect_runs(in);
   const double ncoll = printed(r.output, "NCOLL");
   EXPECT_GT(ncoll, 20.0) << "the case is meant to collide";
   if (!fellback.empty())
@@ -263,17 +261,12 @@ TEST(RuleErrors, LangevinGJFRefused)
 
 TEST(RuleWarnings, UnknownFixNamedHeldFixLogged)
 {
-  RunResult r = run_lmp(fluid("cva", 0.005, 1,
-                              "fix ex all external pf/array 1\n"
-                              "fix th all langevin 1.5 1.5 0.5 7\nrun 20\n"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("WARNING: Fix hardsphere/cva: the forces of fix ex external are of a "
-                          "kind it does not know"),
-            std::string::npos)
-      << r.output;
-  EXPECT_NE(r.output.find("forces of fix th langevin held through collisional steps"),
-            std::string::npos)
-      << r.output;
+  RunResult r = expect_runs(fluid("cva", 0.005, 1,
+                                  "fix ex all external pf/array 1\n"
+                                  "fix th all langevin 1.5 1.5 0.5 7\nrun 20\n"),
+                            {"WARNING: Fix hardsphere/cva: the forces of fix ex external are of a "
+                             "kind it does not know",
+                             "forces of fix th langevin held through collisional steps"});
   // known fixes are not warned about
   EXPECT_EQ(r.output.find("fix th langevin are of a kind"), std::string::npos) << r.output;
 }
@@ -296,17 +289,13 @@ comm_modify cutoff 3.0
 group mob id 1
 fix hs mob hardsphere/cva diameter 1.0
 )LMP";
-  RunResult r = run_lmp(base + "compute h all hamiltonian/modified\n"
-                               "thermo_style custom step c_h[1] c_h[2]\nrun 5\n");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("WARNING: Compute hamiltonian/modified h: 1 atoms of group all are "
-                          "moved by no time integrator"),
-            std::string::npos)
-      << r.output;
-  RunResult ok = run_lmp(base + "compute h mob hamiltonian/modified\n"
-                                "thermo_style custom step c_h[1] c_h[2]\nrun 5\n");
-  EXPECT_EQ(ok.exit_code, 0) << ok.output;
-  EXPECT_EQ(ok.output.find("moved by no time integrator"), std::string::npos) << ok.output;
+  expect_runs(base + "compute h all hamiltonian/modified\n"
+                     "thermo_style custom step c_h[1] c_h[2]\nrun 5\n",
+              {"WARNING: Compute hamiltonian/modified h: 1 atoms of group all are "
+               "moved by no time integrator"});
+  expect_runs(base + "compute h mob hamiltonian/modified\n"
+                     "thermo_style custom step c_h[1] c_h[2]\nrun 5\n",
+              {}, {"moved by no time integrator"});
 }
 
 TEST(RuleErrors, OverlapAtSetupNamesLikelyCause)

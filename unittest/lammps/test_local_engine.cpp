@@ -354,10 +354,7 @@ variable Emax equal max(f_Ev)
 variable E0 equal f_Ev[1]
 print "DE $(0.5*(v_Emax-v_Emin)+abs(0.5*(v_Emax+v_Emin)-v_E0)) COLL $(f_hs[1]) FELLBACK $(f_hs[10])"
 )LMP";
-    RunResult r = run_lmp(in);
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("holds the forces of kspace style ewald"), std::string::npos)
-        << r.output;
+    RunResult r = expect_runs(in, {"holds the forces of kspace style ewald"});
     std::smatch m;
     EXPECT_TRUE(std::regex_search(
         r.output, m, std::regex("DE ([-0-9.e+]+) COLL ([0-9.e+]+) FELLBACK ([0-9.e+]+)")))
@@ -650,20 +647,15 @@ TEST(LocalEngine, HeldForceFromLAMMPSForceAsFromEvaluation)
   // the log says why the forces are evaluated again: a thermostat before
   // the integrator, or a force fix (gravity) after it
   const std::string base = fluid("", 0.005, 87287, 3);
-  RunResult before = run_lmp(base + "fix vi all viscous 0.3\nfix hs all hardsphere/cva "
-                                    "diameter 1.0\nrun 20\n");
-  EXPECT_EQ(before.exit_code, 0) << before.output;
-  EXPECT_NE(before.output.find("fix vi viscous come(s) before it in the input"), std::string::npos)
-      << before.output;
-  RunResult after = run_lmp(base + "fix hs all hardsphere/cva diameter 1.0\nfix vi all viscous "
-                                   "0.3\nfix g all gravity 0.1 vector 0 0 -1\nrun 20\n");
-  EXPECT_EQ(after.exit_code, 0) << after.output;
-  EXPECT_NE(after.output.find("fix g gravity come(s) after it in the input"), std::string::npos)
-      << after.output;
-  RunResult good = run_lmp(base + "fix g all gravity 0.1 vector 0 0 -1\nfix hs all hardsphere/cva "
-                                  "diameter 1.0\nfix vi all viscous 0.3\nrun 20\n");
-  EXPECT_EQ(good.exit_code, 0) << good.output;
-  EXPECT_EQ(good.output.find("second evaluation"), std::string::npos) << good.output;
+  expect_runs(base + "fix vi all viscous 0.3\nfix hs all hardsphere/cva "
+                     "diameter 1.0\nrun 20\n",
+              {"fix vi viscous come(s) before it in the input"});
+  expect_runs(base + "fix hs all hardsphere/cva diameter 1.0\nfix vi all viscous "
+                     "0.3\nfix g all gravity 0.1 vector 0 0 -1\nrun 20\n",
+              {"fix g gravity come(s) after it in the input"});
+  expect_runs(base + "fix g all gravity 0.1 vector 0 0 -1\nfix hs all hardsphere/cva "
+                     "diameter 1.0\nfix vi all viscous 0.3\nrun 20\n",
+              {}, {"second evaluation"});
 }
 
 // the fixes' init() runs before Neighbor::init(), which sets
@@ -695,18 +687,15 @@ TEST(LocalEngine, EngineChoiceIgnoresNeighborStateBeforeItsInit)
 TEST(LocalEngine, FallsBackToGlobalWithAWarning)
 {
   const std::string base = fluid("", 0.005, 1, 3);
-  RunResult r = run_lmp(base + "fix x all hardsphere/cva diameter 1.0\n"
-                               "fix s all aveforce NULL NULL NULL\nrun 100\n"
-                               "print \"FALLBACK $(f_x[10]) COLL $(f_x[1])\"\n");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("fix s aveforce"), std::string::npos) << r.output;
+  RunResult r = expect_runs(base + "fix x all hardsphere/cva diameter 1.0\n"
+                                   "fix s all aveforce NULL NULL NULL\nrun 100\n"
+                                   "print \"FALLBACK $(f_x[10]) COLL $(f_x[1])\"\n",
+                            {"falls back to substep global", "fix s aveforce"});
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.output, m, std::regex("FALLBACK ([0-9.e+]+) COLL ([0-9.e+]+)")));
   EXPECT_GT(std::stod(m[1]), 0.0);
   // psa takes the keyword (its steps are local by construction)
-  RunResult p = run_lmp(base + "fix x all hardsphere/psa diameter 1.0 substep local\nrun 10\n");
-  EXPECT_EQ(p.exit_code, 0) << p.output;
+  expect_runs(base + "fix x all hardsphere/psa diameter 1.0 substep local\nrun 10\n");
 }
 
 // A dense fluid (packing fraction 0.45, lj/cut 2.5, atom_style sphere,

@@ -42,15 +42,11 @@ std::string anchored_pair(const std::string &bond_coeff, const std::string &x3,
 
 TEST(MCVAErrors, ValidBaselineRuns)
 {
-  RunResult r = run_lmp(two_atoms("fix hs all hardsphere/mcva diameter 1.0 wall xlo -4"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+  expect_runs(two_atoms("fix hs all hardsphere/mcva diameter 1.0 wall xlo -4"), {}, {"ERROR"});
   // the stiff anchored pair at a sane timestep runs too (the cases below
   // differ only in the timestep or the bond)
-  r = run_lmp(anchored_pair("1250 1.0", "1.05", "-1", "0.01", "1.0"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  r = run_lmp(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.1", "2.0"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_runs(anchored_pair("1250 1.0", "1.05", "-1", "0.01", "1.0"));
+  expect_runs(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.1", "2.0"));
 }
 
 TEST(MCVAErrors, GaussStagesDoNotConverge)

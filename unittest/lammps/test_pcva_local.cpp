@@ -355,13 +355,10 @@ special_bonds lj 0.0 1.0 1.0
 velocity all create 1.0 4321
 timestep 0.005
 )LMP";
-  RunResult r = run_lmp(base + "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("substep local is not available with a potential with other than "
-                          "radial pair and bond terms"),
-            std::string::npos)
-      << r.output;
-  EXPECT_NE(r.output.find("falls back to substep global"), std::string::npos) << r.output;
+  expect_runs(base + "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n",
+              {"substep local is not available with a potential with other than "
+               "radial pair and bond terms",
+               "falls back to substep global"});
   expect_error(base + "fix hs all hardsphere/pcva diameter 1.0 substep local\nrun 5\n",
                {"Fix hardsphere/pcva substep local cannot run with a potential with other than "
                 "radial pair and bond terms"});

@@ -32,10 +32,9 @@ std::string two_atoms(const std::string &x1, const std::string &x2, const std::s
 
 TEST(PSAErrors, ValidBaselineRuns)
 {
-  RunResult r = run_lmp(two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0 wall xlo -4",
-                                  "", "1", "-1"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(r.output.find("ERROR"), std::string::npos) << r.output;
+  expect_runs(
+      two_atoms("-1", "1", "fix hs all hardsphere/psa diameter 1.0 wall xlo -4", "", "1", "-1"), {},
+      {"ERROR"});
 }
 
 TEST(PSAErrors, StepLongerThanSkinAllows)
@@ -60,9 +59,8 @@ TEST(PSAErrors, FlightAfterCollisionBeyondSkin)
 TEST(PSAErrors, SameCollisionWithSmallerStepRuns)
 {
   // the previous case with dt 0.1 is fine, and collides
-  RunResult r = run_lmp(two_atoms("-1.0", "0.05", "fix hs all hardsphere/psa diameter 1.0",
-                                  "", "1", "0", "10.0", "0.1", "0.1") +
-                        "print \"RESULT $(f_hs[2])\"\n");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("\nRESULT 1"), std::string::npos) << r.output;
+  expect_runs(two_atoms("-1.0", "0.05", "fix hs all hardsphere/psa diameter 1.0", "", "1", "0",
+                        "10.0", "0.1", "0.1") +
+                  "print \"RESULT $(f_hs[2])\"\n",
+              {"\nRESULT 1"});
 }

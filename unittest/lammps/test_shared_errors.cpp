@@ -97,8 +97,7 @@ TEST_P(SharedErrors, WallOutsideAFixedBox)
     RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0" + w)));
     EXPECT_EQ(r.exit_code, 0) << w << "\n" << r.output;
   }
-  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo -6.0"), "", "m f f"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_runs(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo -6.0"), "", "m f f"));
 }
 
 // EDGE on a shrink-wrapped face: the box edge is the outermost centre, so
@@ -108,8 +107,7 @@ TEST_P(SharedErrors, WallAtTheEdgeOfAShrinkWrappedFace)
 {
   expect_error(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo EDGE"), "", "s f f"),
                {"Fix " + style() + " wall xlo EDGE on a shrink-wrapped face (boundary s)"});
-  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo EDGE"), "", "f f f"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_runs(two_atoms("-1", "1", fix(" diameter 1.0 wall xlo EDGE"), "", "f f f"));
 }
 
 TEST_P(SharedErrors, SecondIntegratorOnSameAtoms)
@@ -147,9 +145,8 @@ TEST_P(SharedErrors, AtomsDeletedBeforeRunPreNo)
                {"Fix " + style() + ": 1 owned and 0 ghost atoms on rank 0 at step 11, 2 and 0 "
                 "when the neighbor lists", "run ... pre no", "pre yes"});
   // the same deletion with the set-up runs
-  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0")) +
-                        "group first id 1\ndelete_atoms group first\nrun 10\n");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_runs(two_atoms("-1", "1", fix(" diameter 1.0")) +
+              "group first id 1\ndelete_atoms group first\nrun 10\n");
 }
 
 // a change between runs that keeps every rank's atom counts (a position, a
@@ -174,10 +171,9 @@ TEST_P(SharedErrors, StateChangedBeforeRunPreNo)
   expect_error(sph + "set atom 2 density 3.0\nrun 10 pre no\n", needles);
   // velocities changed, positions kept: runs, as with its set-up
   for (const std::string &pre : {"no", "yes"}) {
-    RunResult r = run_lmp(base + "velocity all set 0.5 0 0\nrun 10 pre " + pre +
-                          "\nprint \"END $(x[1]:%.15g)\"\n");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("END -0.975"), std::string::npos) << r.output;
+    expect_runs(base + "velocity all set 0.5 0 0\nrun 10 pre " + pre +
+                    "\nprint \"END $(x[1]:%.15g)\"\n",
+                {"END -0.975"});
   }
 }
 
@@ -201,8 +197,7 @@ TEST_P(SharedErrors, MinimizeBeforeRunPreNo)
   expect_error(base + "run 10 pre no\n",
                {"Fix " + style() + ": a minimization ran since the last run, and this run "
                 "skipped its set-up (run ... pre no)", "use pre yes after minimize"});
-  RunResult r = run_lmp(base + "run 10\n");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_runs(base + "run 10\n");
 }
 
 // fix wall/reflect moves atoms after the fix's step without regard to the
@@ -219,12 +214,8 @@ TEST_P(SharedErrors, WallReflectOnTheSameAtoms)
 // silently)
 TEST_P(SharedErrors, PerAtomStressWarns)
 {
-  RunResult r = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0"),
-                                  "compute sa all stress/atom NULL\n"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("compute sa stress/atom leaves out the collisions' virial"),
-            std::string::npos)
-      << r.output;
+  expect_runs(two_atoms("-1", "1", fix(" diameter 1.0"), "compute sa all stress/atom NULL\n"),
+              {"compute sa stress/atom leaves out the collisions' virial"});
   RunResult q = run_lmp(two_atoms("-1", "1", fix(" diameter 1.0")));
   EXPECT_EQ(q.output.find("leaves out the collisions' virial"), std::string::npos) << q.output;
 }
@@ -244,9 +235,7 @@ TEST_P(SharedErrors, LostAtomIgnored)
       "neighbor 0.3 bin\n" + fix(" diameter 1.0") +
       "\nthermo_modify lost ignore\nthermo 50\ntimestep 0.01\nrun 300\n"
       "print \"ATOMS $(atoms) STEP $(step)\"\n";
-  RunResult r = run_lmp(input);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("\nATOMS 2 STEP 300"), std::string::npos) << r.output;
+  expect_runs(input, {"\nATOMS 2 STEP 300"});
 }
 
 // pcva, mcva and vci keep an energy of the whole system; a conservative
@@ -265,11 +254,9 @@ TEST_P(SharedErrors, ConservativeFixWithoutItsEnergy)
                  {"Fix " + style(), "fix g gravity adds forces whose energy is not in the "
                   "potential energy", "fix_modify <fix-ID> energy yes"});
   else {
-    RunResult r = run_lmp(two_atoms("-1", "1", base));
-    EXPECT_EQ(r.exit_code, 0) << r.output;
+    expect_runs(two_atoms("-1", "1", base));
   }
-  RunResult r = run_lmp(two_atoms("-1", "1", base + "\nfix_modify g energy yes"));
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_runs(two_atoms("-1", "1", base + "\nfix_modify g energy yes"));
 }
 
 INSTANTIATE_TEST_SUITE_P(PSA, SharedErrors, ::testing::Values("psa"), case_name);

@@ -126,8 +126,7 @@ variable cstart equal ${c0}
 run )LMP" + std::to_string(nrun) + R"LMP(
 print "COLLISIONS $(f_int[1]-v_cstart) STEPS )LMP" + std::to_string(nrun) + R"LMP("
 )LMP";
-  RunResult res = run_lmp(input);
-  EXPECT_EQ(res.exit_code, 0) << res.output;
+  RunResult res = expect_runs(input);
   std::smatch m;
   if (std::regex_search(res.output, m, std::regex(R"(\nCOLLISIONS ([0-9.eE+-]+) STEPS ([0-9]+))"))) {
     const double cps = std::stod(m[1]) / std::stod(m[2]);
