@@ -550,6 +550,15 @@ void FixHardSphere::init_list(int id, NeighList *ptr)
 
 void FixHardSphere::reset_dt()
 {
+  // (contacts are predicted within [0, dt]: a negative step found none and
+  // the spheres ran into each other; fix nve runs backwards, this does not)
+  if (update->dt < 0.0)
+    error->all(FLERR,
+               "Fix {}: the timestep {} is negative; contacts are predicted forward in time "
+               "only (to run backwards, negate the velocities, e.g. velocity all set v_mvx "
+               "v_mvy v_mvz with atom variables mvx = -vx, ..., and run with a positive "
+               "timestep)",
+               style_name, update->dt);
   S.dtv = update->dt;
   S.dtf = 0.5 * update->dt * force->ftm2v;
 }

@@ -238,6 +238,16 @@ TEST_P(SharedErrors, LostAtomIgnored)
   expect_runs(input, {"\nATOMS 2 STEP 300"});
 }
 
+// a negative timestep: contacts are predicted within [0, dt], so none was
+// found and the spheres ran into each other ("a collision was missed"
+// some steps later); fix nve runs backwards, these do not
+TEST_P(SharedErrors, NegativeTimestep)
+{
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0"), "timestep -0.005\n"),
+               {"Fix " + style() + ": the timestep -0.005 is negative", "negate the velocities"});
+  expect_runs(two_atoms("-1", "1", fix(" diameter 1.0"), "timestep 0.005\n"));
+}
+
 // pcva, mcva and vci keep an energy of the whole system; a conservative
 // fix's force whose energy is not in the potential energy (fix_modify ...
 // energy no, most fixes' default) changes it, and the method undid that:
