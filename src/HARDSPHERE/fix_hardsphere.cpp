@@ -262,6 +262,19 @@ void FixHardSphere::init()
     for (int b = 1; b <= ntypes && !own_list; b++)
       if (tall[a] && tall[b] && sqrt(force->pair->cutsq[a][b]) + S.skin < S.list_cutoff) own_list = 1;
 
+  // neighbor multi builds each type pair's list to the pair cutoff + skin
+  // (its collections'), not to a request's own cutoff: pure hard spheres
+  // lost every pair and collided 15 % deep before an overlap error
+  if (own_list && (neighbor->style == Neighbor::MULTI || neighbor->style == Neighbor::MULTI_OLD))
+    error->all(FLERR,
+               "Fix {} needs its contact list out to {} (contact distance {} + 2 x skin {}), "
+               "which neighbor multi does not build ({}): use neighbor {} bin, or pair "
+               "cutoffs of at least {} for the pairs of the group's types",
+               style_name, S.list_cutoff, 2.0 * S.rmax, S.skin,
+               force->pair ? "it lists each type pair to its pair cutoff + skin"
+                           : "with no pair style it lists no pairs",
+               S.skin, S.list_cutoff - S.skin);
+
   HSCompat::request_half_list(lmp, this, instance_me, own_list ? S.list_cutoff : 0.0,
                               CONTACT_LIST_ID);
 
@@ -299,8 +312,9 @@ void FixHardSphere::init()
   // before newer LAMMPS (4Feb2025) checks the request with a vaguer message,
   // and after the local engine on several ranks raised the ghost cutoff to
   // what it needs (more than this)
+  // (comm_modify mode multi: per collection, checked at set-up)
   const double cutghost = HSCompat::ghost_cutoff_at_init(lmp);
-  if (cutghost < S.list_cutoff)
+  if (comm->mode == Comm::SINGLE && cutghost < S.list_cutoff)
     error->all(FLERR,
                "Fix {} needs ghost atoms out to {} (contact distance {} + 2 x skin {}), "
                "but the ghost cutoff is {}: use comm_modify cutoff {} or a pair style "
@@ -548,6 +562,50 @@ void FixHardSphere::init_list(int id, NeighList *ptr)
   else sys->list = ptr;
 }
 
+/* ----------------------------------------------------------------------
+   comm_modify mode multi (multi/old): Comm takes each collection's (type's)
+   ghost cutoff from cutoff/multi and the pair cutoffs, not from comm_modify
+   cutoff, which init() and the local engine set; with too few ghosts the
+   local engine's clusters lacked terms on several ranks (other collisions
+   than on one rank, or an overlap error). After Neighbor::init() and
+   Comm::init() (the collections, the user's cutoffs): the smallest
+   collection's ghost cutoff (a lower bound of Comm::setup()'s: its own
+   pairs' cutoff and the user's) must reach what the fix needs
+------------------------------------------------------------------------- */
+
+void FixHardSphere::check_multi_ghosts()
+{
+  const double need = MAX(S.list_cutoff, engine ? engine->ghost_needed() : 0.0);
+  const bool old = comm->mode == Comm::MULTIOLD;
+  const int n = old ? atom->ntypes : neighbor->ncollections;
+  double least = -1.0;
+  int which = 0;
+  for (int k = 0; k < n; k++) {
+    double cut;
+    if (old)
+      cut = MAX(neighbor->cuttype[k + 1],
+                comm->cutusermultiold ? comm->cutusermultiold[k + 1] : 0.0);
+    else
+      cut = MAX(sqrt(neighbor->cutcollectionsq[k][k]),
+                comm->cutusermulti ? comm->cutusermulti[k] : 0.0);
+    if (least < 0.0 || cut < least) {
+      least = cut;
+      which = old ? k + 1 : k;
+    }
+  }
+  if (n == 0 || least >= need) return;
+  const char *mode = old ? "multi/old" : "multi";
+  const std::string why = (engine && engine->ghost_needed() > S.list_cutoff)
+      ? "substep local on several ranks: the neighbor cutoff plus two contact-list cutoffs"
+      : "the contact list: contact distance + 2 x skin";
+  error->all(FLERR,
+             "Fix {} needs ghost atoms out to {} ({}), but comm_modify mode {} gives {} {} "
+             "a ghost cutoff of {}: use comm_modify mode {} {} * {} (the fix sets the ghost "
+             "cutoff itself in mode single only)",
+             style_name, need, why, mode, old ? "type" : "collection", which, least, mode,
+             old ? "cutoff/multi/old" : "cutoff/multi", need);
+}
+
 void FixHardSphere::reset_dt()
 {
   // (contacts are predicted within [0, dt]: a negative step found none and
@@ -571,6 +629,8 @@ void FixHardSphere::setup(int)
     S.ftm2v_mass.assign(atom->ntypes + 1, 0.0);
     for (int t = 1; t <= atom->ntypes; t++) S.ftm2v_mass[t] = force->ftm2v / atom->mass[t];
   }
+
+  if (comm->mode != Comm::SINGLE) check_multi_ghosts();
 
   // Neighbor::init() (after ours) sets neighbor->exclude: checked here
 

@@ -88,6 +88,8 @@ class FixHardSphere : public Fix, public HSTypes {
   bool minimized = false;                // ... and it was a minimization
   uint64_t end_state = 0;
   void check_state_kept();
+  // comm_modify mode multi: the ghost cutoffs of every collection (setup())
+  void check_multi_ghosts();
   void begin_step_virial();              // a step's: from zero (initial_integrate())
   HSStepEngine *engine = nullptr;        // this run's, or none (psa)
   HSStepEngine *global_engine = nullptr, *local_engine = nullptr;

@@ -213,6 +213,23 @@ void HSLocalEngine::chosen()
   const bool one_rank = comm->nprocs == 1;
   double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
   if (!one_rank) needed = std::max(needed, ghost_widened);
+  // comm_modify mode multi (multi/old) takes its ghost cutoffs per
+  // collection (type) from cutoff/multi and the pair cutoffs; comm_modify
+  // cutoff, which this engine sets, is not read there: the fix checks them
+  // against ghost_wide at set-up (FixHardSphere::check_multi_ghosts()), and
+  // neither ghost lazy nor overflow widen can change them
+  const bool multi = comm->mode != Comm::SINGLE;
+  if (multi) {
+    ghost_wide = needed;
+    lazy = narrow = false;
+    if (!one_rank && sys->overflow == HSSystem::OVERFLOW_WIDEN)
+      error->all(FLERR,
+                 "Fix {} overflow widen needs comm_modify mode single: it widens the ghost "
+                 "cutoff within a step, which mode multi takes per collection from "
+                 "cutoff/multi (use overflow global or a larger comm_modify cutoff/multi)",
+                 sys->style_name);
+    return;
+  }
   // the input's own comm_modify cutoff, unless it is the one this engine set
   if (comm->cutghostuser != ghost_set) ghost_user = comm->cutghostuser;
   comm->cutghostuser = ghost_user;

@@ -148,6 +148,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // copy whose interaction rows must be complete): raised by the engine if
   // the input's is smaller, with a line in the log
   void chosen() override;
+  double ghost_needed() const override { return ghost_wide; }
   bool step() override;
   bool finish() override;
   void pre_exchange() override;

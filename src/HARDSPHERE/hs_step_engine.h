@@ -33,6 +33,10 @@ class HSStepEngine : protected Pointers {
   // from the fix's init(), once this engine is chosen: what it needs of the
   // set-up before the run's set-up (the local engine: its ghost cutoff)
   virtual void chosen() {}
+  // the ghost cutoff the engine needs, after chosen() (0: the contact
+  // list's alone); the fix checks it where it cannot set it (comm_modify
+  // mode multi)
+  virtual double ghost_needed() const { return 0.0; }
   // true if the engine takes held forces as f less LAMMPS' own conservative
   // force when the fix can copy it (HSSystem::captured()): only if every
   // force in f but the held ones is in its restricted evaluations

@@ -823,3 +823,67 @@ timestep 0.005
         EXPECT_LT(dmax, config == "one cluster" ? 1e-12 : 1e-11) << what;
       }
 }
+
+// comm_modify mode multi (and multi/old) takes each collection's ghost
+// cutoff from cutoff/multi and the pair cutoffs; the engine had raised
+// comm_modify cutoff, which that mode does not read, so on several ranks a
+// cluster's terms were missing: polydisperse spheres (atom style sphere,
+// neighbor multi) ended 5.6e-7 off in etotal on 2 ranks, a dense fluid
+// missed a collision on 4 (found by a user-style sweep). Now an error that
+// names cutoff/multi; with it set, 2 ranks equal 1
+TEST(LocalEngine, CommModeMultiGhostCutoffs)
+{
+  auto input = [](const std::string &nstyle, const std::string &cm, const std::string &args) {
+    return R"LMP(units lj
+atom_style sphere
+atom_modify map array
+boundary p p p
+lattice sc 0.4
+region b block 0 8 0 8 0 8
+create_box 1 b
+create_atoms 1 box
+variable dd atom 0.6+0.05*((floor(x/1.357+0.5)*7+floor(y/1.357+0.5)*13+floor(z/1.357+0.5)*29)%10)
+set group all diameter v_dd
+set group all density 1.9099
+pair_style lj/cut 2.5
+pair_coeff * * 1.0 1.0
+neighbor 0.3 )LMP" + nstyle + "\n" + cm + R"LMP(
+velocity all create 2.0 87287 loop geom
+fix hs all hardsphere/cva )LMP" + args + R"LMP(
+timestep 0.005
+run 100
+print "RESULT $(etotal:%.15g) $(f_hs[1])"
+)LMP";
+  };
+  auto result = [](const RunResult &r, double &e, double &c) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m, std::regex("RESULT ([-0-9.e+]+) ([0-9.e+]+)")))
+        << r.output;
+    e = std::stod(m[1]);
+    c = std::stod(m[2]);
+  };
+  for (const std::string mode : {"multi", "multi/old"}) {
+    const std::string key = mode == "multi" ? "cutoff/multi" : "cutoff/multi/old";
+    const std::string cm = "comm_modify mode " + mode;
+    double e1, c1, e2, c2;
+    // one rank: the periodic images within the pair cutoffs are enough
+    result(expect_runs(input(mode, cm, "")), e1, c1);
+    RunResult r = run_lmp(input(mode, cm, ""), {}, 2);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("comm_modify mode " + mode + " gives"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("use comm_modify mode " + mode + " " + key + " * 6.1"),
+              std::string::npos)
+        << r.output;
+    result(expect_runs(input(mode, cm + " " + key + " * 6.1", ""), {}, {}, {}, 2), e2, c2);
+    std::printf("%s: 1 rank %.15g (%g collisions), 2 ranks %.15g (%g)\n", mode.c_str(), e1, c1,
+                e2, c2);
+    EXPECT_GT(c1, 30.0);
+    EXPECT_EQ(c2, c1) << mode;
+    EXPECT_NEAR(e2, e1, 1e-12 * std::fabs(e1)) << mode;
+    // overflow widen widens comm_modify cutoff within a step: not this mode
+    r = run_lmp(input(mode, cm + " " + key + " * 6.1", "overflow widen"), {}, 2);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("overflow widen needs comm_modify mode single"), std::string::npos)
+        << r.output;
+  }
+}

@@ -238,6 +238,21 @@ TEST_P(SharedErrors, LostAtomIgnored)
   expect_runs(input, {"\nATOMS 2 STEP 300"});
 }
 
+// neighbor multi lists each type pair to its pair cutoff + skin, not to
+// the contact list's own cutoff: pure hard spheres (no pair style) lost
+// every pair and collided 15 % deep before an overlap error. An error; with
+// pair cutoffs that reach the contact list (the list copied), multi runs
+TEST_P(SharedErrors, NeighborMultiWithoutTheContactList)
+{
+  const std::string pure = "neighbor 0.3 multi\n";
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0"), pure),
+               {"Fix " + style() + " needs its contact list out to 1.6",
+                "neighbor multi does not build (with no pair style it lists no pairs)",
+                "use neighbor 0.3 bin"});
+  expect_runs(two_atoms("-1", "1", fix(" diameter 1.0"),
+                        "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n" + pure));
+}
+
 // a negative timestep: contacts are predicted within [0, dt], so none was
 // found and the spheres ran into each other ("a collision was missed"
 // some steps later); fix nve runs backwards, these do not
