@@ -563,6 +563,50 @@ void FixHardSphere::init_list(int id, NeighList *ptr)
 }
 
 /* ----------------------------------------------------------------------
+   the first neigh_modify exclusion (as its arguments) that can remove a
+   pair of two atoms of the group from the lists, "" if none: by the
+   exclusion data Neighbor::init() sets (NPair::exclusion()'s tests);
+   conservative for molecules (any atom of the group in the group named)
+------------------------------------------------------------------------- */
+
+std::string FixHardSphere::excluded_group_pairs() const
+{
+  if (!neighbor->exclude) return "";
+  const int ntypes = atom->ntypes;
+  const int ntests = neighbor->nex_group + neighbor->nex_mol;
+  // per type: an atom of the group; per group (mol) test: an atom of the
+  // group in its first group, in its second
+  std::vector<int> mine(ntypes + 1 + 2 * ntests, 0), all(mine.size(), 0);
+  const int *mask = atom->mask, *type = atom->type;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    mine[type[i]] = 1;
+    int *g = &mine[ntypes + 1];
+    for (int m = 0; m < neighbor->nex_group; m++) {
+      if (mask[i] & neighbor->ex1_bit[m]) g[2 * m] = 1;
+      if (mask[i] & neighbor->ex2_bit[m]) g[2 * m + 1] = 1;
+    }
+    for (int m = 0; m < neighbor->nex_mol; m++)
+      if (mask[i] & neighbor->ex_mol_bit[m]) g[2 * (neighbor->nex_group + m)] = 1;
+  }
+  MPI_Allreduce(mine.data(), all.data(), (int) mine.size(), MPI_INT, MPI_MAX, world);
+  for (int a = 1; a <= ntypes; a++)
+    for (int b = a; b <= ntypes; b++)
+      if (neighbor->nex_type && all[a] && all[b] && neighbor->ex_type[a][b])
+        return fmt::format("type {} {}", a, b);
+  const int *g = &all[ntypes + 1];
+  for (int m = 0; m < neighbor->nex_group; m++)
+    if (g[2 * m] && g[2 * m + 1])
+      return fmt::format("group {} {}", group->names[neighbor->ex1_group[m]],
+                         group->names[neighbor->ex2_group[m]]);
+  for (int m = 0; m < neighbor->nex_mol; m++)
+    if (g[2 * (neighbor->nex_group + m)])
+      return fmt::format("{} {}", neighbor->ex_mol_intra[m] ? "molecule/intra" : "molecule/inter",
+                         group->names[neighbor->ex_mol_group[m]]);
+  return "";
+}
+
+/* ----------------------------------------------------------------------
    comm_modify mode multi (multi/old): Comm takes each collection's (type's)
    ghost cutoff from cutoff/multi and the pair cutoffs, not from comm_modify
    cutoff, which init() and the local engine set; with too few ghosts the
@@ -632,13 +676,17 @@ void FixHardSphere::setup(int)
 
   if (comm->mode != Comm::SINGLE) check_multi_ghosts();
 
-  // Neighbor::init() (after ours) sets neighbor->exclude: checked here
-
-  if (neighbor->exclude)
+  // Neighbor::init() (after ours) sets neighbor->exclude: checked here.
+  // Only an exclusion that can take a pair of the group's atoms off the
+  // lists matters (those pass through each other); one among other atoms,
+  // e.g. a frozen wall's with itself, does not
+  const std::string excluded = excluded_group_pairs();
+  if (!excluded.empty())
     error->all(FLERR,
-               "Fix {} cannot be used with neigh_modify exclude: excluded pairs would "
-               "pass through each other",
-               style_name);
+               "Fix {} cannot be used with neigh_modify exclude {}: it takes pairs of "
+               "the atoms of group {} off the neighbor lists, which would pass through "
+               "each other",
+               style_name, excluded, group->names[igroup]);
 
   // the impulse virial is that of the step taken last: a run that goes on
   // from that step reports the same pressure on its first thermo line as

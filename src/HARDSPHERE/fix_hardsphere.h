@@ -90,6 +90,8 @@ class FixHardSphere : public Fix, public HSTypes {
   void check_state_kept();
   // comm_modify mode multi: the ghost cutoffs of every collection (setup())
   void check_multi_ghosts();
+  // the neigh_modify exclusion that removes pairs of the group, or ""
+  std::string excluded_group_pairs() const;
   void begin_step_virial();              // a step's: from zero (initial_integrate())
   HSStepEngine *engine = nullptr;        // this run's, or none (psa)
   HSStepEngine *global_engine = nullptr, *local_engine = nullptr;

@@ -281,6 +281,8 @@ void FixHardSpherePress::init()
   // sphere moves more than skin/2 (the hardsphere fixes rebuild then), so a
   // pair closer than c/s now was closer than c/s + skin <= c + 2 skin at
   // the build for s >= c / (c + skin)
+  // (under neighbor multi, the pairs of one hardsphere fix's types are
+  // listed to the contact list's cutoff or that fix's init() stopped)
   HSCompat::request_half_list(lmp, this, instance_me, contact_max + 2.0 * skin, 0);
 }
 

@@ -134,6 +134,48 @@ TEST(CVAErrors, NeighExcludeAtFirstRun)
                {"neigh_modify exclude"});
 }
 
+// an exclusion among atoms outside the group (a frozen wall's atoms
+// excluded from each other, a common idiom) takes no pair of the group off
+// the lists: it runs, and the group's spheres collide (it was an error that
+// said excluded pairs would pass through each other). One that takes a pair
+// of the group off is still an error, by type or by group
+TEST(CVAErrors, NeighExcludeOutsideTheGroupRuns)
+{
+  auto input = [](const std::string &exclude) {
+    return R"IN(
+units lj
+atom_style atomic
+atom_modify map array
+region box block -5 5 -5 5 -5 5 units box
+create_box 2 box
+create_atoms 1 single -1 0 0 units box
+create_atoms 1 single 1 0 0 units box
+create_atoms 2 single 0 3 0 units box
+create_atoms 2 single 0.5 3 0 units box
+mass * 1.0
+comm_modify cutoff 3.0
+group one id 1
+group two id 2
+group spheres type 1
+group wall type 2
+)IN" + exclude + R"IN(
+velocity one set 1 0 0 units box
+velocity two set -1 0 0 units box
+fix hs spheres hardsphere/cva diameter 1.0
+run 100
+print "RESULT collisions $(f_hs[1])"
+)IN";
+  };
+  for (const std::string ex : {"neigh_modify exclude type 2 2", "neigh_modify exclude type 1 2",
+                               "neigh_modify exclude group wall wall"})
+    expect_runs(input(ex), {"RESULT collisions 1"});
+  expect_error(input("neigh_modify exclude type 1 1"),
+               {"Fix hardsphere/cva cannot be used with neigh_modify exclude type 1 1",
+                "pairs of the atoms of group spheres"});
+  expect_error(input("neigh_modify exclude group one two"),
+               {"neigh_modify exclude group one two"});
+}
+
 // LAMMPS::init() runs modify->init() before neighbor->init(), where Neighbor
 // sets 'exclude': the check must see the current run's setting, not the
 // previous run's: (a) exclusions added after a run are caught (else the
