@@ -14,8 +14,16 @@
 # doc/fix_hardsphere.rst, Pressure). With -var write 1 the states after
 # equilibration and production go to ${out}.equil and ${out}. The
 # production run's "Loop time" and "% CPU use" give the CPU time.
+#
+# Several MPI ranks: psa is the method for pure hard spheres. cva's local
+# engine takes a step's chain of contacts as one cluster; at packing 0.45
+# and dt 0.02 those reach beyond the ghost atoms on 2 ranks (an error at
+# step 2 that names the options): pass them with -var hsargs, e.g.
+#   mpirun -np 2 ../../build/lmp -in in.hs -var model cva -var hsargs "overflow widen"
+# or a smaller -var dthard.
 
 variable model   index psa
+variable hsargs  index ""
 variable data    index start.data
 variable out     index final.data
 variable write   index 0
@@ -40,8 +48,8 @@ neighbor    ${skin} bin
 neigh_modify every 1 delay 0 check yes
 # hard spheres: no pair style, the contact list (1 + 2 skin) needs the ghosts
 comm_modify cutoff $(1.1+2*v_skin)
-if "${model} == psa" then "fix hs all hardsphere/psa diameter 1.0" &
-  elif "${model} == cva" "fix hs all hardsphere/cva diameter 1.0" &
+if "${model} == psa" then "fix hs all hardsphere/psa diameter 1.0 ${hsargs}" &
+  elif "${model} == cva" "fix hs all hardsphere/cva diameter 1.0 ${hsargs}" &
   else "print 'model must be psa, cva or mie, got ${model}'" "quit 1"
 variable    dt equal ${dthard}
 variable    ncoll equal f_hs[2]
