@@ -550,9 +550,10 @@ void FixHardSphere::check_other_integrators()
       hint = " (constant pressure: fix hardsphere/press beside this fix, with a thermostat "
              "such as fix langevin)";
     error->all(FLERR,
-               "Fix {} {} and fix {} {} both time-integrate atoms of group {}: use one "
-               "integrator per atom{}",
-               id, style_name, other->id, other->style, group->names[igroup], hint);
+               "Fix {} {} and fix {} {} both time-integrate the atoms common to group {} "
+               "and group {}: use one integrator per atom{}",
+               id, style_name, other->id, other->style, group->names[igroup],
+               group->names[other->igroup], hint);
   }
 }
 

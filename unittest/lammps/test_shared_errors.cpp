@@ -117,7 +117,10 @@ TEST_P(SharedErrors, SecondIntegratorOnSameAtoms)
                {"mynve", "hs", "nve", style(), "both time-integrate"});
   // ... and after it
   expect_error(two_atoms("-1", "1", fix(" diameter 1.0\nfix 2 all nve")),
-               {"both time-integrate atoms"});
+               {"both time-integrate the atoms common to group all and group all"});
+  // a subgroup: the message names both groups
+  expect_error(two_atoms("-1", "1", fix(" diameter 1.0\ngroup half id 1\nfix 2 half nve")),
+               {"both time-integrate the atoms common to group all and group half"});
   // a Nose-Hoover thermostat or barostat: the message says what gives the
   // ensemble beside this fix
   expect_error(two_atoms("-1", "1", fix(" diameter 1.0\nfix t all nvt temp 1 1 0.5")),
