@@ -623,7 +623,8 @@ void HSLocalEngine::pack_run(const Run &r, bool first_half)
   const int h = first_half ? 0 : 1;
   const int nm = (int) r.mtags.size();
   sendbuf.push_back((double) r.mtags[0]);
-  sendbuf.push_back((double) h);
+  // (2: a provisional second half, whose ends the corrector reads)
+  sendbuf.push_back((double) (first_half ? 0 : (awaits_corrector(r) ? 2 : 1)));
   sendbuf.push_back((double) nm);
   sendbuf.push_back(r.npair[h]);
   sendbuf.push_back(r.nwall[h]);
@@ -660,7 +661,8 @@ void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arr
     const int npk = (int) b[m++];
     for (int pk = 0; pk < npk; pk++) {
       const tagint key = (tagint) b[m];
-      const int h = (int) b[m + 1];
+      const int half = (int) b[m + 1];
+      const int h = half == 0 ? 0 : 1;
       const int nm = (int) b[m + 2];
       Run *rp = run_of(key);
       const bool mine = rp && rp->mine;
@@ -717,6 +719,9 @@ void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arr
           }
         }
       }
+      // the provisional ends, kept through the corrected run's packet
+      if (half == 0) r.dxp.clear();
+      if (half == 2) r.dxp = r.dxe;
       m = end;
       if (h == 0) {
         r.a_done = true;
@@ -1588,12 +1593,18 @@ bool HSLocalEngine::cross_at_end()
       // mid positions: put back below)
       std::vector<std::pair<int, Vec>> &saved = xend_saved;
       saved.clear();
+      // (a run the corrector has run again: its provisional ends, so that
+      // F_X(q_end) is the same whether a neighbour was corrected in an
+      // earlier round of this step or not; a later round's correction of a
+      // regrown cluster otherwise read its neighbours' corrected ends, and
+      // the step's result depended on its number of rounds)
       runs.for_each([&](tagint, Run &r) {
         if (!r.b_done || r.dxe.size() != r.mtags.size()) return;
+        const std::vector<Vec> &dx = r.dxp.size() == r.mtags.size() ? r.dxp : r.dxe;
         for (size_t k = 0; k < r.mtags.size(); k++)
           for (int l = atom->map(r.mtags[k]); l >= 0; l = atom->sametag[l]) {
             saved.push_back({l, {x[l][0], x[l][1], x[l][2]}});
-            for (int d = 0; d < 3; d++) x[l][d] = x0[l][d] + r.dxe[k][d];
+            for (int d = 0; d < 3; d++) x[l][d] = x0[l][d] + dx[k][d];
           }
       });
       // in key order (the flows' order is free; this keeps the restricted
@@ -2168,6 +2179,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       r.vm[k] = {v[i][0], v[i][1], v[i][2]};
     }
     r.a_done = true;
+    r.dxp.clear();
     for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
   } else {
     // the end state is kept; the members wait at xm again (where Phi_H2's
@@ -2188,6 +2200,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       set_v(i, r.vm[k].data());
     }
     r.b_done = true;
+    if (provisional) r.dxp = r.dxe;
   }
   return true;
 }

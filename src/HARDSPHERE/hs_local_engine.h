@@ -232,6 +232,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<int> env;           // runner: static copies of its flows
     std::vector<Vec> dxm, vm;       // members after Phi_H1(dt/2): displacement from x0, v
     std::vector<Vec> dxe, ve;       // members at the step's end
+    std::vector<Vec> dxp;           // their ends after the provisional second half
     std::vector<Vec> xm;            // runner: members' positions after the first half
     std::vector<Vec> fx0, fx;       // runner: members' cross-term forces F_X(q0), F_X(q_mid)
     std::vector<Vec> fx1;           // runner: F_X at the members' ends (the corrector's)
@@ -250,7 +251,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
       mtags.clear();
       xnbrs.clear();
       for (auto *v :
-           {&fk0, &dxm, &vm, &dxe, &ve, &xm, &fx0, &fx, &fx1, &dvA, &dvB, &fend, &fkB, &xB})
+           {&fk0, &dxm, &vm, &dxe, &dxp, &ve, &xm, &fx0, &fx, &fx1, &dvA, &dvB, &fend, &fkB,
+            &xB})
         v->clear();
       for (auto &sg : segsA) sg.clear();
       for (auto &sg : segsB) sg.clear();
