@@ -591,10 +591,10 @@ std::string FixHardSphere::excluded_group_pairs() const
       if (mask[i] & neighbor->ex_mol_bit[m]) g[2 * (neighbor->nex_group + m)] = 1;
   }
   MPI_Allreduce(mine.data(), all.data(), (int) mine.size(), MPI_INT, MPI_MAX, world);
-  for (int a = 1; a <= ntypes; a++)
-    for (int b = a; b <= ntypes; b++)
-      if (neighbor->nex_type && all[a] && all[b] && neighbor->ex_type[a][b])
-        return fmt::format("type {} {}", a, b);
+  if (neighbor->nex_type)    // (ex_type exists only then)
+    for (int a = 1; a <= ntypes; a++)
+      for (int b = a; b <= ntypes; b++)
+        if (all[a] && all[b] && neighbor->ex_type[a][b]) return fmt::format("type {} {}", a, b);
   const int *g = &all[ntypes + 1];
   for (int m = 0; m < neighbor->nex_group; m++)
     if (g[2 * m] && g[2 * m + 1])

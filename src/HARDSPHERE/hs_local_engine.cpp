@@ -213,6 +213,7 @@ void HSLocalEngine::chosen()
   const bool one_rank = comm->nprocs == 1;
   double needed = one_rank ? sys->list_cutoff : cutneigh + 2.0 * sys->list_cutoff;
   if (!one_rank) needed = std::max(needed, ghost_widened);
+  ghost_wide = needed;
   // comm_modify mode multi (multi/old) takes its ghost cutoffs per
   // collection (type) from cutoff/multi and the pair cutoffs; comm_modify
   // cutoff, which this engine sets, is not read there: the fix checks them
@@ -220,7 +221,6 @@ void HSLocalEngine::chosen()
   // neither ghost lazy nor overflow widen can change them
   const bool multi = comm->mode != Comm::SINGLE;
   if (multi) {
-    ghost_wide = needed;
     lazy = narrow = false;
     if (!one_rank && sys->overflow == HSSystem::OVERFLOW_WIDEN)
       error->all(FLERR,
@@ -238,7 +238,6 @@ void HSLocalEngine::chosen()
   // below LAMMPS' own, which Comm would take instead with a warning at every
   // set-up, "Communication cutoff adjusted", about a cutoff the input never set)
   ghost_narrow = std::max(cutghost, sys->list_cutoff);
-  ghost_wide = needed;
   // (comm_style brick only: the ghosts rebuilt within a step (reborder())
   // come from owned atoms that may have left their sub-domain since the
   // last exchange; brick's first swaps send every atom on the side of a
