@@ -443,9 +443,12 @@ void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out)
       atom->nlocal + atom->nghost <= NEAR;
   const double ncut2 = near_cut2_;
   const int nbit = near_groupbit_;
+  // neigh_modify exclude: the pairs LAMMPS' lists leave out, left out of
+  // the rows too (the fix allows none of two group atoms: contacts)
+  const bool ex = HSCompat::excludes(neighbor);
   near_excl_.clear();
   // (the constants by value: read once, not through the closure per entry)
-  auto scan = [&, near, ncut2, cut2, mol, a, ta](int j, const double *xj) {
+  auto scan = [&, near, ncut2, cut2, mol, ex, a, ta](int j, const double *xj) {
     const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
     const double r2 = dx * dx + dy * dy + dz * dz;
     if (r2 > cut2) return;
@@ -453,7 +456,8 @@ void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out)
     if (j == a || tj == ta) return;    // itself, its own images
     // (as HSLocalEngine::crow()'s own scan decides; its group test below)
     const bool nj = near && !(r2 > ncut2);
-    const int code = mol ? special_code(a, tj) : 0;
+    // (LAMMPS' lists test the exclusions before the special bits)
+    const int code = (ex && excluded(a, j)) ? -1 : mol ? special_code(a, tj) : 0;
     if (code < 0) {    // excluded
       if (nj && (mask[j] & nbit)) near_excl_.emplace_back(tj, j);
       return;
@@ -526,6 +530,28 @@ int HSLocalForces::special_code(int a, tagint tj) const
   return neighbor->special_flag[which] == 2 ? which : 0;
 }
 
+// NPair::exclusion() (npair.cpp, the same in 29Sep2021 and 4Feb2025) on
+// Neighbor's tables, which Neighbor::init() fills for the run: by type
+// pair, by a pair of groups (either way round), by molecule within one
+// group (intra: the same molecule; inter: different ones). Ghost copies
+// carry type, mask and molecule (borders), so every rank decides alike
+bool HSLocalForces::excluded(int i, int j) const
+{
+  const Neighbor *nb = neighbor;
+  const int *type = atom->type, *mask = atom->mask;
+  if (nb->nex_type && nb->ex_type[type[i]][type[j]]) return true;
+  for (int m = 0; m < nb->nex_group; m++)
+    if (((mask[i] & nb->ex1_bit[m]) && (mask[j] & nb->ex2_bit[m])) ||
+        ((mask[i] & nb->ex2_bit[m]) && (mask[j] & nb->ex1_bit[m])))
+      return true;
+  const tagint *molecule = atom->molecule;
+  for (int m = 0; m < nb->nex_mol; m++)
+    if ((mask[i] & nb->ex_mol_bit[m]) && (mask[j] & nb->ex_mol_bit[m]) &&
+        ((molecule[i] == molecule[j]) == (nb->ex_mol_intra[m] != 0)))
+      return true;
+  return false;
+}
+
 void HSLocalForces::compute_rows(const int *c, int nc)
 {
   const std::string why = rows_unsupported();
@@ -547,8 +573,6 @@ std::string HSLocalForces::rows_unsupported() const
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
   if (force->pair && force->pair->compute_flag && !force->newton_pair)
     add("newton_pair off (the pair style then does not write the forces of ghost atoms)");
-  if (HSCompat::excludes(neighbor))
-    add("neigh_modify exclude (the rows do not apply exclusions)");
   if (comm->nprocs > 1 && atom->molecular != Atom::ATOMIC && !topo_)
     add("a molecular system on several ranks without the members' topology (ghost atoms carry "
         "no special neighbours or bonded terms)");

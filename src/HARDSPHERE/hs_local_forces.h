@@ -319,6 +319,9 @@ class HSLocalForces : protected Pointers {
   // 1-3 a special pair with its bits, -1 a special pair left out
   // (special_flag 0)
   int special_code(int a, tagint tj) const;
+  // neigh_modify exclude: does LAMMPS' list build leave the pair of copies
+  // i, j out? (NPair::exclusion()'s tests, on Neighbor's tables)
+  bool excluded(int i, int j) const;
   const Topology *topo_ = nullptr;
   std::vector<int> topo_rows_[4];     // rows mode with topo_: C's bonded rows
   std::vector<uint32_t> tstamp_;      // per topology term: taken in this call

@@ -649,6 +649,82 @@ TEST(LocalForcesRows, SameAsListRestrictionOnOneRank)
   remove(data.c_str());
 }
 
+// neigh_modify exclude (by type, by a pair of groups, by molecule within a
+// group, intra and inter): compute_rows() leaves out the pairs LAMMPS' own
+// list build leaves out, so it equals compute() on LAMMPS' restricted
+// list, and the exclusion changed the forces (it took pairs off). One
+// rank: compute() is a collective on several (test_mpi_local.sh runs the
+// engine with an exclusion on 1, 2 and 4 ranks)
+TEST(LocalForcesRows, ExclusionsAsLAMMPSListBuild)
+{
+  const std::string data = melt_data(scratch_name("melt_excl.data"));
+  struct Case {
+    bool melt;
+    std::string setup, exclude;
+  };
+  const std::string two_types = "group ga id <= 100\ngroup gb id > 60\n";
+  const std::vector<Case> cases = {
+      {false, two_types, "neigh_modify exclude type 1 2"},
+      {false, two_types, "neigh_modify exclude group ga gb"},
+      {false, two_types, "neigh_modify exclude type 2 2 exclude group gb ga"},
+      {true, "group half id <= 500\n", "neigh_modify exclude molecule/intra half"},
+      {true, "group half id <= 500\n", "neigh_modify exclude molecule/inter half"},
+  };
+  for (const Case &k : cases) {
+    HSLammps h;
+    std::string in = k.melt ? melt_input(data, true) : fluid_input(true);
+    if (!k.melt) {    // a second type on 40 % of the atoms
+      in.replace(in.find("create_box 1 box"), 16, "create_box 2 box");
+      in.replace(in.find("mass 1 1.0"), 10, "mass * 1.0\nset type 1 type/fraction 2 0.4 99");
+      in.replace(in.find("pair_coeff 1 1"), 14, "pair_coeff * *");
+    }
+    in.insert(in.find("run 0"), k.setup);
+    h.lines(in);
+    if (h.lmp->comm->nprocs > 1) GTEST_SKIP() << "compute() is a collective on several ranks";
+    auto *atom = h.lmp->atom;
+    const auto all = random_c(h.lmp, atom->nlocal, 3, false);
+    // without the exclusion first, then with it
+    std::vector<double> before;
+    for (int with = 0; with < 2; with++) {
+      if (with) h.lines(k.exclude + "\nrun 0\n");
+      HSLocalForces a(h.lmp, "test"), b(h.lmp, "test");
+      a.init();
+      b.init();
+      ASSERT_EQ(b.rows_unsupported(), "") << k.exclude;
+      Reference ref(h.lmp);
+      b.set_reference(ref.get());
+      for (int n : {1, 3, 20, atom->nlocal})
+        for (unsigned seed = 1; seed <= 3; seed++) {
+          const auto c = random_c(h.lmp, n, seed * 7 + n, seed == 2);
+          const std::string what = k.exclude + (with ? "" : " (not yet)") + " |C| " +
+              std::to_string(c.size()) + " seed " + std::to_string(seed);
+          a.compute(c.data(), (int) c.size(), false);
+          b.compute_rows(c.data(), (int) c.size());
+          double **fa = a.forces(), **fb = b.forces();
+          ASSERT_EQ(a.touched(), b.touched()) << what;
+          double scale = 1.0;
+          for (int i : a.touched())
+            for (int d = 0; d < 3; d++) scale = std::max(scale, std::fabs(fa[i][d]));
+          for (int i : a.touched())
+            for (int d = 0; d < 3; d++)
+              EXPECT_NEAR(fb[i][d], fa[i][d], 1e-13 * scale) << what << " tag " << atom->tag[i];
+        }
+      // every atom in C: the exclusion must have changed forces
+      b.compute_rows(all.data(), (int) all.size());
+      std::vector<double> now(3 * atom->nlocal);
+      for (int i = 0; i < atom->nlocal; i++)
+        for (int d = 0; d < 3; d++) now[3 * i + d] = b.forces()[i][d];
+      if (!with) before = now;
+      else {
+        double diff = 0.0;
+        for (size_t m = 0; m < now.size(); m++) diff = std::max(diff, std::fabs(now[m] - before[m]));
+        EXPECT_GT(diff, 1e-3) << k.exclude << ": took no pair off";
+      }
+    }
+  }
+  remove(data.c_str());
+}
+
 // lj/cut's kernel (hs_ljcut.h) in the restricted evaluations: the same
 // forces, bit for bit, as the style's compute() on the same restricted
 // lists (fluid; melt with special_bonds lj 0 1 1), in compute_rows() and in
@@ -757,20 +833,11 @@ TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
 
 TEST(LocalForcesRows, SaysWhatItCannotDo)
 {
-  {
-    HSLammps h;
-    h.lines(fluid_input(false));
-    HSLocalForces lf(h.lmp, "test");
-    lf.init();
-    EXPECT_NE(lf.rows_unsupported().find("newton_pair off"), std::string::npos)
-        << lf.rows_unsupported();
-  }
   HSLammps h;
-  h.lines(fluid_input(true));
-  h.lines("neigh_modify exclude type 1 1\nrun 0\n");
+  h.lines(fluid_input(false));
   HSLocalForces lf(h.lmp, "test");
   lf.init();
-  EXPECT_NE(lf.rows_unsupported().find("neigh_modify exclude"), std::string::npos)
+  EXPECT_NE(lf.rows_unsupported().find("newton_pair off"), std::string::npos)
       << lf.rows_unsupported();
 }
 

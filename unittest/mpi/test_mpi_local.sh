@@ -12,7 +12,8 @@
 # angles, dihedrals and special weights (newton_bond on and off); fix
 # langevin on 2 ranks (mean
 # temperature within its error bar); half of the 500 as a solvent under fix
-# nve defined before the spheres' fix (cva and vci); and exact
+# nve defined before the spheres' fix (cva and vci), and the same with
+# the solvent's pairs excluded (neigh_modify exclude; cva and pcva); and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
@@ -83,6 +84,31 @@ sed 's/^fix         hs all hardsphere\/cva diameter 1.0$/region      low block I
 grep -q "^fix         nv solv nve$" in.local_solvent || { echo "FAIL: in.local_solvent has no solvent"; exit 1; }
 echo "500 atoms, half of them a solvent under fix nve defined before the spheres' fix, 200 steps:"
 check_system solvent in.local_solvent "2 4" -var nsteps 200
+# an ideal solvent: neigh_modify exclude group solv solv takes the
+# solvent's pairs off LAMMPS' lists; the engine's rows leave them out too,
+# so it runs on every rank count (it fell back to the global engine on
+# several ranks before 30 Nov 2026: other collisions than on 1 rank)
+sed 's/^group       hsg subtract all solv$/&\nneigh_modify exclude group solv solv/' \
+  in.local_solvent > in.local_exclude
+grep -q "^neigh_modify exclude group solv solv$" in.local_exclude || { echo "FAIL: in.local_exclude has no exclusion"; exit 1; }
+echo "the same with the solvent's pairs excluded (neigh_modify exclude group solv solv), 200 steps:"
+check_system exclude in.local_exclude "2 4" -var nsteps 200
+# (pcva keeps a closed system's H_[2,VV]: the solvent frozen, the idiom of
+# a wall's atoms excluded from each other)
+sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/; /^fix         nv solv nve$/d' \
+  in.local_exclude > in.local_pcvaexclude
+echo "the same with hardsphere/pcva, the solvent frozen:"
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds" "~positions")
+check_system pcvaexclude in.local_pcvaexclude "2 4" -var nsteps 200
+for name in exclude pcvaexclude; do
+  for np in 2 4; do
+    if grep -q "falls back to substep global" "out.$name.$np"; then
+      echo "FAIL: $name on $np ranks fell back to substep global"; fail=1
+    fi
+  done
+done
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds" "~positions")
+
 # the same with the lists built in every step (1 rank): the steps must not
 # depend on when the lists were built. They did (1.4e-5 in etotal, a cluster
 # more) while F_X(q0) took LAMMPS' start forces, at the solvent's old
