@@ -13,7 +13,8 @@
 # langevin on 2 ranks (mean
 # temperature within its error bar); half of the 500 as a solvent under fix
 # nve defined before the spheres' fix (cva and vci), and the same with
-# the solvent's pairs excluded (neigh_modify exclude; cva and pcva); and exact
+# the solvent's pairs excluded (neigh_modify exclude; cva and pcva), and a
+# melt half of whose chains are free with exclude molecule/intra; and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
@@ -197,6 +198,19 @@ echo "bead-spring melt (bonds, angles, dihedrals), 1000 beads at T 2, 200 steps,
 check_system melt in.local_melt "2 4" -var nsteps 200 -var nb on
 echo "the same with newton_bond off:"
 check_system melt_nboff in.local_melt "2 4" -var nsteps 200 -var nb off
+# half the chains free (fix nve), their beads' pairs within a chain taken
+# off the lists (neigh_modify exclude molecule/intra: ghosts carry their
+# molecule IDs); the other half hard spheres, on any rank count
+sed 's/^fix         hs all hardsphere\/cva diameter 0.9$/group       free molecule > 50\ngroup       hard subtract all free\nneigh_modify exclude molecule\/intra free\nfix         nv free nve\nfix         hs hard hardsphere\/cva diameter 0.9/' \
+  in.local_melt > in.local_meltexcl
+grep -q "^neigh_modify exclude molecule/intra free$" in.local_meltexcl || { echo "FAIL: in.local_meltexcl has no exclusion"; exit 1; }
+echo "the melt, half its chains free with their intra-chain pairs excluded (molecule/intra):"
+check_system meltexcl in.local_meltexcl "2 4" -var nsteps 200 -var nb on
+for np in 2 4; do
+  if grep -q "falls back to substep global" "out.meltexcl.$np"; then
+    echo "FAIL: meltexcl on $np ranks fell back to substep global"; fail=1
+  fi
+done
 
 # method_cases <m> <sed filter> <melt filter> <melt text>: the fluids at 500
 # and 4000 atoms, the hot and the held fluid and the melt with hardsphere/<m>
