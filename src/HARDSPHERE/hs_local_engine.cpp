@@ -1241,10 +1241,13 @@ bool HSLocalEngine::member_copies(Run &r)
       }
     }
     if (!inside && (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening())) return false;
+    // (overflow error: every rank learns of it in the step's next gather
+    // and step() raises it on all ranks, so that rank 0 writes it to the
+    // log: error->one() here wrote it only to this rank's screen)
     if (!inside) {
       std::string ids;
       for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
-      error->one(FLERR,
+      outgrown_msg = fmt::format(
                  "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches "
                  "beyond what the ghost cutoff {} covers (atom {} needs every atom within the "
                  "neighbor cutoff {} of it on the rank of atom {}): use a larger comm_modify "
@@ -1253,6 +1256,7 @@ bool HSLocalEngine::member_copies(Run &r)
                  "ghost cutoff and takes the step again)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
                  comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_wide);
+      return false;
     }
     r.members[k] = l;
   }
@@ -1284,13 +1288,14 @@ bool HSLocalEngine::member_copies(Run &r)
         }
         if (here) continue;
         if (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening()) return false;
-        error->one(FLERR,
+        outgrown_msg = fmt::format(
                    "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster "
                    "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
                    "use a larger comm_modify cutoff, substep global, overflow global "
                    "(such steps taken globally) or overflow widen",
                    sys->style_name, t, r.mtags[k], update->ntimestep, r.mtags[0],
                    comm->cutghostuser);
+        return false;
       }
     }
   }
@@ -2888,6 +2893,7 @@ bool HSLocalEngine::step()
     widen();
     status = step_clusters();
   }
+  if (status < 0 && sys->overflow == HSSystem::OVERFLOW_ERROR) overflow_error();
   if (status < 0) return false;
   if (status > 0) {
     local_step = 1;
@@ -2901,6 +2907,28 @@ bool HSLocalEngine::step()
     F.request_rebuild();
   }
   return true;
+}
+
+// overflow error: a cluster outgrew the ghost atoms on some rank (every
+// rank knows: step_clusters() returned -1 on all). The lowest rank that
+// found one sends its message to all, and all stop with it (error->all():
+// rank 0 writes it to the screen and the log)
+void HSLocalEngine::overflow_error()
+{
+  int mine = outgrown_msg.empty() ? nprocs : me, from = nprocs;
+  MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, world);
+  std::string msg = outgrown_msg;
+  if (from < nprocs) {
+    int len = (int) msg.size();
+    MPI_Bcast(&len, 1, MPI_INT, from, world);
+    msg.resize(len);
+    MPI_Bcast(&msg[0], len, MPI_CHAR, from, world);
+  } else
+    msg = fmt::format("Fix {} substep local: a collision cluster on step {} reaches beyond the "
+                      "ghost atoms (no rank kept its message: internal error)",
+                      sys->style_name, update->ntimestep);
+  outgrown_msg.clear();
+  error->all(FLERR, msg);
 }
 
 // the closing kick of a step taken by clusters

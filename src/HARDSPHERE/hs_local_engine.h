@@ -183,7 +183,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // a step in which screening found spheres that may touch. Returns false
   // if no contact is predicted in the step at all, on any rank (the caller
   // takes fix nve's step); else the step is done up to the closing kick
-  // -1: a cluster outgrew the ghost atoms (overflow global): the state is
+  // -1: a cluster outgrew the ghost atoms (overflow global; error and widen
+  // in step()): the state is
   // as at the step's start, the step is the global engine's; NEEDS_WIDE: a
   // contact is predicted and the ghost shell is LAMMPS' own (ghost lazy),
   // nothing changed
@@ -511,8 +512,11 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // the member copies of a cluster this rank runs: the key's owned copy and
   // for every other member its copy nearest it; checked against the ghost
   // cutoff
-  // false if one is beyond the ghost atoms and the user asked for overflow global
+  // false if one is beyond the ghost atoms (overflow error: with the error
+  // in outgrown_msg, which overflow_error() raises on every rank)
   bool member_copies(Run &r);
+  std::string outgrown_msg;
+  void overflow_error();
   // work lists of cluster keys; runs not cross-checked yet
   std::vector<tagint> workA, workB, workX, uncheckedA, uncheckedB;
   std::vector<int> clusters_of(std::vector<tagint> &keys);
