@@ -153,9 +153,9 @@ std::string HSMethodPCVA::local_limits()
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
   // (fix gravity's energy is the engine's: HSStepView::const_force())
   if (!S.pot->radial_only_but_gravity())
-    add(fmt::format("a potential with other than radial pair and bond terms ({}; the local "
+    add(fmt::format("a potential with other than radial pair and bond terms ({}: the local "
                     "projection evaluates the colliding spheres' terms through single())",
-                    S.pot->describe()));
+                    S.pot->nonradial()));
   return why;
 }
 

@@ -1076,6 +1076,23 @@ std::string HSPotential::describe() const
   return s;
 }
 
+std::string HSPotential::nonradial() const
+{
+  const Impl &m = *impl;
+  std::string s;
+  auto add = [&](const std::string &t) { s += (s.empty() ? "" : ", ") + t; };
+  if (m.fd_pair) add(std::string("pair ") + force->pair_style);
+  if (m.fd_bond) add(std::string("bond ") + force->bond_style);
+  if (m.fd_angle) add(std::string("angle ") + force->angle_style);
+  if (m.fd_dihedral) add(std::string("dihedral ") + force->dihedral_style);
+  if (m.fd_improper) add(std::string("improper ") + force->improper_style);
+  if (m.fd_kspace) add(std::string("kspace ") + force->kspace_style);
+  for (int k : m.efix)
+    if (HardSphere::base_style(modify->fix[k]->style) != "gravity")
+      add(std::string("fix ") + modify->fix[k]->id + " " + modify->fix[k]->style);
+  return s;
+}
+
 /* ----------------------------------------------------------------------
    a full force evaluation as Verlet::run does it
 ------------------------------------------------------------------------- */

@@ -53,6 +53,10 @@ class HSPotential : protected Pointers {
 
   // a one-line description of the path each contributing style takes
   std::string describe() const;
+  // the styles and fixes whose terms are not radial pair or bond terms
+  // through single() (those of describe() that take differences of force
+  // evaluations: fdiff), fix gravity left out; "" if none
+  std::string nonradial() const;
 
   // length scale L of the FDIFF differences (init() sets a tenth of the
   // shortest pair cutoff or bond length); an owner may override it after init()

@@ -355,10 +355,16 @@ special_bonds lj 0.0 1.0 1.0
 velocity all create 1.0 4321
 timestep 0.005
 )LMP";
-  expect_runs(base + "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n",
-              {"substep local is not available with a potential with other than "
-               "radial pair and bond terms",
-               "falls back to substep global"});
+  // the angle style named, not the radial pair and bond styles beside it
+  const auto r = expect_runs(base + "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n",
+                             {"substep local is not available with a potential with other "
+                              "than radial pair and bond terms (angle harmonic: ",
+                              "falls back to substep global"});
+  const size_t w = r.output.find("substep local is not available");
+  ASSERT_NE(w, std::string::npos);
+  const std::string warning = r.output.substr(w, r.output.find('\n', w) - w);
+  EXPECT_EQ(warning.find("lj/cut"), std::string::npos) << warning;
+  EXPECT_EQ(warning.find("bond harmonic"), std::string::npos) << warning;
   expect_error(base + "fix hs all hardsphere/pcva diameter 1.0 substep local\nrun 5\n",
                {"Fix hardsphere/pcva substep local cannot run with a potential with other than "
                 "radial pair and bond terms"});
