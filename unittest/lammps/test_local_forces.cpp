@@ -570,6 +570,21 @@ TEST(LocalForcesRows, GhostCopiesOnAnyRankCount)
   EXPECT_GT(g, 20) << "too few ghost members tried";
 }
 
+// the same touched copies and forces (to 1e-13 of the largest) from two
+// restricted evaluations: b's rows against a's list restriction
+static void expect_same_forces(HSLocalForces &a, HSLocalForces &b,
+                               const LAMMPS_NS::tagint *tag, const std::string &what)
+{
+  double **fa = a.forces(), **fb = b.forces();
+  ASSERT_EQ(a.touched(), b.touched()) << what;
+  double scale = 1.0;
+  for (int i : a.touched())
+    for (int k = 0; k < 3; k++) scale = std::max(scale, std::fabs(fa[i][k]));
+  for (int i : a.touched())
+    for (int k = 0; k < 3; k++)
+      EXPECT_NEAR(fb[i][k], fa[i][k], 1e-13 * scale) << what << " tag " << tag[i];
+}
+
 // one rank: compute_rows() of the owned copies equals compute() (touched
 // atoms and forces), with labels (NORMAL and CROSS), after atoms moved
 // (recompute() and a snapshot), in the fluid and in the melt
@@ -589,16 +604,8 @@ TEST(LocalForcesRows, SameAsListRestrictionOnOneRank)
     b.set_reference(ref.get());
     const int nall = atom->nlocal + atom->nghost;
     std::vector<int> lab(nall, -1);
-    auto compare = [&](const std::vector<int> &c, const std::string &what) {
-      double **fa = a.forces(), **fb = b.forces();
-      ASSERT_EQ(a.touched(), b.touched()) << what;
-      double scale = 1.0;
-      for (int i : a.touched())
-        for (int k = 0; k < 3; k++) scale = std::max(scale, std::fabs(fa[i][k]));
-      for (int i : a.touched())
-        for (int k = 0; k < 3; k++)
-          EXPECT_NEAR(fb[i][k], fa[i][k], 1e-13 * scale) << what << " tag " << atom->tag[i];
-      (void) c;
+    auto compare = [&](const std::vector<int> &, const std::string &what) {
+      expect_same_forces(a, b, atom->tag, what);
     };
     for (int n : {1, 3, 20, atom->nlocal})
       for (unsigned seed = 1; seed <= 3; seed++)
@@ -700,14 +707,7 @@ TEST(LocalForcesRows, ExclusionsAsLAMMPSListBuild)
               std::to_string(c.size()) + " seed " + std::to_string(seed);
           a.compute(c.data(), (int) c.size(), false);
           b.compute_rows(c.data(), (int) c.size());
-          double **fa = a.forces(), **fb = b.forces();
-          ASSERT_EQ(a.touched(), b.touched()) << what;
-          double scale = 1.0;
-          for (int i : a.touched())
-            for (int d = 0; d < 3; d++) scale = std::max(scale, std::fabs(fa[i][d]));
-          for (int i : a.touched())
-            for (int d = 0; d < 3; d++)
-              EXPECT_NEAR(fb[i][d], fa[i][d], 1e-13 * scale) << what << " tag " << atom->tag[i];
+          expect_same_forces(a, b, atom->tag, what);
         }
       // every atom in C: the exclusion must have changed forces
       b.compute_rows(all.data(), (int) all.size());
