@@ -721,7 +721,7 @@ else
 fi
 # the engine raised the ghost cutoff itself (for the steps with contacts:
 # ghost lazy), and said so
-if grep -q "a step with one is taken with comm_modify cutoff 6 " out.long.2; then
+if grep -q "a step with one is taken with comm_modify cutoff 6 " log.long.2; then
   echo "  2 ranks: the engine's ghost cutoff is in the log: ok"
 else
   echo "  FAIL: no log line about the ghost cutoff"; fail=1
