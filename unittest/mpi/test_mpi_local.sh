@@ -35,6 +35,16 @@
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
 mpi_init test_mpi_local "$@"
 
+no_fallback() {    # no_fallback <name> <rank counts>: no rank count took substep global
+  local np
+  for np in $2; do
+    if grep -q "falls back to substep global" "out.$1.$np"; then
+      echo "  FAIL: $1 on $np ranks fell back to substep global:"; grep "falls back" "out.$1.$np" | head -1
+      fail=1
+    fi
+  done
+}
+
 # with_fingerprint: an input (stdin) with a fingerprint of the positions
 # last on its RESULT line, the sum over atoms of xu^2 + 2 yu^2 + 3 zu^2
 # (unwrapped; not weighted by ID: create_atoms numbers the lattice rank by
@@ -101,13 +111,8 @@ sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f
 echo "the same with hardsphere/pcva, the solvent frozen:"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds" "~positions")
 check_system pcvaexclude in.local_pcvaexclude "2 4" -var nsteps 200
-for name in exclude pcvaexclude; do
-  for np in 2 4; do
-    if grep -q "falls back to substep global" "out.$name.$np"; then
-      echo "FAIL: $name on $np ranks fell back to substep global"; fail=1
-    fi
-  done
-done
+no_fallback exclude "2 4"
+no_fallback pcvaexclude "2 4"
 LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds" "~positions")
 
 # the same with the lists built in every step (1 rank): the steps must not
@@ -206,11 +211,7 @@ sed 's/^fix         hs all hardsphere\/cva diameter 0.9$/group       free molecu
 grep -q "^neigh_modify exclude molecule/intra free$" in.local_meltexcl || { echo "FAIL: in.local_meltexcl has no exclusion"; exit 1; }
 echo "the melt, half its chains free with their intra-chain pairs excluded (molecule/intra):"
 check_system meltexcl in.local_meltexcl "2 4" -var nsteps 200 -var nb on
-for np in 2 4; do
-  if grep -q "falls back to substep global" "out.meltexcl.$np"; then
-    echo "FAIL: meltexcl on $np ranks fell back to substep global"; fail=1
-  fi
-done
+no_fallback meltexcl "2 4"
 
 # method_cases <m> <sed filter> <melt filter> <melt text>: the fluids at 500
 # and 4000 atoms, the hot and the held fluid and the melt with hardsphere/<m>
@@ -296,15 +297,6 @@ thermo      50
 run         \${nsteps}
 EOF2
   result_line 6 9
-}
-no_fallback() {    # no_fallback <name> <rank counts>: no rank count took substep global
-  local np
-  for np in $2; do
-    if grep -q "falls back to substep global" "out.$1.$np"; then
-      echo "  FAIL: $1 on $np ranks fell back to substep global:"; grep "falls back" "out.$1.$np" | head -1
-      fail=1
-    fi
-  done
 }
 # cva_and_pcva <name> <what> <pcva's what> [sed for pcva's input]: in.local_<name>
 # with cva, then with pcva (its projections and skipped ones on the RESULT
