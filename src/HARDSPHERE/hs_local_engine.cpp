@@ -145,8 +145,7 @@ std::string HSLocalEngine::limits()
                     other->id, other->style, what));
   }
   // V_C's forces from rank-local rows (what several ranks need), else from
-  // the pair list restriction (newton_pair off: one rank only, its
-  // evaluation is collective)
+  // the pair list restriction (one rank only: its evaluation is collective)
   // molecular: the members' topology comes by ID (gather_topology())
   molecular = atom->molecular != Atom::ATOMIC;
   locf->set_topology(molecular ? &topo : nullptr);

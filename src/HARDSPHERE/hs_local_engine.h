@@ -72,8 +72,9 @@
    Rows: V_C's forces come from rank-local interaction rows of the
    members' copies (HSLocalForces::compute_rows) and their contact
    candidates from rows of the same kind (crow()), both at the list build's
-   positions. The pair list restriction (HSLocalForces::compute) serves
-   newton_pair off and neigh_modify exclude, on one rank.
+   positions (newton_pair on or off, neigh_modify exclude applied). The
+   pair list restriction (HSLocalForces::compute) serves the set-ups rows
+   cannot (HSLocalForces::rows_unsupported()), on one rank.
 
    Any number of MPI ranks, one code (issue 20, doc/Developer_hardsphere.
    rst): the step's clusters are a ClusterSet over dense ids of the
@@ -101,8 +102,8 @@
    engine, or errors when `substep local` was given): an atom map; pair,
    bond, angle, dihedral and improper styles HSLocalForces can restrict
    exactly (no many-body pair styles or hybrid/molecular), on several ranks
-   through rows (newton_pair on, no neigh_modify exclude; molecular
-   systems with the members' topology gathered by ID, gather_topology());
+   through rows (molecular systems with the members' topology gathered
+   by ID, gather_topology());
    no fix with conservative forces but enforce2d, gravity and those that
    only add a force (held).
 ------------------------------------------------------------------------- */

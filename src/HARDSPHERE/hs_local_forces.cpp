@@ -571,8 +571,6 @@ std::string HSLocalForces::rows_unsupported() const
 {
   std::string why = why_;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
-  if (force->pair && force->pair->compute_flag && !force->newton_pair)
-    add("newton_pair off (the pair style then does not write the forces of ghost atoms)");
   if (comm->nprocs > 1 && atom->molecular != Atom::ATOMIC && !topo_)
     add("a molecular system on several ranks without the members' topology (ghost atoms carry "
         "no special neighbours or bonded terms)");
@@ -1173,6 +1171,11 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
       memset(&t_saved[0][0], 0, nbytes);
     }
   }
+  // rows list each term once, a ghost's included (member pairs from the
+  // lower tag's row): every copy takes its force as with newton_pair on,
+  // whatever the input says (off: the styles would leave the ghosts' out)
+  const int newton_pair = force->newton_pair;
+  if (rows_) force->newton_pair = 1;
   if (L && hybrid_)
     hybrid_forces(ef);
   else if (L) {
@@ -1210,6 +1213,7 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     *plist[b] = l0;
   }
   force->newton_bond = newton_bond;
+  force->newton_pair = newton_pair;
   if (swap_f)
     atom->f = f_saved;
   else if (nall) {
