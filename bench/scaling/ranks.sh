@@ -22,6 +22,9 @@
 # A second run can add its repeats to the first's (ranks.md then pools both):
 #   SIZES=256000 REPEATS=4 bash bench/scaling/ranks.sh
 #   SIZES=256000 REPEATS=4 FIRST_REPEAT=5 KEEP_LOGS=1 bash bench/scaling/ranks.sh
+# NEWTON=off: every run with LAMMPS' newton off (the local engine on several
+# ranks since 30 Nov 2026); RESULTS=<file>: the table there instead of ranks.md
+#   NEWTON=off SIZES=32000 RESULTS=/tmp/ranks-newtoff.md bash bench/scaling/ranks.sh
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -29,6 +32,8 @@ LMP=${LMP:-$ROOT/build/lmp}
 SIZES=${SIZES:-"32000 256000"}
 REPEATS=${REPEATS:-3}
 WARMUP=${WARMUP:-5}
+NEWTON=${NEWTON:-on}
+RESULTS=${RESULTS:-$HERE/ranks.md}
 SCR=$HERE/scratch
 LOGS=$SCR/ranks-logs
 mkdir -p "$SCR" "$LOGS"
@@ -42,7 +47,7 @@ run() {    # run <np> <log> <N> <steps> <fix command>
   [[ "$fixcmd" == *hardsphere* ]] && counts=yes
   mpirun -np "$np" --oversubscribe "$LMP" -screen none -in "$HERE/in.run" -var system fluid \
     -var data "$SCR/fluid.$N.data" -var steps "$n" -var counts $counts -var fixcmd "$fixcmd" \
-    -var warmup "$WARMUP" -log "$log"
+    -var warmup "$WARMUP" -var newton "$NEWTON" -log "$log"
   grep -E "^Loop time|^BENCH" "$log" | tr '\n' ' '; echo
 }
 for N in $SIZES; do
@@ -67,4 +72,4 @@ for N in $SIZES; do
     run 4 "$LOGS/log.$N.1.$c.4" "$N" "$steps" "fix hs all hardsphere/$c diameter 1.0"
   done
 done
-/usr/bin/python3 "$HERE/ranks_parse.py" "$HERE/ranks.md" "$LOGS"
+/usr/bin/python3 "$HERE/ranks_parse.py" "$RESULTS" "$LOGS"

@@ -13,6 +13,7 @@ import numpy as np
 out, logdir = sys.argv[1:3]
 R = {}
 WARM = set()    # untimed steps before the timed run (ranks.sh WARMUP), as the logs show
+NEWTON = set()    # LAMMPS' newton setting of the runs (ranks.sh NEWTON)
 for p in glob.glob(os.path.join(logdir, "log.*")):
     _, N, k, c, np_ = os.path.basename(p).split(".")
     txt = open(p).read()
@@ -21,6 +22,7 @@ for p in glob.glob(os.path.join(logdir, "log.*")):
         continue
     t, _, n = m[-1]
     WARM.add(int(m[0][2]) if len(m) > 1 else 0)
+    NEWTON.update(re.findall(r"^newton\s+(on|off)", txt, re.M) or ["on"])
     b = re.search(r"^BENCH collisions (\S+)", txt, re.M)
     # the slowest rank's time in the pair style (the same work in every run
     # of a contender at a rank count: LAMMPS' own lj/cut over the same atoms)
@@ -42,7 +44,8 @@ def mean_se(a):
 L = ["## bench/scaling: the local engine on 1 and 2 MPI ranks", "",
      f"{datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')}, `bash bench/scaling/ranks.sh` "
      "(hard-core LJ fluid of in.make-fluid, the methods' default engine; 2 cores, shared; "
-     f"untimed warm-up steps before each timed run: {', '.join(map(str, sorted(WARM)))}).", "",
+     f"untimed warm-up steps before each timed run: {', '.join(map(str, sorted(WARM)))}"
+     f"{'' if NEWTON <= {'on'} else '; newton ' + ', '.join(sorted(NEWTON))}).", "",
      "| N | method | repeats | nve ms/step 1 / 2 ranks | method ms/step 1 / 2 ranks | speed-up, 2 ranks over 1 | "
      "speed-up: mean +- s.e. | "
      "nve speed-up | method/nve 1 rank | method/nve 2 ranks | (m/nve 2) / (m/nve 1) | "
