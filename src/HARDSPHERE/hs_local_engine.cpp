@@ -144,16 +144,13 @@ std::string HSLocalEngine::limits()
                     "cannot hold it as it holds kspace and force fixes)",
                     other->id, other->style, what));
   }
-  // V_C's forces from rank-local rows (what several ranks need), else from
-  // the pair list restriction (one rank only: its evaluation is collective)
-  // molecular: the members' topology comes by ID (gather_topology())
+  // V_C's forces from rank-local rows, on any number of ranks (one code:
+  // 1 and n ranks sum them alike); molecular: the members' topology comes
+  // by ID (gather_topology())
   molecular = atom->molecular != Atom::ATOMIC;
   locf->set_topology(molecular ? &topo : nullptr);
-  rows = locf->exact() && locf->rows_unsupported().empty();
-  if (locf->exact() && !rows && nprocs > 1)
-    add(fmt::format("{} MPI ranks and {} (the local engine's interaction rows, which several "
-                    "ranks need)",
-                    nprocs, locf->rows_unsupported()));
+  if (locf->exact() && !locf->rows_unsupported().empty())
+    add(fmt::format("{} (the local engine's interaction rows)", locf->rows_unsupported()));
   cand_version = -1;
   crows_version = -1;
   bonded = (atom->molecular != Atom::ATOMIC) &&
@@ -395,13 +392,10 @@ void HSLocalEngine::resize_shell()
 // -grad V_C for the copies c[0..n) (HSLocalForces)
 void HSLocalEngine::vc(const int *c, int n)
 {
-  if (rows) {
-    // the rows are taken at the list build's positions (HSSystem::xref,
-    // owned and ghosts, set at every build)
-    locf->set_reference(sys->xref);
-    locf->compute_rows(c, n);
-  } else
-    locf->compute(c, n, false);
+  // the rows are taken at the list build's positions (HSSystem::xref,
+  // owned and ghosts, set at every build)
+  locf->set_reference(sys->xref);
+  locf->compute_rows(c, n);
   ncompute_here += 1.0;
 }
 
@@ -409,8 +403,7 @@ const int *HSLocalEngine::crow(int a, int &n)
 {
   HSSystem &F = *sys;
   // a member's row of V_C (built first, vc()) lists them from its own scan
-  if (rows)
-    if (const int *r = locf->near_row(a, n)) return r;
+  if (const int *r = locf->near_row(a, n)) return r;
   if (crows_version != F.cand_version) {
     crows.rebuild(F.xref, atom->nlocal + atom->nghost, F.list_cutoff, 2);
     crows_version = F.cand_version;

@@ -72,9 +72,8 @@
    Rows: V_C's forces come from rank-local interaction rows of the
    members' copies (HSLocalForces::compute_rows) and their contact
    candidates from rows of the same kind (crow()), both at the list build's
-   positions (newton_pair on or off, neigh_modify exclude applied). The
-   pair list restriction (HSLocalForces::compute) serves the set-ups rows
-   cannot (HSLocalForces::rows_unsupported()), on one rank.
+   positions (newton_pair on or off, neigh_modify exclude applied), on any
+   number of ranks.
 
    Any number of MPI ranks, one code (issue 20, doc/Developer_hardsphere.
    rst): the step's clusters are a ClusterSet over dense ids of the
@@ -101,9 +100,9 @@
    Restrictions (FixHardSphere::choose_engine() falls back to the global
    engine, or errors when `substep local` was given): an atom map; pair,
    bond, angle, dihedral and improper styles HSLocalForces can restrict
-   exactly (no many-body pair styles or hybrid/molecular), on several ranks
-   through rows (molecular systems with the members' topology gathered
-   by ID, gather_topology());
+   exactly (no many-body pair styles or hybrid/molecular), through rows
+   (molecular systems with the members' topology gathered by ID,
+   gather_topology());
    no fix with conservative forces but enforce2d, gravity and those that
    only add a force (held).
 ------------------------------------------------------------------------- */
@@ -554,7 +553,6 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   HSLocalForces::Topology topo;
   std::map<std::array<int64_t, 6>, int> term_index;    // a term's (kind, type, IDs) -> topo.terms
   void gather_topology(const std::vector<int> &newids);
-  bool rows = false;           // V_C from rank-local rows (HSLocalForces::compute_rows)
   // overflow widen: a step whose cluster outgrew the ghost atoms is taken
   // again with them one contact-list cutoff farther (widen())
   bool widening() const;

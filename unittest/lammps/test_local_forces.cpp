@@ -518,60 +518,61 @@ struct Reference {
 TEST(LocalForcesRows, GhostCopiesOnAnyRankCount)
 {
   for (bool newton : {true, false}) {
-  HSLammps h;
-  std::string in = fluid_input(newton);
-  in.insert(in.find("run 0"), "comm_modify cutoff 5.5\n");
-  h.lines(in);
-  auto *atom = h.lmp->atom;
-  HSLocalForces lf(h.lmp, "test");
-  lf.init();
-  ASSERT_EQ(lf.rows_unsupported(), "");
-  Reference ref(h.lmp);
-  lf.set_reference(ref.get());
-  std::vector<double> X, F;
-  gather_by_tag(h.lmp, X, F);
-  double fscale = 0.0;
-  for (double v : F) fscale = std::max(fscale, std::fabs(v));
-  int nghost_members = 0, cases = 0;
-  // (a C of 200: the search for pairs of two members jumps by bisection
-  // there, and walks for the small C of a cluster)
-  for (int n : {1, 2, 4, 8, 40, 200})
-    for (unsigned seed = 1; seed <= 6; seed++) {
-      const auto c = random_copies(h.lmp, n, 1000u * seed + n + 17u * h.lmp->comm->me);
-      if (c.empty()) continue;
-      ++cases;
-      const Snapshot before = snap(h.lmp);
-      lf.compute_rows(c.data(), (int) c.size());
-      expect_unchanged(h.lmp, before, "rows");
-      std::set<int> ctags;
-      for (int j : c) {
-        ctags.insert((int) atom->tag[j]);
-        if (j >= atom->nlocal) ++nghost_members;
-      }
-      const auto ref = brute_lj_tags(h.lmp, X, ctags);
-      double **fl = lf.forces();
-      std::set<int> seen;
-      for (int j : lf.touched()) {
-        const int t = (int) atom->tag[j];
-        EXPECT_TRUE(seen.insert(t).second) << "tag " << t << " reported twice";
-        for (int k = 0; k < 3; k++) {
-          // members: the full force; partners: V_C's part of theirs
-          const double want = ctags.count(t) ? F[3 * (t - 1) + k] : ref[3 * (t - 1) + k];
-          EXPECT_NEAR(fl[j][k], want, 1e-12 * fscale)
-              << "newton " << newton << " |C| " << c.size() << " tag " << t << (j >= atom->nlocal ? " (ghost)" : "")
-              << (ctags.count(t) ? " member" : " partner") << " dim " << k;
+    HSLammps h;
+    std::string in = fluid_input(newton);
+    in.insert(in.find("run 0"), "comm_modify cutoff 5.5\n");
+    h.lines(in);
+    auto *atom = h.lmp->atom;
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    ASSERT_EQ(lf.rows_unsupported(), "");
+    Reference ref(h.lmp);
+    lf.set_reference(ref.get());
+    std::vector<double> X, F;
+    gather_by_tag(h.lmp, X, F);
+    double fscale = 0.0;
+    for (double v : F) fscale = std::max(fscale, std::fabs(v));
+    int nghost_members = 0, cases = 0;
+    // (a C of 200: the search for pairs of two members jumps by bisection
+    // there, and walks for the small C of a cluster)
+    for (int n : {1, 2, 4, 8, 40, 200})
+      for (unsigned seed = 1; seed <= 6; seed++) {
+        const auto c = random_copies(h.lmp, n, 1000u * seed + n + 17u * h.lmp->comm->me);
+        if (c.empty()) continue;
+        ++cases;
+        const Snapshot before = snap(h.lmp);
+        lf.compute_rows(c.data(), (int) c.size());
+        expect_unchanged(h.lmp, before, "rows");
+        std::set<int> ctags;
+        for (int j : c) {
+          ctags.insert((int) atom->tag[j]);
+          if (j >= atom->nlocal) ++nghost_members;
         }
+        const auto ref = brute_lj_tags(h.lmp, X, ctags);
+        double **fl = lf.forces();
+        std::set<int> seen;
+        for (int j : lf.touched()) {
+          const int t = (int) atom->tag[j];
+          EXPECT_TRUE(seen.insert(t).second) << "tag " << t << " reported twice";
+          for (int k = 0; k < 3; k++) {
+            // members: the full force; partners: V_C's part of theirs
+            const double want = ctags.count(t) ? F[3 * (t - 1) + k] : ref[3 * (t - 1) + k];
+            EXPECT_NEAR(fl[j][k], want, 1e-12 * fscale)
+                  << "newton " << newton << " |C| " << c.size() << " tag " << t
+                << (j >= atom->nlocal ? " (ghost)" : "")
+                << (ctags.count(t) ? " member" : " partner") << " dim " << k;
+          }
+        }
+        for (int j : c) EXPECT_TRUE(seen.count((int) atom->tag[j])) << "member not reported";
+        for (int t = 1; t <= (int) atom->natoms; t++)
+          if (!seen.count(t))
+            for (int k = 0; k < 3; k++)
+              EXPECT_EQ(ref[3 * (t - 1) + k], 0.0) << "partner tag " << t << " missing";
       }
-      for (int j : c) EXPECT_TRUE(seen.count((int) atom->tag[j])) << "member not reported";
-      for (int t = 1; t <= (int) atom->natoms; t++)
-        if (!seen.count(t))
-          for (int k = 0; k < 3; k++)
-            EXPECT_EQ(ref[3 * (t - 1) + k], 0.0) << "partner tag " << t << " missing";
-    }
-  EXPECT_GE(cases, 25);
-  int g = 0;
-  MPI_Allreduce(&nghost_members, &g, 1, MPI_INT, MPI_SUM, h.lmp->world);
-  EXPECT_GT(g, 20) << "too few ghost members tried";
+    EXPECT_GE(cases, 25);
+    int g = 0;
+    MPI_Allreduce(&nghost_members, &g, 1, MPI_INT, MPI_SUM, h.lmp->world);
+    EXPECT_GT(g, 20) << "too few ghost members tried";
   }
 }
 
