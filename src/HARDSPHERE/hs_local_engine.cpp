@@ -5,7 +5,8 @@
    One code for any number of MPI ranks (issue 20, doc/Developer_
    hardsphere.rst "The local engine on several ranks"): the step's clusters
    are a ClusterSet over the members' atom IDs, the same on every rank; a
-   cluster's flows are run by the owner of its key (lowest member ID) on its
+   cluster's flows are run by the owner of one member (runner_of(): the
+   least of a mix of the members' IDs; its key is the lowest ID) on its
    own copies (owned or ghost); what they produce goes to the other ranks as
    packets (MPI_Allgatherv, one per phase) or, for the partners' sums,
    through the ghosts' reverse communication; Phi_H2's velocities go from
@@ -167,7 +168,7 @@ std::string HSLocalEngine::limits()
 
 /* ----------------------------------------------------------------------
    the ghost cutoff: the rank that runs a cluster takes a member owned
-   elsewhere by its ghost copy nearest the key (on several ranks), which
+   elsewhere by its ghost copy nearest the runner's (on several ranks), which
    needs all atoms within the neighbor cutoff, so ghosts must reach that far
    beyond the farthest such member. The engine asks for the neighbor cutoff
    plus two contact-list cutoffs (three members in a row across a rank's
@@ -1182,6 +1183,43 @@ void HSLocalEngine::gather_topology(const std::vector<int> &newids)
   }
 }
 
+// a bijective mix of an ID (splitmix64's finaliser): the same on every rank,
+// unrelated to where IDs lie, no two IDs alike
+static uint64_t runner_rank(tagint id)
+{
+  uint64_t z = (uint64_t) id;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// the ID of n (id(k), k < n) with the least runner_rank()
+template <class ID> static tagint least_rank(int n, ID id)
+{
+  tagint best = id(0);
+  uint64_t rb = runner_rank(best);
+  for (int k = 1; k < n; k++) {
+    const tagint t = id(k);
+    const uint64_t rk = runner_rank(t);
+    if (rk < rb) {
+      rb = rk;
+      best = t;
+    }
+  }
+  return best;
+}
+
+tagint HSLocalEngine::runner_of(const tagint *ids, int n)
+{
+  return least_rank(n, [ids](int k) { return ids[k]; });
+}
+
+tagint HSLocalEngine::runner_of(int c) const
+{
+  const std::vector<int> &m = cs.members(c);
+  return least_rank((int) m.size(), [&](int k) { return (tagint) idtag[m[k]]; });
+}
+
 // the cluster labels (the key's dense id) on every local copy of its members
 void HSLocalEngine::label_cluster(int c)
 {
@@ -1195,7 +1233,8 @@ void HSLocalEngine::label_cluster(int c)
 
 /* ----------------------------------------------------------------------
    the member copies of a cluster this rank runs: a member it owns by its
-   owned copy, another by its ghost copy nearest the key's. A ghost member
+   owned copy, another by its ghost copy nearest the runner's (runner_of(),
+   owned here). A ghost member
    must have all atoms within the neighbor cutoff as local copies (its
    interaction rows): its list-build position at least the neighbor cutoff
    inside the ghost region. (The flows need no particular images: rows fold
@@ -1206,11 +1245,11 @@ bool HSLocalEngine::member_copies(Run &r)
 {
   const int nm = (int) r.mtags.size();
   r.members.resize(nm);
-  const int key = atom->map(r.mtags[0]);
+  const int runner = atom->map(runner_of(r.mtags.data(), nm));
   for (int k = 0; k < nm; k++) {
-    // an owned copy has its rows; of a ghost, the copy nearest the key
+    // an owned copy has its rows; of a ghost, the copy nearest the runner
     int l = atom->map(r.mtags[k]);
-    if (l >= atom->nlocal) l = domain->closest_image(key, l);
+    if (l >= atom->nlocal) l = domain->closest_image(runner, l);
     bool inside = l >= 0;
     if (inside && l >= atom->nlocal) {
       // the list build's position, in the ghost region's coordinates
@@ -1247,7 +1286,7 @@ bool HSLocalEngine::member_copies(Run &r)
                  "global (such steps taken globally) or overflow widen (the engine widens the "
                  "ghost cutoff and takes the step again)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
-                 comm->cutghostuser, r.mtags[k], cutneigh, r.mtags[0], ghost_wide);
+                 comm->cutghostuser, r.mtags[k], cutneigh, runner_of(r.mtags.data(), nm), ghost_wide);
       return false;
     }
     r.members[k] = l;
@@ -1285,8 +1324,8 @@ bool HSLocalEngine::member_copies(Run &r)
                    "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
                    "use a larger comm_modify cutoff, substep global, overflow global "
                    "(such steps taken globally) or overflow widen",
-                   sys->style_name, t, r.mtags[k], update->ntimestep, r.mtags[0],
-                   comm->cutghostuser);
+                   sys->style_name, t, r.mtags[k], update->ntimestep,
+                   runner_of(r.mtags.data(), nm), comm->cutghostuser);
         return false;
       }
     }
@@ -1679,7 +1718,7 @@ int HSLocalEngine::clusters_of_key(tagint key) const
   return (c >= 0 && cs.members(c)[0] == *id) ? c : -1;
 }
 
-// clusters in the order of their keys' local copies (LAMMPS sorts atoms
+// clusters in the order of their runners' local copies (LAMMPS sorts atoms
 // by space: neighbouring clusters share cells and pages). A flow reads and
 // changes only its own cluster's atoms (other clusters' members enter
 // through cross terms, evaluated apart), so the order is free
@@ -1688,7 +1727,7 @@ std::vector<int> HSLocalEngine::in_memory_order(std::vector<int> cl)
   std::vector<std::pair<int, int>> &o = scratch_order;
   o.clear();
   for (int c : cl) {
-    const int l = atom->map(key_of(c));
+    const int l = atom->map(runner_of(c));
     o.emplace_back(l < 0 ? INT_MAX : l, c);
   }
   std::sort(o.begin(), o.end());
@@ -2715,8 +2754,8 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
   auto enroll = [&](int a, tagint key) {
     atom_runs.append(a, key);
   };
-  auto mine = [&](tagint key) {
-    const int l = atom->map(key);
+  auto mine = [&](int c) {
+    const int l = atom->map(runner_of(c));
     return l >= 0 && l < atom->nlocal;
   };
 
@@ -2748,7 +2787,7 @@ bool HSLocalEngine::settle(std::vector<Hit> &hits)
       bool outgrown = false;
       for (int c : in_memory_order(clusters_of(workA))) {
         const tagint key = key_of(c);
-        if (!mine(key)) continue;
+        if (!mine(c)) continue;
         Run &r = runs[key];
         if (r.a_done) continue;
         r.mine = true;
@@ -2938,7 +2977,8 @@ bool HSLocalEngine::finish()
 
 // clusters, mean and largest members, growth rounds, fall-backs, restricted
 // evaluations, collectives per step taken by clusters, quick-cleared steps,
-// overflow widenings, ghost lazy's widenings
+// overflow widenings, ghost lazy's widenings, the busiest rank's share of the
+// restricted evaluations (max over mean)
 double HSLocalEngine::counter(int k)
 {
   if (k == 4) return sys->nfallback;
@@ -2955,10 +2995,10 @@ double HSLocalEngine::counter(int k)
     case 5: {
       // every rank's since the last call (output is computed on every
       // rank, as fix langevin's compute_scalar() sums over them)
-      double nc = ncompute_here;
-      if (nprocs > 1) MPI_Allreduce(&ncompute_here, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
+      double mine = ncompute_here - ncompute_summed, nc = mine;
+      if (nprocs > 1) MPI_Allreduce(&mine, &nc, 1, MPI_DOUBLE, MPI_SUM, world);
       ncompute += nc;
-      ncompute_here = 0.0;
+      ncompute_summed = ncompute_here;
       return ncompute;
     }
     case 6:
@@ -2969,6 +3009,16 @@ double HSLocalEngine::counter(int k)
       return nwiden;
     case 9:
       return nwide;
+    case 10: {
+      // the balance of the clusters' work: the rank that runs most of it
+      // sets the pace, the others wait at the step's collectives
+      double mx = ncompute_here, sum = ncompute_here;
+      if (nprocs > 1) {
+        MPI_Allreduce(&ncompute_here, &mx, 1, MPI_DOUBLE, MPI_MAX, world);
+        MPI_Allreduce(&ncompute_here, &sum, 1, MPI_DOUBLE, MPI_SUM, world);
+      }
+      return sum > 0.0 ? mx * nprocs / sum : 0.0;
+    }
   }
   return 0.0;
 }

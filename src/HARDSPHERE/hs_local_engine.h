@@ -78,9 +78,10 @@
    Any number of MPI ranks, one code (issue 20, doc/Developer_hardsphere.
    rst): the step's clusters are a ClusterSet over dense ids of the
    members' atom IDs, ordered by ID, the same on every rank (every hit is
-   gathered before anyone grows). A cluster is run by the owner of its key
-   (lowest member ID) on its copies: an owned member by its owned copy,
-   another by its ghost copy nearest the key (its rows must be complete:
+   gathered before anyone grows). A cluster is run by the owner of one of
+   its members (runner_of(); its key is the lowest member ID) on its
+   copies: an owned member by its owned copy, another by its ghost copy
+   nearest the runner's (its rows must be complete:
    member_copies() checks the ghost cutoff, chosen() raises it). Per growth
    round a constant number of collectives: the first halves' packets
    (members' mid displacement, velocity, path segments) and the flows'
@@ -193,7 +194,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void final_kick();
   double nrounds = 0.0;     // growth rounds (each redoes the changed clusters)
   double ncompute = 0.0;    // restricted force evaluations (all ranks)
-  double ncompute_here = 0.0;    // this rank's, since the last sum
+  double ncompute_here = 0.0;    // this rank's, since the run began
+  double ncompute_summed = 0.0;  // ncompute_here at the last sum into ncompute
   double ncollective = 0.0;      // collective communications in collisional steps
   double ncoll_steps = 0.0;      // collisional steps taken by clusters
   double nquick = 0.0;           // steps quick_clear() found free of contacts
@@ -209,6 +211,12 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   bool is_member(int l) const { return mid[l] >= 0; }
   int cluster_of(int l) const { return mid[l] >= 0 ? cs.cluster_of(mid[l]) : -1; }
   tagint key_of(int c) const { return idtag[cs.members(c)[0]]; }
+  // the member whose owner runs cluster c (its flows): the least
+  // runner_rank() of the members' IDs, not the key: IDs that grow with x
+  // (create_atoms, lattices) would give the rank on a face's lower side
+  // every cluster across it, and rank 0 those across the periodic face too
+  tagint runner_of(int c) const;
+  static tagint runner_of(const tagint *ids, int n);
   std::vector<std::vector<int>> view_members;    // members(c): the members owned here
 
   using Vec = std::array<double, 3>;
@@ -217,13 +225,13 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     Vec q, v, a;    // q: displacement from the copy's start position
   };
   // one cluster's flows, by key (its lowest member ID). The runner (the
-  // key's owner) keeps everything; other ranks keep what the packets of
+  // owner of runner_of()'s member) keeps everything; other ranks keep what the packets of
   // each half carry (the replicated registry): members' IDs, mid and end
   // displacements and velocities, and each half's path segments
   struct Run {
     bool mine = false;
     std::vector<tagint> mtags;      // member IDs, ascending
-    std::vector<int> members;       // runner: the members' copies (nearest the key's)
+    std::vector<int> members;       // runner: the members' copies (nearest the runner's)
     std::vector<int> touched;       // runner: members and partners (copies)
     HSLocalForces::Snapshot snap;   // runner: its restricted lists
     std::vector<Vec> fk0;           // runner: V_C's force at the step's start, on touched

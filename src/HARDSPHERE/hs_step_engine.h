@@ -58,8 +58,9 @@ class HSStepEngine : protected Pointers {
   // collective communications per step taken by clusters, steps whose
   // flagged spheres alone cleared the first guess, times the ghost cutoff
   // was widened (overflow widen), times ghost lazy's shell went from
-  // LAMMPS' ghost cutoff to the engine's
-  static constexpr int NCOUNTERS = 10;
+  // LAMMPS' ghost cutoff to the engine's, the busiest rank's restricted
+  // evaluations over the ranks' mean
+  static constexpr int NCOUNTERS = 11;
   virtual double counter(int k) = 0;
   // bytes of the engine's own arrays (the fix's memory_usage())
   virtual double memory_usage() const { return 0.0; }

@@ -663,19 +663,67 @@ LABELS+=("vx1" "vy1" "vx2" "vy2")
 echo "a pair and two wall contacts at a rank face:"
 boxcase wall "2 4" 2=3 3=1 4=2 8=-1 9=2 10=1 11=2
 
+# who runs the clusters across rank faces: 9 head-on pairs across x = 5
+# and 9 across the periodic face x = 0, all touching at the same time
+# within step 60 (3 apart in y and z: no pair term between two pairs, so
+# each pair's flows cost the same evaluations), IDs growing with
+# x as create_atoms numbers a lattice. Run by the owner of their lowest ID,
+# rank 0 would run all 18 on 2 ranks (and ranks 0 and 1 nine each on 4):
+# the busiest rank's restricted evaluations over the mean (f_hs[16]) 2.0.
+# runner_of() names the member with the least splitmix64 mix of its ID;
+# the split that rule gives is worked out here from the IDs and the slabs,
+# and f_hs[16] must be its busiest rank's share; every pair exchanges its
+# velocities, 1, 2 and 4 ranks alike
+YB=p
+WALLS=""
+ATOMS=""
+for y in 2 5 8; do for z in 2 5 8; do ATOMS+="0.79625 $y $z -1 0 0
+4.20375 $y $z 1 0 0
+5.79625 $y $z -1 0 0
+9.20375 $y $z 1 0 0
+"; done; done
+box_input | sed 's/^print "RESULT.*$/print "RESULT $(f_hs[1]) $(f_hs[2]) $(f_hs[6]) $(f_hs[16]:%.17g) $(vx[1]) $(vx[2]) $(vx[3]) $(vx[4])"/' > in.local_runner
+echo "clusters across rank faces, IDs growing with x: who runs them (f_hs[16]):"
+for np in 1 2 4; do
+  got=$(run runner "$np" in.local_runner -var np "$np" -var nsteps 200 -var yb p -var walls "") || { fail=1; continue; }
+  python3 - "$np" "$got" <<'PY' || fail=1
+import sys
+np_, got = int(sys.argv[1]), [float(v) for v in sys.argv[2].split()]
+M = (1 << 64) - 1
+def mix(i):    # splitmix64's finaliser, as runner_of() in hs_local_engine.cpp
+    z = ((i ^ (i >> 30)) * 0xbf58476d1ce4e5b9) & M
+    z = ((z ^ (z >> 27)) * 0x94d049bb133111eb) & M
+    return z ^ (z >> 31)
+xs = [0.79625, 4.20375, 5.79625, 9.20375] * 9            # ID k + 1 at xs[k]
+pairs = [(4 * q + 2, 4 * q + 3) for q in range(9)] + [(4 * q + 1, 4 * q + 4) for q in range(9)]
+runs = [0] * np_
+for a, b in pairs:
+    r = min((a, b), key=mix)
+    runs[int(xs[r - 1] / (10.0 / np_))] += 1
+want = max(runs) * np_ / len(pairs)
+old = max([sum(1 for a, b in pairs if int(xs[min(a, b) - 1] / (10.0 / np_)) == k) for k in range(np_)]) * np_ / len(pairs)
+ok = got[0] == 18 and got[1] == 18 and got[2] == 18 and abs(got[3] - want) < 1e-12 \
+    and got[4:8] == [1, -1, 1, -1]
+print(f"  {np_} ranks: 18 collisions, 18 clusters run {runs} by rank: busiest / mean {got[3]:.4f} "
+      f"(expected {want:.4f}; by the lowest ID {old:.4f}), velocities exchanged: {'ok' if ok else 'FAIL'}")
+sys.exit(0 if ok else 1)
+PY
+done
+
 # a cluster that outgrows the ghost region: a cradle of nine spheres whose
-# lowest ID is at the far end from the striker, on 2 ranks: its runner has
-# no interaction rows for the striker's end. An error naming comm_modify
+# runner (the owner of the member runner_of() names: of IDs 1-9, ID 7) is
+# at the far end from the striker (ID 9), on 2 ranks: the runner has no
+# interaction rows for the striker's end. An error naming comm_modify
 # cutoff; on 1 rank the same run is fine
 YB=p
 WALLS=""
-ATOMS="8.5008 5 5 0 0 0
+ATOMS="2.5002 5 5 0 0 0
 7.5007 5 5 0 0 0
 6.5006 5 5 0 0 0
 5.5005 5 5 0 0 0
 4.5004 5 5 0 0 0
 3.5003 5 5 0 0 0
-2.5002 5 5 0 0 0
+8.5008 5 5 0 0 0
 1.5001 5 5 0 0 0
 0.4 5 5 2 0 0"
 box_input > in.local_long
@@ -700,14 +748,14 @@ for np in 2 4; do
   fi
 done
 # asked for: such a step is taken by the global engine and counted; the
-# cradle's analytic end (the far sphere, ID 1, leaves with the striker's
+# cradle's analytic end (the far sphere, ID 7, leaves with the striker's
 # velocity 2) on 2 ranks
 sed 's/diameter 1.0 ${walls}/diameter 1.0 ${walls} overflow global/; s/^print "RESULT/print "FALLBACK $(f_hs[10])"\nprint "RESULT/' in.local_long > in.local_long_fb
 if got=$(run long_fb 2 in.local_long_fb -var np 2 -var nsteps 100 -var yb p -var walls ""); then
   fb=$(grep '^FALLBACK ' out.long_fb.2 | awk '{print $2}')
   read -r -a f <<< "$got"
-  if [ "${fb:-0}" != 0 ] && [ "${f[2]}" = 8 ] && [ "${f[8]}" = 2 ] && [ "${f[24]}" = 0 ]; then
-    echo "  2 ranks, overflow global: $fb step(s) taken globally, 8 collisions, ID 1 leaves at 2, the striker stops: ok"
+  if [ "${fb:-0}" != 0 ] && [ "${f[2]}" = 8 ] && [ "${f[20]}" = 2 ] && [ "${f[24]}" = 0 ]; then
+    echo "  2 ranks, overflow global: $fb step(s) taken globally, 8 collisions, ID 7 leaves at 2, the striker stops: ok"
   else
     echo "  FAIL: overflow global on 2 ranks: fallback '${fb}', result $got"; fail=1
   fi
