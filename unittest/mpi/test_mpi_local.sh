@@ -19,8 +19,9 @@
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
 # spans two or three ranks and grows across them within a step (the last
-# sphere leaves with the striker's velocity), and a pair plus two wall
-# contacts at a rank face. Then the error of a cluster that outgrows the
+# sphere leaves with the striker's velocity), a pair plus two wall
+# contacts at a rank face, and 18 pairs across rank faces whose runners
+# (who runs each cluster: output entry 16) split as the rule says. Then the error of a cluster that outgrows the
 # ghost region, the counted fall-back to the global engine (overflow
 # global) and the widened ghost cutoff (overflow widen); charged spheres
 # with pppm and fix efield (held smooth forces, cva and vci), also between
