@@ -45,8 +45,12 @@ cd "$SCR"
 run() {    # run <np> <log> <N> <steps> <fix command>
   local np=$1 log=$2 N=$3 n=$4 fixcmd=$5 counts=no
   [[ "$fixcmd" == *hardsphere* ]] && counts=yes
+  local engine=0    # the engine's first output entry (its balance entry: 10 after it)
+  [[ "$fixcmd" == *hardsphere/cva* ]] && engine=6
+  [[ "$fixcmd" == *hardsphere/pcva* ]] && engine=9
   mpirun -np "$np" --oversubscribe "$LMP" -screen none -in "$HERE/in.run" -var system fluid \
     -var data "$SCR/fluid.$N.data" -var steps "$n" -var counts $counts -var fixcmd "$fixcmd" \
+    -var engine $engine \
     -var warmup "$WARMUP" -var newton "$NEWTON" -log "$log"
   grep -E "^Loop time|^BENCH" "$log" | tr '\n' ' '; echo
 }
