@@ -22,6 +22,7 @@
 #include "hs_fix_rule.h"
 #include "hs_flow_view.h"
 #include "hs_local_forces.h"
+#include "hs_mix.h"
 #include "hs_mpi.h"
 #include "hs_method.h"
 #include "hs_potential.h"
@@ -1183,24 +1184,15 @@ void HSLocalEngine::gather_topology(const std::vector<int> &newids)
   }
 }
 
-// a bijective mix of an ID (splitmix64's finaliser): the same on every rank,
-// unrelated to where IDs lie, no two IDs alike
-static uint64_t runner_rank(tagint id)
-{
-  uint64_t z = (uint64_t) id;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-// the ID of n (id(k), k < n) with the least runner_rank()
+// the ID of n (id(k), k < n) with the least mix64() (hs_mix.h: a bijection,
+// so no two IDs tie; the same on every rank, unrelated to where IDs lie)
 template <class ID> static tagint least_rank(int n, ID id)
 {
   tagint best = id(0);
-  uint64_t rb = runner_rank(best);
+  uint64_t rb = HardSphere::mix64((uint64_t) best);
   for (int k = 1; k < n; k++) {
     const tagint t = id(k);
-    const uint64_t rk = runner_rank(t);
+    const uint64_t rk = HardSphere::mix64((uint64_t) t);
     if (rk < rb) {
       rb = rk;
       best = t;
@@ -1245,7 +1237,8 @@ bool HSLocalEngine::member_copies(Run &r)
 {
   const int nm = (int) r.mtags.size();
   r.members.resize(nm);
-  const int runner = atom->map(runner_of(r.mtags.data(), nm));
+  const tagint rtag = runner_of(r.mtags.data(), nm);
+  const int runner = atom->map(rtag);
   for (int k = 0; k < nm; k++) {
     // an owned copy has its rows; of a ghost, the copy nearest the runner
     int l = atom->map(r.mtags[k]);
@@ -1286,7 +1279,7 @@ bool HSLocalEngine::member_copies(Run &r)
                  "global (such steps taken globally) or overflow widen (the engine widens the "
                  "ghost cutoff and takes the step again)",
                  sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
-                 comm->cutghostuser, r.mtags[k], cutneigh, runner_of(r.mtags.data(), nm), ghost_wide);
+                 comm->cutghostuser, r.mtags[k], cutneigh, rtag, ghost_wide);
       return false;
     }
     r.members[k] = l;
@@ -1324,8 +1317,8 @@ bool HSLocalEngine::member_copies(Run &r)
                    "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
                    "use a larger comm_modify cutoff, substep global, overflow global "
                    "(such steps taken globally) or overflow widen",
-                   sys->style_name, t, r.mtags[k], update->ntimestep,
-                   runner_of(r.mtags.data(), nm), comm->cutghostuser);
+                   sys->style_name, t, r.mtags[k], update->ntimestep, rtag,
+                   comm->cutghostuser);
         return false;
       }
     }

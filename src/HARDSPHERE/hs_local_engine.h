@@ -212,7 +212,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   int cluster_of(int l) const { return mid[l] >= 0 ? cs.cluster_of(mid[l]) : -1; }
   tagint key_of(int c) const { return idtag[cs.members(c)[0]]; }
   // the member whose owner runs cluster c (its flows): the least
-  // runner_rank() of the members' IDs, not the key: IDs that grow with x
+  // mix64() of the members' IDs, not the key: IDs that grow with x
   // (create_atoms, lattices) would give the rank on a face's lower side
   // every cluster across it, and rank 0 those across the periodic face too
   tagint runner_of(int c) const;

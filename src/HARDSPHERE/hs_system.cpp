@@ -7,6 +7,7 @@
 
 #include "hs_compat.h"
 #include "hs_contact.h"
+#include "hs_mix.h"
 #include "hs_near.h"
 #include "hs_potential.h"
 #include "hs_screen.h"
@@ -194,13 +195,7 @@ void HSSystem::check_atoms_unchanged()
                nghost_ref);
 }
 
-// splitmix64's finalizer: every input bit moves every output bit
-static inline uint64_t mix64(uint64_t z)
-{
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
+using HardSphere::mix64;
 
 static inline uint64_t bits_of(double v)
 {
