@@ -2939,20 +2939,13 @@ bool HSLocalEngine::step()
 // rank 0 writes it to the screen and the log)
 void HSLocalEngine::overflow_error()
 {
-  int mine = outgrown_msg.empty() ? nprocs : me, from = nprocs;
-  MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, world);
-  std::string msg = outgrown_msg;
-  if (from < nprocs) {
-    int len = (int) msg.size();
-    MPI_Bcast(&len, 1, MPI_INT, from, world);
-    msg.resize(len);
-    MPI_Bcast(&msg[0], len, MPI_CHAR, from, world);
-  } else
-    msg = fmt::format("Fix {} substep local: a collision cluster on step {} reaches beyond the "
-                      "ghost atoms (no rank kept its message: internal error)",
-                      sys->style_name, update->ntimestep);
-  outgrown_msg.clear();
-  error->all(FLERR, msg);
+  std::string msg;
+  msg.swap(outgrown_msg);
+  sys->error_from_lowest(msg);
+  error->all(FLERR,
+             "Fix {} substep local: a collision cluster on step {} reaches beyond the ghost "
+             "atoms (no rank kept its message: internal error)",
+             sys->style_name, update->ntimestep);
 }
 
 // the closing kick of a step taken by clusters

@@ -181,18 +181,57 @@ void HSSystem::wall_name(const Wall &w, std::string &name) const
   name = std::string(1, "xyz"[w.dim]) + (w.side < 0 ? "lo" : "hi");
 }
 
-void HSSystem::check_atoms_unchanged()
+int HSSystem::check_atoms_unchanged()
 {
-  // (per rank, no communication: error->one)
-  if (nlocal_ref >= 0 && (atom->nlocal != nlocal_ref || atom->nghost != nghost_ref))
-    error->one(FLERR,
-               "Fix {}: {} owned and {} ghost atoms on rank {} at step {}, {} and {} when the "
-               "neighbor lists were last built: atoms were created or deleted (delete_atoms, "
-               "create_atoms, read_data add, ...) or moved between ranks (displace_atoms, "
-               "change_box, balance, write_restart, ...) and the run skipped its set-up (run "
-               "... pre no): use pre yes after such a change",
-               style_name, atom->nlocal, atom->nghost, comm->me, update->ntimestep, nlocal_ref,
-               nghost_ref);
+  if (nlocal_ref < 0 || (atom->nlocal == nlocal_ref && atom->nghost == nghost_ref)) return 0;
+  defer_error(fmt::format(
+      "Fix {}: {} owned and {} ghost atoms on rank {} at step {}, {} and {} when the neighbor "
+      "lists were last built: atoms were created or deleted (delete_atoms, create_atoms, "
+      "read_data add, ...) or given to other ranks with their ghost copies built again "
+      "(displace_atoms, change_box, balance, write_restart, write_data, ...) and the run "
+      "skipped its set-up (run ... pre no): use pre yes after such a change",
+      style_name, atom->nlocal, atom->nghost, comm->me, update->ntimestep, nlocal_ref,
+      nghost_ref));
+  return FOUND_ERROR;
+}
+
+void HSSystem::defer_error(const std::string &msg)
+{
+  if (comm->nprocs == 1) error->one(FLERR, msg);
+  if (deferred_msg.empty()) deferred_msg = msg;
+}
+
+void HSSystem::raise_deferred()
+{
+  std::string msg;
+  msg.swap(deferred_msg);
+  error_from_lowest(msg);
+}
+
+void HSSystem::error_from_lowest(const std::string &msg)
+{
+  const int nprocs = comm->nprocs;
+  int mine = msg.empty() ? nprocs : comm->me, from = nprocs;
+  MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, world);
+  if (from == nprocs) return;
+  std::string all = msg;
+  int len = (int) all.size();
+  MPI_Bcast(&len, 1, MPI_INT, from, world);
+  all.resize(len);
+  MPI_Bcast(&all[0], len, MPI_CHAR, from, world);
+  error->all(FLERR, all);
+}
+
+int HSSystem::reduce_step_flags(int flags)
+{
+  int all = flags;
+  MPI_Allreduce(&flags, &all, 1, MPI_INT, MPI_BOR, world);
+  if (all & FOUND_ERROR) {
+    raise_deferred();
+    error->all(FLERR, "Fix {}: internal error: a rank flagged an error on step {} and kept no "
+               "message", style_name, update->ntimestep);
+  }
+  return all;
 }
 
 using HardSphere::mix64;
@@ -252,8 +291,8 @@ void HSSystem::reset_reference(int at_setup)
   // at set-up the likely cause is the input, not a missed collision
   const char *when = at_setup
       ? "at set-up (the initial configuration, or a change_box, displace_atoms, set, "
-        "create_atoms, read_data or minimize since the last run, placed them closer than "
-        "their contact distance)"
+        "create_atoms, read_data or minimize since the last run, or atoms outside this fix's "
+        "group in an earlier run, placed them closer than their contact distance)"
       : "after a step (a collision was missed)";
   const double cut2 = list_cutoff * list_cutoff;
 
@@ -279,11 +318,12 @@ void HSSystem::reset_reference(int at_setup)
     if (r2 > cut2) return;    // cannot touch before the next build
     const double sigma = radius_of(i) + radius_of(j);
     const double r = sqrt(r2);
+    // (every rank builds its lists here: deferred, raised at the end)
     if (r < sigma * (1.0 - TOUCH_TOL))
-      error->one(FLERR,
-                 "Fix {}: atoms {} and {} overlap by {} (distance {} < contact distance {}) "
-                 "on step {} {}",
-                 style_name, tag[i], tag[j], sigma - r, r, sigma, update->ntimestep, when);
+      defer_error(fmt::format("Fix {}: atoms {} and {} overlap by {} (distance {} < contact "
+                              "distance {}) on step {} {}",
+                              style_name, tag[i], tag[j], sigma - r, r, sigma,
+                              update->ntimestep, when));
     const double g = 0.5 * (r - sigma);
     gap[i] = MIN(gap[i], g);
     gap[j] = MIN(gap[j], g);
@@ -364,12 +404,14 @@ void HSSystem::reset_reference(int at_setup)
       if (g < -TOUCH_TOL * 2.0 * radius_of(i)) {
         std::string name;
         wall_name(w, name);
-        error->one(FLERR, "Fix {}: atom {} is {} through wall {} at {} on step {} {}",
-                   style_name, tag[i], -g, name, w.coord, update->ntimestep, when);
+        defer_error(fmt::format("Fix {}: atom {} is {} through wall {} at {} on step {} {}",
+                                style_name, tag[i], -g, name, w.coord, update->ntimestep,
+                                when));
       }
       gap[i] = MIN(gap[i], g);
     }
   }
+  if (comm->nprocs > 1) raise_deferred();
 }
 
 int HSSystem::pack_reverse_comm(int n, int first, double *buf)
@@ -503,12 +545,16 @@ template <bool LIST> inline int HSSystem::screen_terms(int i, double d2, double 
   const double w = sqrt(d2) + sqrt(v2) + sqrt(a2);
   int flags = ((w > 0.5 * skin) ? FAR : 0) | listed;
   if (w <= gap[i]) return flags;
-  if (w > skin)
-    error->one(FLERR,
-               "Fix {}: atom {} may be {} away from where the neighbor list was built, "
-               "more than the skin {} (the fix rebuilds lists at skin/2): use a smaller "
-               "timestep or a larger neighbor skin",
-               style_name, atom->tag[i], w, skin);
+  if (w > skin) {
+    const std::string msg = fmt::format(
+        "Fix {}: atom {} may be {} away from where the neighbor list was built, more than the "
+        "skin {} (the fix rebuilds lists at skin/2): use a smaller timestep or a larger "
+        "neighbor skin",
+        style_name, atom->tag[i], w, skin);
+    if (!defer_skin) error->one(FLERR, msg);
+    defer_error(msg);
+    flags |= FOUND_ERROR;
+  }
   active[i] = 1.0;
   return flags | ACTIVE;
 }
@@ -1022,7 +1068,10 @@ void HSSystem::closing_kick()
   // (near_atoms: it then makes no pass of its own over every atom)
   const bool listing = near_margin >= 0.0;
   near_atoms.clear();
+  // (its flags are reduced at the next step's start: reduce_step_flags())
+  defer_skin = true;
   const int flags = listing ? kick_and_screen<true>(t2, h4) : kick_and_screen<false>(t2, h4);
+  defer_skin = false;
   screened_flags = flags;
   screened_step = update->ntimestep + 1;
   near_used_margin = near_margin;

@@ -153,6 +153,15 @@ class HSSystem : protected Pointers, public HSTypes {
   bigint screened_step = -1;
   int screened_flags = 0;
   int screen(double tleft);
+  // screen() with its "beyond the skin" error deferred (FOUND_ERROR), for a
+  // caller that reduces the flags (reduce_step_flags())
+  int screen_deferred(double tleft)
+  {
+    defer_skin = true;
+    const int flags = screen(tleft);
+    defer_skin = false;
+    return flags;
+  }
   // LIST: also the NEAR bit for near_atoms (closing_kick())
   template <bool LIST = false> int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
   template <bool LIST = false> int screen_terms(int i, double d2, double v2, double a2);
@@ -184,8 +193,29 @@ class HSSystem : protected Pointers, public HSTypes {
   unsigned long long atoms_idsum = 0;
   // at a step's start: an error if atoms were created or deleted since the
   // last list build (between runs, with "run ... pre no", which skips the
-  // set-up that would rebuild them: else every reference is another atom's)
-  void check_atoms_unchanged();
+  // set-up that would rebuild them: else every reference is another atom's).
+  // Deferred (defer_error()): FOUND_ERROR if this rank found it, else 0
+  int check_atoms_unchanged();
+
+  // errors that some ranks find at a point every rank reaches. error->one()
+  // prints on the finding rank's screen only: with -screen none, or a
+  // screen per rank, the log ended with no message. So the message is kept
+  // (this rank's first) and raise_deferred(), which every rank calls,
+  // stops all of them with the lowest finding rank's message through
+  // error->all() (rank 0 writes it to the screen and the log). On one rank
+  // defer_error() is error->one() at once
+  void defer_error(const std::string &msg);
+  void drop_deferred() { deferred_msg.clear(); }
+  void raise_deferred();
+  // (collective) every rank stops with the message of the lowest rank whose
+  // msg is not empty; returns if every msg is empty
+  void error_from_lowest(const std::string &msg);
+  // the step's screening flags OR-ed over the ranks (one MPI_Allreduce); a
+  // FOUND_ERROR among them raises the deferred errors
+  int reduce_step_flags(int flags);
+  // the screen's "beyond the skin" error is deferred (the callers reduce
+  // its flags: initial_integrate's screen, the closing kick's) or at once
+  bool defer_skin = false;
   // what the last step, its list build and its forces depend on besides
   // velocities, as one number the same on every rank and for every
   // distribution of the atoms over the ranks: the box, the per-type
@@ -276,6 +306,7 @@ class HSSystem : protected Pointers, public HSTypes {
   int nmax_cap = 0, cap_nlocal = -1;
   bigint cap_step = -1, cap_ncalls = -1;
   std::vector<int> near;    // scratch: one list row's pairs within reach
+  std::string deferred_msg;
 };
 
 }    // namespace LAMMPS_NS

@@ -30,8 +30,10 @@ struct HSTypes {
   static constexpr bigint MAX_SUBSTEPS_BASE = 1000000;
   static constexpr bigint MAX_SUBSTEPS_PER_SPHERE = 100;
   // screen() results (NEAR: screen_atom<true>()'s, for the closing kick's
-  // list of the local engine's quick first guess)
-  static constexpr int ACTIVE = 1, FAR = 2, NEAR = 4;
+  // list of the local engine's quick first guess; FOUND_ERROR: this rank
+  // deferred an error to the step's reduction of the flags, HSSystem::
+  // reduce_step_flags())
+  static constexpr int ACTIVE = 1, FAR = 2, NEAR = 4, FOUND_ERROR = 8;
 
   struct Wall {
     int dim;         // 0,1,2
