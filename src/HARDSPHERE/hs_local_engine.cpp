@@ -1285,12 +1285,24 @@ bool HSLocalEngine::member_copies(Run &r)
     r.members[k] = l;
   }
   // a member's bonded partners: their images nearest its copy (rows take
-  // them so), which must be here and nearer than half the periodic box
-  // (else closest_image() can name a far copy)
+  // them so), which must be here and be the bonded image: less than half a
+  // period from it along every periodic direction, in box fractions (as
+  // LAMMPS bounds a bonded term's extent); a copy a period away is not.
+  // (Before 30 Nov 2026 the bound was half the shortest period in every
+  // direction: a box with one short side refused partners across its long
+  // ones, an error that no comm_modify cutoff removed)
   if (!molecular || nprocs == 1) return true;
-  double half = BIG;
-  for (int d = 0; d < domain->dimension; d++)
-    if (domain->periodicity[d]) half = std::min(half, 0.5 * domain->prd[d]);
+  const double *h_inv = domain->h_inv;
+  const int *periodic = domain->periodicity;
+  const int dim = domain->dimension;
+  auto bonded_image = [&](const double *a, const double *b) {
+    const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    const double s[3] = {h_inv[0] * d[0] + h_inv[5] * d[1] + h_inv[4] * d[2],
+                         h_inv[1] * d[1] + h_inv[3] * d[2], h_inv[2] * d[2]};
+    for (int k = 0; k < dim; k++)
+      if (periodic[k] && !(fabs(s[k]) < 0.5)) return false;
+    return true;
+  };
   double **x = atom->x;
   for (int k = 0; k < nm; k++) {
     auto it = topo.of.find(r.mtags[k]);
@@ -1305,10 +1317,7 @@ bool HSLocalEngine::member_copies(Run &r)
         bool here = m >= 0;
         if (here) {
           const int c = domain->closest_image(r.members[k], m);
-          const double *a = x[r.members[k]], *b = x[c];
-          const double d2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-              (a[2] - b[2]) * (a[2] - b[2]);
-          here = d2 < half * half;
+          here = bonded_image(x[r.members[k]], x[c]);
         }
         if (here) continue;
         if (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening()) return false;

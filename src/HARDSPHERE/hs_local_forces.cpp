@@ -316,15 +316,19 @@ void HSLocalForces::next_epoch()
 }
 
 // which of bond, angle, dihedral, improper contribute (molecular system,
-// style defined, list allocated)
+// style defined)
 void HSLocalForces::presence(bool present[4]) const
 {
   const bool mol = atom->molecular != Atom::ATOMIC;
-  int **lists[4] = {neighbor->bondlist, neighbor->anglelist, neighbor->dihedrallist,
-                    neighbor->improperlist};
   const bool style[4] = {force->bond != nullptr, force->angle != nullptr,
                          force->dihedral != nullptr, force->improper != nullptr};
-  for (int b = 0; b < 4; b++) present[b] = mol && style[b] && lists[b] != nullptr;
+  // (not the rank's list itself: LAMMPS allocates it at the first term the
+  // rank lists, so on a rank that never had one it is null with a count of
+  // 0, while the terms gathered by ID (compute_rows()) can still hold such
+  // terms. Up to 30 Nov 2026 the list decided: a rank running a cluster
+  // whose angles LAMMPS listed only on other ranks left them out, and 4
+  // ranks gave another trajectory than 1 and 2)
+  for (int b = 0; b < 4; b++) present[b] = mol && style[b];
 }
 
 /* ----------------------------------------------------------------------

@@ -14,7 +14,8 @@
 # temperature within its error bar); half of the 500 as a solvent under fix
 # nve defined before the spheres' fix (cva and vci), and the same with
 # the solvent's pairs excluded (neigh_modify exclude; cva and pcva), and a
-# melt half of whose chains are free with exclude molecule/intra; and exact
+# melt half of whose chains are free with exclude molecule/intra; a chain
+# of four hit at its end in a box with one short side; and exact
 # boundary cases in a force-free box split into slabs (processors N 1 1):
 # a head-on pair across a sub-domain face and across the periodic face
 # (velocities exchanged exactly), a Newton's cradle of four spheres that
@@ -213,6 +214,91 @@ grep -q "^neigh_modify exclude molecule/intra free$" in.local_meltexcl || { echo
 echo "the melt, half its chains free with their intra-chain pairs excluded (molecule/intra):"
 check_system meltexcl in.local_meltexcl "2 4" -var nsteps 200 -var nb on
 no_fallback meltexcl "2 4"
+
+# a chain of four beads (bonds, angles, a dihedral) whose end is hit by a
+# free bead, in a box with one short periodic side (z = 5). On 2 ranks the
+# cluster's dihedral partner, 2.9 away, was refused as "no copy near it"
+# (the bound was half the shortest period in every direction, 2.5), an
+# error no comm_modify cutoff removed; on 4 ranks (2 x 2 x 1) the rank that
+# runs the cluster lists no angle of its own, and the angle 2-3-4 of the
+# member 4 was left out (the bonded styles' presence was taken from the
+# rank's own LAMMPS list): another collision velocity than on 1 rank. Both
+# before 30 Nov 2026
+cat > local_chain5.data <<'EOF2'
+a chain of four and a free bead
+
+5 atoms
+3 bonds
+2 angles
+1 dihedrals
+1 atom types
+1 bond types
+1 angle types
+1 dihedral types
+
+0 20 xlo xhi
+0 20 ylo yhi
+0 5 zlo zhi
+
+Masses
+
+1 1.0
+
+Atoms # molecular
+
+1 1 1 8.00 10.00 2.5
+2 1 1 8.97 10.30 2.5
+3 1 1 9.94 10.00 2.5
+4 1 1 10.91 10.30 2.5
+5 2 1 12.30 10.30 2.5
+
+Velocities
+
+1 0 0 0
+2 0 0 0
+3 0 0 0
+4 0 0 0
+5 -1 0 0
+
+Bonds
+
+1 1 1 2
+2 1 2 3
+3 1 3 4
+
+Angles
+
+1 1 1 2 3
+2 1 2 3 4
+
+Dihedrals
+
+1 1 1 2 3 4
+EOF2
+{ cat <<EOF2
+units       lj
+atom_style  molecular
+atom_modify map array
+read_data   local_chain5.data
+pair_style  zero 2.0
+pair_coeff  * *
+bond_style  harmonic
+bond_coeff  1 100.0 1.0
+angle_style harmonic
+angle_coeff 1 10.0 145.0
+dihedral_style harmonic
+dihedral_coeff 1 0.5 1 3
+neighbor    0.3 bin
+fix         hs all hardsphere/cva diameter 0.9
+timestep    0.005
+thermo_style custom step pe ke etotal
+thermo      100
+run         \${nsteps}
+EOF2
+  result_line 6 9; } | with_fingerprint > in.local_chain5
+echo "a chain hit at its end in a box with a short side (z = 5), 200 steps:"
+check_system chain5 in.local_chain5 "2 4" -var nsteps 200
+no_fallback chain5 "2 4"
 
 # method_cases <m> <sed filter> <melt filter> <melt text>: the fluids at 500
 # and 4000 atoms, the hot and the held fluid and the melt with hardsphere/<m>
