@@ -742,7 +742,7 @@ void FixHardSphere::check_state_kept()
                "minimizer's: use pre yes after minimize",
                style_name);
   S.check_atoms_unchanged();    // (per rank: names the rank and the counts)
-  if (comm->nprocs > 1) S.raise_deferred();
+  S.raise_deferred();
   if (S.state_fingerprint() != end_state)
     error->all(FLERR,
                "Fix {}: the atoms' positions, radii or masses, or the box, changed since the "
@@ -787,21 +787,9 @@ void FixHardSphere::initial_integrate(int)
 {
   begin_step_virial();
   check_state_kept();    // (a run without set-up: its first step)
-  // screened ahead in the previous step's final_integrate unless velocities
-  // may have changed since (end_of_step fixes) or a run began (even with
-  // run ... pre no, which skips setup()); an error that screen deferred
-  // goes with its flags
-  const bool ahead =
-      S.screened_step == update->ntimestep && update->ntimestep > update->firststep + 1;
-  if (!ahead) S.drop_deferred();
-  const int changed = S.check_atoms_unchanged();
-  S.grow_peratom();
-  S.update_walls();
+  const int allflags = S.screen_step();
   S.step_collided = 0;
   S.released.type = -1;
-
-  const int allflags = S.reduce_step_flags(
-      changed ? changed : (ahead ? S.screened_flags : S.screen_deferred(S.dtv)));
   if (!(allflags & ACTIVE)) {
     S.nve_initial();
     S.dtf_last = S.dtf;

@@ -377,17 +377,9 @@ void FixHardSpherePSA::initial_integrate(int)
 {
   begin_step_virial();
   check_state_kept();    // (a run without set-up: its first step)
-  // the family's screening (see FixHardSphere::initial_integrate): the Verlet
-  // bound |t v + t^2/2 a|, t <= dt, also bounds the free flight t (v + dt/2 a)
-  const bool ahead =
-      S.screened_step == update->ntimestep && update->ntimestep > update->firststep + 1;
-  if (!ahead) S.drop_deferred();
-  const int changed = S.check_atoms_unchanged();
-  S.grow_peratom();
-  S.update_walls();
-
-  const int allflags = S.reduce_step_flags(
-      changed ? changed : (ahead ? S.screened_flags : S.screen_deferred(S.dtv)));
+  // the family's screening (HSSystem::screen_step()): the Verlet bound
+  // |t v + t^2/2 a|, t <= dt, also bounds the free flight t (v + dt/2 a)
+  const int allflags = S.screen_step();
   S.dtf_last = S.dtf;
   if (!(allflags & ACTIVE)) {
     S.nve_initial();

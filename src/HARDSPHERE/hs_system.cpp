@@ -203,6 +203,7 @@ void HSSystem::defer_error(const std::string &msg)
 
 void HSSystem::raise_deferred()
 {
+  if (comm->nprocs == 1) return;    // (defer_error() stopped at once)
   std::string msg;
   msg.swap(deferred_msg);
   error_from_lowest(msg);
@@ -232,6 +233,25 @@ int HSSystem::reduce_step_flags(int flags)
                "message", style_name, update->ntimestep);
   }
   return all;
+}
+
+int HSSystem::screen_step()
+{
+  // (the closing kick's flags, and any error it deferred, hold only for
+  // the step it screened: a new run, even with pre no, screens afresh)
+  const bool ahead = screened_step == update->ntimestep && update->ntimestep > update->firststep + 1;
+  if (!ahead) drop_deferred();
+  const int changed = check_atoms_unchanged();
+  grow_peratom();
+  update_walls();
+  int flags = changed;
+  if (!changed && ahead) flags = screened_flags;
+  if (!changed && !ahead) {
+    defer_skin = true;
+    flags = screen(dtv);
+    defer_skin = false;
+  }
+  return reduce_step_flags(flags);
 }
 
 using HardSphere::mix64;
@@ -411,7 +431,7 @@ void HSSystem::reset_reference(int at_setup)
       gap[i] = MIN(gap[i], g);
     }
   }
-  if (comm->nprocs > 1) raise_deferred();
+  raise_deferred();
 }
 
 int HSSystem::pack_reverse_comm(int n, int first, double *buf)

@@ -153,15 +153,6 @@ class HSSystem : protected Pointers, public HSTypes {
   bigint screened_step = -1;
   int screened_flags = 0;
   int screen(double tleft);
-  // screen() with its "beyond the skin" error deferred (FOUND_ERROR), for a
-  // caller that reduces the flags (reduce_step_flags())
-  int screen_deferred(double tleft)
-  {
-    defer_skin = true;
-    const int flags = screen(tleft);
-    defer_skin = false;
-    return flags;
-  }
   // LIST: also the NEAR bit for near_atoms (closing_kick())
   template <bool LIST = false> int screen_atom(int i, double t2, double h4, double ftm2v_over_m);
   template <bool LIST = false> int screen_terms(int i, double d2, double v2, double a2);
@@ -213,9 +204,13 @@ class HSSystem : protected Pointers, public HSTypes {
   // the step's screening flags OR-ed over the ranks (one MPI_Allreduce); a
   // FOUND_ERROR among them raises the deferred errors
   int reduce_step_flags(int flags);
-  // the screen's "beyond the skin" error is deferred (the callers reduce
-  // its flags: initial_integrate's screen, the closing kick's) or at once
-  bool defer_skin = false;
+  // a step's start (every style's initial_integrate()): the atoms checked
+  // against the last list build, the per-atom arrays and walls brought up
+  // to date, and the step's screening flags over the ranks: those of the
+  // previous step's closing kick if it screened for this step (no
+  // end_of_step fix, the same run), else screen() now. A deferred error
+  // (atoms changed, an atom beyond the skin) stops every rank here
+  int screen_step();
   // what the last step, its list build and its forces depend on besides
   // velocities, as one number the same on every rank and for every
   // distribution of the atoms over the ranks: the box, the per-type
@@ -307,6 +302,9 @@ class HSSystem : protected Pointers, public HSTypes {
   bigint cap_step = -1, cap_ncalls = -1;
   std::vector<int> near;    // scratch: one list row's pairs within reach
   std::string deferred_msg;
+  // the screen's "beyond the skin" error is deferred (the callers reduce
+  // its flags: screen_step(), the closing kick's) or at once
+  bool defer_skin = false;
 };
 
 }    // namespace LAMMPS_NS
