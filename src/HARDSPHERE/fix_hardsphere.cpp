@@ -398,7 +398,8 @@ void FixHardSphere::check_fixes_beside()
                  style_name, other->id, other->style);
     // (reflected after this fix's step, a sphere may land inside another:
     // found as "a collision was missed" a few steps later)
-    if ((base == "wall/reflect" || base == "wall/reflect/stochastic") && shares_atoms(other))
+    if ((base == "wall/reflect" || base == "wall/reflect/stochastic") &&
+        S.shares_atoms(other->groupbit))
       error->all(FLERR,
                  "Fix {} cannot run beside fix {} {} on the same atoms: it reflects atoms "
                  "after this fix's step, without regard to the spheres' contacts (a sphere "
@@ -518,19 +519,6 @@ void FixHardSphere::check_peratom_virial()
   peratom_told = ids;
 }
 
-// does fix other act on atoms of this fix's group (on any rank)? Collective
-bool FixHardSphere::shares_atoms(Fix *other)
-{
-  const int nlocal = atom->nlocal;
-  const int *mask = atom->mask;
-  int shared = 0;
-  for (int i = 0; i < nlocal && !shared; i++)
-    if ((mask[i] & S.groupbit) && (mask[i] & other->groupbit)) shared = 1;
-  int any;
-  MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
-  return any != 0;
-}
-
 void FixHardSphere::check_other_integrators()
 {
   S.other_integrator = nullptr;
@@ -538,7 +526,7 @@ void FixHardSphere::check_other_integrators()
     Fix *other = modify->fix[k];
     if (other == this || !other->time_integrate) continue;
     if (!S.other_integrator) S.other_integrator = other;
-    if (!shares_atoms(other)) continue;
+    if (!S.shares_atoms(other->groupbit)) continue;
     // Nose-Hoover and Parrinello-Rahman styles are integrators too: say
     // what gives their ensembles beside this fix
     const std::string os = HardSphere::base_style(other->style);

@@ -106,7 +106,6 @@ class FixHardSphere : public Fix, public HSTypes {
   std::string capture_told;    // why held forces are not captured, in the log already
   void check_peratom_virial();
   void check_other_integrators();
-  bool shares_atoms(class Fix *other);
 };
 
 }    // namespace LAMMPS_NS

@@ -90,6 +90,22 @@ inline bool adds_force_only(const std::string &style_in)
   return true;
 }
 
+// a fix that sets, averages, projects or reads f (not adds_force_only())
+// of the atoms of its own group and no other: on a group that shares no
+// atom with the integrator's (a frozen wall of atoms, a piston) it changes
+// no force of the spheres, so the local engine need not hold it
+// (HSLocalEngine::limits()). Not unknown fixes: a fix may act beyond its
+// group, as fix spring couple or cmap do
+inline bool own_group_only(const std::string &style_in)
+{
+  const std::string style = base_style(style_in);
+  static const char *const own[] = {"setforce",   "aveforce",   "freeze",
+                                    "lineforce",  "planeforce", "store/force"};
+  for (const char *s : own)
+    if (style == s) return true;
+  return false;
+}
+
 }    // namespace HardSphere
 
 #endif

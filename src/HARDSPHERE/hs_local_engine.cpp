@@ -35,6 +35,7 @@
 #include "error.h"
 #include "fix.h"
 #include "force.h"
+#include "group.h"
 #include "kspace.h"
 #include "memory.h"
 #include "modify.h"
@@ -122,6 +123,11 @@ std::string HSLocalEngine::limits()
       continue;
     const std::string base = HardSphere::base_style(other->style);
     if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
+    // (a frozen wall or piston of atoms beside the spheres: its fix changes
+    // no force of theirs; a dynamic group may come to share atoms)
+    if (HardSphere::own_group_only(base) && !group->dynamic[other->igroup] &&
+        !sys->shares_atoms(other->groupbit))
+      continue;
     // m g on every atom of its group, whatever the positions: known on
     // every copy (const_force()), so the members' flows take it with V_C
     // (pcva's ledger holds its energy, HSLocalModified::const_energy();

@@ -164,6 +164,18 @@ void HSSystem::grow_peratom()
   memory->create(acc, nmax_hs, 3, "hardsphere:acc");
 }
 
+bool HSSystem::shares_atoms(int other_groupbit) const
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  int shared = 0;
+  for (int i = 0; i < nlocal && !shared; i++)
+    if ((mask[i] & groupbit) && (mask[i] & other_groupbit)) shared = 1;
+  int any;
+  MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
+  return any != 0;
+}
+
 void HSSystem::update_walls()
 {
   for (Wall &w : walls)

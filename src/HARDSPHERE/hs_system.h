@@ -92,6 +92,9 @@ class HSSystem : protected Pointers, public HSTypes {
   double wall_gap(const Wall &, const double *x, double r) const;
   void wall_name(const Wall &, std::string &) const;
   void update_walls();
+  // whether an atom of this group is also in the group of other_groupbit,
+  // on any rank (a collective: at set-up)
+  bool shares_atoms(int other_groupbit) const;
 
   // cached per run
   bigint max_substeps = MAX_SUBSTEPS_BASE;

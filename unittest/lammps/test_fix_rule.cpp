@@ -234,6 +234,20 @@ TEST(FixRuleTable, AddsForceOnly)
     EXPECT_FALSE(HardSphere::adds_force_only(s)) << s;
 }
 
+// the fixes whose post_force() touches f of their own group's atoms only:
+// beside a group that shares none of them the local engine ignores them
+// (setforce on a frozen wall of atoms); not additive fixes (held anyway),
+// thermostats, or fixes that may reach other groups' atoms
+TEST(FixRuleTable, OwnGroupOnly)
+{
+  for (const char *s : {"setforce", "aveforce", "freeze", "lineforce", "planeforce",
+                        "store/force", "setforce/kk", "freeze/omp"})
+    EXPECT_TRUE(HardSphere::own_group_only(s)) << s;
+  for (const char *s : {"addforce", "spring", "cmap", "restrain", "langevin", "enforce2d",
+                        "shake", "my/own/fix"})
+    EXPECT_FALSE(HardSphere::own_group_only(s)) << s;
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, DeterministicFixes,
                          ::testing::Values("psa", "cva", "pcva", "mcva", "vci"), case_name);
 

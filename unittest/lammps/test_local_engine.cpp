@@ -698,6 +698,51 @@ TEST(LocalEngine, FallsBackToGlobalWithAWarning)
   expect_runs(base + "fix x all hardsphere/psa diameter 1.0 substep local\nrun 10\n");
 }
 
+// A layer of atoms outside the group held in place by a fix that sets or
+// averages their forces (setforce, aveforce, lineforce: a frozen wall, a
+// piston): it changes no force of the spheres, so the local engine stays on
+// (no fall-back), and as the layer is not integrated its forces move
+// nothing: the spheres' steps are those of the run without that fix, bit
+// for bit. The same fix on a group that shares atoms with the spheres'
+// still sends the run to substep global
+TEST(LocalEngine, FixOnAnotherGroupKeepsTheEngineLocal)
+{
+  const std::string base = fluid("", 0.005, 87287, 5) + R"LMP(
+region slab block INF INF INF INF INF 0.8 units box
+group layer region slab
+group spheres subtract all layer
+velocity layer set 0.0 0.0 0.0
+variable nlay equal count(layer)
+fix hs spheres hardsphere/cva diameter 1.0
+)LMP";
+  const char *fixes[] = {"", "fix fr layer setforce 0.0 0.0 0.0",
+                         "fix fr layer aveforce 0.0 0.0 NULL", "fix fr layer lineforce 1 0 0"};
+  double e[4], c[4], fb[4], nl = 0.0;
+  for (int k = 0; k < 4; k++) {
+    HSLammps L;
+    L.lines(base + fixes[k] + "\nrun 200\n");
+    e[k] = L.thermo("etotal");
+    c[k] = L.fix_vector("hs", 0);
+    fb[k] = L.fix_vector("hs", 9);
+    if (k == 0) nl = L.variable("nlay");
+  }
+  std::printf("layer atoms %g; etotal %.17g %.17g %.17g %.17g; collisions %g %g %g %g; "
+              "fell back %g %g %g %g\n",
+              nl, e[0], e[1], e[2], e[3], c[0], c[1], c[2], c[3], fb[0], fb[1], fb[2], fb[3]);
+  EXPECT_GT(nl, 20.0);
+  EXPECT_GT(c[0], 50.0);
+  for (int k = 1; k < 4; k++) {
+    EXPECT_EQ(fb[k], 0.0) << fixes[k];
+    EXPECT_EQ(c[k], c[0]) << fixes[k];
+    EXPECT_EQ(e[k], e[0]) << fixes[k];
+  }
+  expect_runs(base + "fix fr layer setforce 0.0 0.0 0.0\nrun 10\n", {"substep local"},
+              {"falls back"});
+  // a group with atoms of both: the fix reaches spheres' forces
+  expect_runs(base + "group mixed id <= 100\nfix fr mixed setforce 0.0 0.0 0.0\nrun 10\n",
+              {"falls back to substep global", "fix fr setforce"});
+}
+
 // A dense fluid (packing fraction 0.45, lj/cut 2.5, atom_style sphere,
 // fix langevin beside): about 1 collision per 20 spheres per step. The
 // clusters must stay small (contact components; cross terms between
