@@ -376,6 +376,19 @@ void FixHardSphere::choose_engine()
 
 void FixHardSphere::check_fixes_beside()
 {
+  // (psa evaluates the forces once per step, as beside fix nve)
+  if (method && force->pair)
+    for (const auto &name : HardSphere::velocity_pair_names())
+      if (force->pair_match(name, 1, 1))
+        error->all(FLERR,
+                   "Fix {} cannot run with pair style {}: its forces depend on the velocities "
+                   "or are random, and a collisional step evaluates the pair forces again at "
+                   "every contact as forces of the positions (a random force drawn anew at "
+                   "each sub-step, a drag at mid-flight velocities). Use conservative pair "
+                   "styles with a thermostat fix such as fix langevin (its forces are held "
+                   "through collisional steps), or fix hardsphere/psa (one force evaluation "
+                   "per step)",
+                   style_name, name);
   for (int k = 0; k < modify->nfix; k++) {
     Fix *other = modify->fix[k];
     if (other == this) continue;

@@ -21,19 +21,26 @@
 #define LMP_HS_FIX_RULE_H
 
 #include <string>
+#include <vector>
 
 namespace HardSphere {
 
 enum class FixForceKind { CONSERVATIVE, HELD, REFUSED, UNKNOWN };
 
-// a style name without an accelerator suffix (/omp, /opt, /intel, /gpu, /kk)
+// the accelerator suffixes LAMMPS gives style names
+inline const std::vector<std::string> &accelerator_suffixes()
+{
+  static const std::vector<std::string> sfx = {"/omp", "/opt",     "/intel",    "/gpu",
+                                               "/kk",  "/kk/host", "/kk/device"};
+  return sfx;
+}
+
+// a style name without an accelerator suffix
 inline std::string base_style(const std::string &style)
 {
-  for (const char *sfx : {"/omp", "/opt", "/intel", "/gpu", "/kk", "/kk/host", "/kk/device"}) {
-    const std::string s(sfx);
+  for (const auto &s : accelerator_suffixes())
     if (style.size() > s.size() && style.compare(style.size() - s.size(), s.size(), s) == 0)
       return style.substr(0, style.size() - s.size());
-  }
   return style;
 }
 
@@ -104,6 +111,44 @@ inline bool own_group_only(const std::string &style_in)
   for (const char *s : own)
     if (style == s) return true;
   return false;
+}
+
+// pair styles whose forces read the velocities or draw random numbers:
+// LAMMPS' styles that need ghost velocities (dissipative particle dynamics,
+// lubrication, granular contacts, SPH) and brownian, dsmc. A collisional
+// step of cva, pcva, mcva and vci evaluates the pair forces again at every
+// contact as functions of the positions, which such a force is not (a
+// random force redrawn at each sub-step, a drag at mid-flight velocities)
+inline const std::vector<std::string> &velocity_pair_styles()
+{
+  static const std::vector<std::string> styles = {
+      "dpd", "dpd/tstat", "dpd/ext", "dpd/ext/tstat", "dpd/fdt", "dpd/fdt/energy",
+      "dpd/coul/slater/long", "mdpd", "tdpd", "edpd", "sdpd/taitwater/isothermal", "lubricate",
+      "lubricate/poly", "lubricateU", "lubricateU/poly", "brownian", "brownian/poly",
+      "gran/hooke", "gran/hooke/history", "gran/hertz/history", "granular", "bpm/spring", "dsmc",
+      "rheo", "rheo/solid", "mesocnt/viscous", "sph/lj", "sph/idealgas", "sph/taitwater",
+      "sph/taitwater/morris", "smd/ulsph", "smd/tlsph"};
+  return styles;
+}
+
+inline bool velocity_pair(const std::string &style_in)
+{
+  const std::string style = base_style(style_in);
+  for (const auto &s : velocity_pair_styles())
+    if (style == s) return true;
+  return false;
+}
+
+// those names with the accelerator suffixes LAMMPS gives styles: what
+// Force::pair_match() looks for among a pair style and its hybrid sub-styles
+inline std::vector<std::string> velocity_pair_names()
+{
+  std::vector<std::string> out;
+  for (const auto &s : velocity_pair_styles()) {
+    out.push_back(s);
+    for (const auto &sfx : accelerator_suffixes()) out.push_back(s + sfx);
+  }
+  return out;
 }
 
 }    // namespace HardSphere

@@ -248,6 +248,66 @@ TEST(FixRuleTable, OwnGroupOnly)
     EXPECT_FALSE(HardSphere::own_group_only(s)) << s;
 }
 
+// pair styles whose forces read the velocities or are random (their
+// accelerated variants too); conservative ones are not
+TEST(FixRuleTable, VelocityPairStyles)
+{
+  for (const char *s : {"dpd", "dpd/tstat", "dpd/tstat/omp", "lubricate", "brownian",
+                        "gran/hooke", "gran/hooke/history", "granular/kk", "dsmc", "sph/lj"})
+    EXPECT_TRUE(HardSphere::velocity_pair(s)) << s;
+  for (const char *s : {"lj/cut", "lj/cut/omp", "colloid", "yukawa/colloid", "soft",
+                        "lj/cut/coul/long", "table", "hybrid/overlay", "dpdx"})
+    EXPECT_FALSE(HardSphere::velocity_pair(s)) << s;
+  const auto names = HardSphere::velocity_pair_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "gran/hooke/omp"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "dpd/tstat"), names.end());
+}
+
+// a granular or lubrication pair style (velocity-dependent forces), alone or
+// as a hybrid sub-style: an error for the methods that evaluate the forces
+// again at contacts; psa evaluates them once per step, as beside fix nve.
+// (The LAMMPS 4Feb2025 build of the tests has neither GRANULAR nor COLLOID)
+TEST(RuleErrors, VelocityPairStyleRefused)
+{
+  std::string style;
+  {
+    HSLammps probe;
+    for (const char *s : {"gran/hooke", "lubricate"})
+      if (style.empty() && lammps_has_style(probe.lmp, "pair", s)) style = s;
+  }
+  if (style.empty()) GTEST_SKIP() << "no granular or lubrication pair style in this LAMMPS";
+  const std::string args = style == "gran/hooke" ? " 2000.0 NULL 50.0 NULL 0.5 0"
+                                                 : " 1.0 1 1 1.001 2.5";
+  auto input = [&](const std::string &pair, const std::string &method) {
+    return R"LMP(
+units lj
+atom_style sphere
+comm_modify vel yes cutoff 2.0
+lattice fcc 0.5
+region box block 0 4 0 4 0 4
+create_box 1 box
+create_atoms 1 box
+set type 1 diameter 1.0
+set type 1 mass 1.0
+)LMP" + pair + R"LMP(
+neighbor 0.3 bin
+velocity all create 1.0 4928 dist gaussian
+timestep 0.002
+fix hs all hardsphere/)LMP" +
+        method + "\nrun 10\n";
+  };
+  const std::string alone = "pair_style " + style + args + "\npair_coeff * *";
+  const std::string hybrid = "pair_style hybrid/overlay soft 1.0 " + style + args +
+      "\npair_coeff * * soft 1.0\npair_coeff * * " + style;
+  for (const std::string method : {"cva", "pcva", "vci", "mcva"})
+    expect_error(input(alone, method),
+                 {"hardsphere/" + method + " cannot run with pair style " + style,
+                  "depend on the velocities", "fix langevin"});
+  expect_error(input(hybrid, "cva substep global"),
+               {"hardsphere/cva cannot run with pair style " + style});
+  expect_runs(input(hybrid, "psa"));
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, DeterministicFixes,
                          ::testing::Values("psa", "cva", "pcva", "mcva", "vci"), case_name);
 
