@@ -1245,6 +1245,9 @@ bool HSLocalEngine::member_copies(Run &r)
   r.members.resize(nm);
   const tagint rtag = runner_of(r.mtags.data(), nm);
   const int runner = atom->map(rtag);
+  double reach_needed = 0.0;    // the ghost cutoff the members' rows need
+  int kout = -1;                 // the first member beyond it
+  bool reach_known = true;       // (false: a member with no copy here at all)
   for (int k = 0; k < nm; k++) {
     // an owned copy has its rows; of a ghost, the copy nearest the runner
     int l = atom->map(r.mtags[k]);
@@ -1264,31 +1267,47 @@ bool HSLocalEngine::member_copies(Run &r)
         cut[1] *= sqrt(h_inv[1] * h_inv[1] + h_inv[3] * h_inv[3]);
         cut[2] *= h_inv[2];
       }
-      for (int d = 0; d < 3 && inside; d++) {
+      for (int d = 0; d < 3; d++) {
         if (d == 2 && domain->dimension == 2) break;
-        inside = p[d] - cut[d] >= lo[d] - comm->cutghost[d] &&
-            p[d] + cut[d] <= hi[d] + comm->cutghost[d];
+        // (how far the ghosts must reach for this member, as a distance:
+        // cut[d] is the neighbor cutoff in this dimension's units)
+        const double reach = std::max(lo[d] - (p[d] - cut[d]), p[d] + cut[d] - hi[d]);
+        if (reach > comm->cutghost[d]) inside = false;
+        reach_needed = std::max(reach_needed, reach * cutneigh / cut[d]);
       }
     }
     if (!inside && (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening())) return false;
     // (overflow error: every rank learns of it in the step's next gather
     // and step() raises it on all ranks, so that rank 0 writes it to the
-    // log: error->one() here wrote it only to this rank's screen)
+    // log: error->one() here wrote it only to this rank's screen. The
+    // other members still count for the reach the message names)
     if (!inside) {
-      std::string ids;
-      for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
-      outgrown_msg = fmt::format(
-                 "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches "
-                 "beyond what the ghost cutoff {} covers (atom {} needs every atom within the "
-                 "neighbor cutoff {} of it on the rank of atom {}): use a larger comm_modify "
-                 "cutoff (the engine set {}), a smaller timestep, substep global, overflow "
-                 "global (such steps taken globally) or overflow widen (the engine widens the "
-                 "ghost cutoff and takes the step again)",
-                 sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep,
-                 comm->cutghostuser, r.mtags[k], cutneigh, rtag, ghost_wide);
-      return false;
+      if (kout < 0) kout = k;
+      if (l < 0) reach_known = false;
+      continue;
     }
     r.members[k] = l;
+  }
+  if (kout >= 0) {
+    std::string ids;
+    for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
+    // (rounded up: the reach at the list build's positions)
+    const double need = std::ceil(reach_needed * 100.0) / 100.0;
+    outgrown_msg = fmt::format(
+        "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches beyond "
+        "what the ghost cutoff {} covers (atom {} needs every atom within the neighbor cutoff "
+        "{} of it on the rank of atom {}){}: use a larger comm_modify cutoff (the engine's "
+        "default is {}), a smaller timestep, substep global, overflow global (such steps taken "
+        "globally) or overflow widen (the engine widens the ghost cutoff and takes the step "
+        "again)",
+        sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep, comm->cutghostuser,
+        r.mtags[kout], cutneigh, rtag,
+        reach_known ? fmt::format("; this cluster needs comm_modify cutoff {:.6g} ({:.6g} also "
+                                  "covers one a contact longer)",
+                                  need, need + sys->list_cutoff)
+                    : std::string(),
+        ghost_wide);
+    return false;
   }
   // a member's bonded partners: their images nearest its copy (rows take
   // them so), which must be here and be the bonded image: less than half a

@@ -834,6 +834,23 @@ for np in 2 4; do
     echo "  FAIL: $np ranks gave no error naming the ghost cutoff in the log"; tail -3 log.long.$np; tail -5 out.long.$np; fail=1
   fi
 done
+# the cutoff each error names for its cluster (it depends on the ranks'
+# sub-domains) is enough: with it set from the start, 2 and 4 ranks end as
+# 1 rank does
+if ref=$(run long_ref 1 in.local_long -var np 1 -var nsteps 100 -var yb p -var walls ""); then
+  for np in 2 4; do
+    need=$(grep -o "this cluster needs comm_modify cutoff [0-9.]*" log.long.$np | awk '{print $NF}')
+    if [ -z "$need" ]; then
+      echo "  FAIL: the error on $np ranks names no comm_modify cutoff for the cluster"; fail=1
+      continue
+    fi
+    sed "s/^neigh_modify every 1 delay 0 check yes/&\ncomm_modify cutoff $need/" in.local_long > in.local_long_cut
+    got=$(run long_cut "$np" in.local_long_cut -var np "$np" -var nsteps 100 -var yb p -var walls "") || { fail=1; continue; }
+    compare long_cut "$ref" "$got" "$np" && echo "  $np ranks with the named comm_modify cutoff $need: ok" || fail=1
+  done
+else
+  fail=1
+fi
 # asked for: such a step is taken by the global engine and counted; the
 # cradle's analytic end (the far sphere, ID 7, leaves with the striker's
 # velocity 2) on 2 ranks
