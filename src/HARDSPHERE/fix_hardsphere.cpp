@@ -306,6 +306,16 @@ void FixHardSphere::init()
   check_fixes_beside();
   check_peratom_virial();
   choose_engine();
+  // the global engine and mcva's stages evaluate every fix's forces at
+  // sub-steps, a constraint fix's too
+  if (!constraint_beside.empty() && engine == global_engine && engine)
+    error->all(FLERR,
+               "Fix {} cannot run beside {} with substep global: the global engine evaluates "
+               "the forces of every fix at each contact, and that fix's constraint forces "
+               "are computed for one velocity-Verlet step of dt. Its group shares no atom "
+               "with this fix's, so substep local (the default of cva, pcva and vci) or "
+               "hardsphere/psa can run beside it",
+               style_name, constraint_beside);
   capture_rule();
 
   // the contact list needs ghost atoms out to its cutoff: checked here,
@@ -376,6 +386,10 @@ void FixHardSphere::choose_engine()
 
 void FixHardSphere::check_fixes_beside()
 {
+  constraint_beside.clear();
+  bool press_beside = false;
+  for (int k = 0; k < modify->nfix; k++)
+    if (HardSphere::base_style(modify->fix[k]->style) == "hardsphere/press") press_beside = true;
   // (psa evaluates the forces once per step, as beside fix nve)
   if (method && force->pair)
     for (const auto &name : HardSphere::velocity_pair_names())
@@ -404,11 +418,23 @@ void FixHardSphere::check_fixes_beside()
                  "set-up)",
                  style_name, other->id, other->style);
     const std::string base = HardSphere::base_style(other->style);
-    if (HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::REFUSED)
-      error->all(FLERR,
-                 "Fix {} cannot run beside fix {} {}: its constraint forces are computed for "
-                 "one velocity-Verlet step of dt, which the collisional sub-steps break",
-                 style_name, other->id, other->style);
+    if (HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::REFUSED) {
+      if (group->dynamic[other->igroup] || S.shares_atoms(other->groupbit))
+        error->all(FLERR,
+                   "Fix {} cannot run beside fix {} {} on atoms of its group: its constraint "
+                   "forces are computed for one velocity-Verlet step of dt, which the "
+                   "collisional sub-steps break (on a group that shares no atom with this "
+                   "fix's, e.g. a rigid solvent, it can)",
+                   style_name, other->id, other->style);
+      // (its molecules beside the spheres: untouched by a collisional step
+      // unless the step evaluates every fix, below; a barostat rescales them)
+      if (press_beside)
+        error->all(FLERR,
+                   "Fix {} cannot run beside fix {} {} and fix hardsphere/press: the "
+                   "barostat's volume moves rescale the constrained molecules' atoms",
+                   style_name, other->id, other->style);
+      constraint_beside = fmt::format("fix {} {}", other->id, other->style);
+    }
     // (reflected after this fix's step, a sphere may land inside another:
     // found as "a collision was missed" a few steps later)
     if ((base == "wall/reflect" || base == "wall/reflect/stochastic") &&

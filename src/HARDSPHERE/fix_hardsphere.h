@@ -100,6 +100,10 @@ class FixHardSphere : public Fix, public HSTypes {
   void choose_engine();
 
   std::string unknown_told, held_told;    // fixes named in the log already
+  // a constraint fix (shake, rattle) on atoms outside the group: fine with
+  // substep local and psa, which evaluate no fix between LAMMPS' own
+  // force stages; an error with the global engine (check_fixes_beside())
+  std::string constraint_beside;
   std::string peratom_told;               // computes warned about already
   void check_fixes_beside();
   void capture_rule();

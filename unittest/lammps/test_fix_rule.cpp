@@ -308,6 +308,124 @@ fix hs all hardsphere/)LMP" +
   expect_runs(input(hybrid, "psa"));
 }
 
+namespace {
+// hard spheres (type 1, group spheres: a simple cubic grid of 4 x 8 x 8 in
+// x < 6.4) beside 64 rigid dimers (type 2, bond length 1.0, held by fix
+// shake, integrated by fix nve) in x > 6.4; lj/cut 2.5 between all, the
+// box 12.8 x 12.8 x 12.8; T = 1 (the velocities along the bonds, which
+// shake removes in the first step, before E0). fix_line: the spheres'
+// integrator
+std::string shake_beside(const std::string &fix_line, double dt, int nsteps,
+                         const std::string &shake_group = "dimers")
+{
+  std::string in = R"LMP(
+units lj
+atom_style bond
+atom_modify map array
+boundary p p p
+region box block 0 12.8 0 12.8 0 12.8
+create_box 2 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 1
+mass * 1.0
+)LMP";
+  int n = 0;
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 8; j++)
+      for (int k = 0; k < 8; k++) {
+        in += "create_atoms 1 single " + hs_chain::f17(0.8 + 1.6 * i) + " " +
+            hs_chain::f17(0.8 + 1.6 * j) + " " + hs_chain::f17(0.8 + 1.6 * k) + " units box\n";
+        n++;
+      }
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 4; j++)
+      for (int k = 0; k < 8; k++) {
+        const double x = 7.0 + 3.2 * i, y = 0.8 + 3.2 * j, z = 0.8 + 1.6 * k;
+        in += "create_atoms 2 single " + hs_chain::f17(x) + " " + hs_chain::f17(y) + " " +
+            hs_chain::f17(z) + " units box\n";
+        in += "create_atoms 2 single " + hs_chain::f17(x + 1.0) + " " + hs_chain::f17(y) + " " +
+            hs_chain::f17(z) + " units box\n";
+        in += "create_bonds single/bond 1 " + std::to_string(n + 1) + " " +
+            std::to_string(n + 2) + "\n";
+        n += 2;
+      }
+  in += R"LMP(
+pair_style lj/cut 2.5
+pair_coeff * * 1.0 1.0
+pair_modify shift yes
+bond_style harmonic
+bond_coeff 1 100.0 1.0
+special_bonds lj/coul 0.0 1.0 1.0
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+group spheres type 1
+group dimers type 2
+velocity all create 1.0 48823 mom yes rot no dist gaussian
+)LMP";
+  in += fix_line + "\n";
+  in += "fix nv dimers nve\nfix sh " + shake_group + " shake 1e-10 100 0 b 1\n";
+  in += "timestep " + hs_chain::f17(dt) + "\n" + R"LMP(
+compute bl dimers bond/local dist
+compute bmax dimers reduce max c_bl
+compute bmin dimers reduce min c_bl
+thermo_style custom step etotal c_bmax c_bmin
+thermo_modify norm yes
+run 10
+variable E0 equal $(etotal:%.17g)
+variable dE equal abs(etotal-v_E0)
+fix mx all ave/histo 1 1 1 0.0 1.0 1 v_dE ave running
+run )LMP" + std::to_string(nsteps) +
+      R"LMP(
+print "DE $(f_mx[4]:%.10g)"
+print "BOND $(c_bmin:%.12g) $(c_bmax:%.12g)"
+)LMP";
+  return in;
+}
+}    // namespace
+
+// fix shake on molecules that share no atom with the spheres (a rigid
+// solvent beside hard spheres): substep local evaluates no fix inside a
+// collisional step, so the constraints hold to shake's tolerance and the
+// energy error is second order in dt, as for each part alone. The global
+// engine (and mcva, global only) evaluates every fix at each contact: an
+// error naming substep local; shake on the spheres themselves stays refused.
+// (The LAMMPS 4Feb2025 build of the tests has no RIGID package)
+TEST(RuleErrors, ShakeOnAnotherGroup)
+{
+  {
+    HSLammps probe;
+    if (!lammps_has_style(probe.lmp, "fix", "shake"))
+      GTEST_SKIP() << "no fix shake (RIGID package) in this LAMMPS";
+  }
+  std::vector<double> dts = {0.004, 0.002, 0.001}, errs;
+  for (double dt : dts) {
+    RunResult r =
+        expect_runs(shake_beside("fix hs spheres hardsphere/cva diameter 1.0", dt,
+                                 (int) std::lround(2.0 / dt)) +
+                        "print \"COLL $(f_hs[1])\"\nprint \"FB $(f_hs[10])\"\n",
+                    {"substep local (collisions"}, {"falls back"});
+    errs.push_back(printed(r.output, "DE"));
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m,
+                                  std::regex("\nBOND ([-0-9.eE+]+) ([-0-9.eE+]+)")));
+    EXPECT_NEAR(std::stod(m[1]), 1.0, 1e-8) << dt;
+    EXPECT_NEAR(std::stod(m[2]), 1.0, 1e-8) << dt;
+    EXPECT_GT(printed(r.output, "COLL"), 20.0) << dt;
+    EXPECT_EQ(printed(r.output, "FB"), 0.0) << dt;
+  }
+  const double order = hs_chain::loglog_slope(dts, errs);
+  std::printf("[ cva beside shake ] max|E-E0| per atom: %.3g %.3g %.3g, order %.2f\n", errs[0],
+              errs[1], errs[2], order);
+  EXPECT_GT(order, 1.7);
+  expect_runs(shake_beside("fix hs spheres hardsphere/psa diameter 1.0", 0.002, 50));
+  expect_error(shake_beside("fix hs spheres hardsphere/cva diameter 1.0 substep global", 0.002,
+                            50),
+               {"hardsphere/cva cannot run beside fix sh shake with substep global",
+                "substep local"});
+  expect_error(shake_beside("fix hs spheres hardsphere/mcva diameter 1.0", 0.002, 50),
+               {"hardsphere/mcva cannot run beside fix sh shake with substep global"});
+  expect_error(shake_beside("fix hs spheres hardsphere/cva diameter 1.0", 0.002, 50, "all"),
+               {"cannot run beside fix sh shake on atoms of its group", "velocity-Verlet"});
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, DeterministicFixes,
                          ::testing::Values("psa", "cva", "pcva", "mcva", "vci"), case_name);
 
