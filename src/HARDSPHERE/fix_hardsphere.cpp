@@ -308,6 +308,14 @@ void FixHardSphere::init()
   choose_engine();
   // the global engine and mcva's stages evaluate every fix's forces at
   // sub-steps, a constraint fix's too
+  if (!constraint_beside.empty() && engine && engine == local_engine &&
+      S.overflow == HSSystem::OVERFLOW_GLOBAL)
+    error->all(FLERR,
+               "Fix {} cannot run beside {} with overflow global: its steps taken globally "
+               "evaluate the forces of every fix at each contact, and that fix's constraint "
+               "forces are computed for one velocity-Verlet step of dt (use overflow widen or "
+               "a larger comm_modify cutoff)",
+               style_name, constraint_beside);
   if (!constraint_beside.empty() && engine == global_engine && engine)
     error->all(FLERR,
                "Fix {} cannot run beside {} with substep global: the global engine evaluates "

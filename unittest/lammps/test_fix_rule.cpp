@@ -420,6 +420,9 @@ TEST(RuleErrors, ShakeOnAnotherGroup)
                             50),
                {"hardsphere/cva cannot run beside fix sh shake with substep global",
                 "substep local"});
+  expect_error(shake_beside("fix hs spheres hardsphere/cva diameter 1.0 overflow global", 0.002,
+                            50),
+               {"hardsphere/cva cannot run beside fix sh shake with overflow global"});
   expect_error(shake_beside("fix hs spheres hardsphere/mcva diameter 1.0", 0.002, 50),
                {"hardsphere/mcva cannot run beside fix sh shake with substep global"});
   expect_error(shake_beside("fix hs spheres hardsphere/cva diameter 1.0", 0.002, 50, "all"),
