@@ -94,6 +94,11 @@ std::string HSLocalEngine::limits()
   // (LAMMPS maintains any map at each exchange and borders); without it
   // the default engine fell back to the global one, ~25x slower on 4000 atoms
   if (atom->map_style == Atom::MAP_NONE) {
+    // (without ghosts, as velocity and delete_atoms make theirs: the ghost
+    // rows may be stale, e.g. after delete_atoms without a map, and hold IDs
+    // beyond the owned atoms' largest, the map's size; the run's setup()
+    // rebuilds them, and init() is always followed by it)
+    atom->nghost = 0;
     atom->map_init();
     atom->map_set();
     if (me == 0)
