@@ -427,7 +427,7 @@ void FixHardSphere::check_fixes_beside()
                  style_name, other->id, other->style);
     const std::string base = HardSphere::base_style(other->style);
     if (HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::REFUSED) {
-      if (group->dynamic[other->igroup] || S.shares_atoms(other->groupbit))
+      if (!S.group_apart(other->igroup))
         error->all(FLERR,
                    "Fix {} cannot run beside fix {} {} on atoms of its group: its constraint "
                    "forces are computed for one velocity-Verlet step of dt, which the "

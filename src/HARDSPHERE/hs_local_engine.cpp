@@ -35,7 +35,6 @@
 #include "error.h"
 #include "fix.h"
 #include "force.h"
-#include "group.h"
 #include "kspace.h"
 #include "memory.h"
 #include "modify.h"
@@ -129,10 +128,8 @@ std::string HSLocalEngine::limits()
     const std::string base = HardSphere::base_style(other->style);
     if (base == "enforce2d") continue;    // zero z forces: V_C's are zero in z already
     // (a frozen wall or piston of atoms beside the spheres: its fix changes
-    // no force of theirs; a dynamic group may come to share atoms)
-    if (HardSphere::own_group_only(base) && !group->dynamic[other->igroup] &&
-        !sys->shares_atoms(other->groupbit))
-      continue;
+    // no force of theirs)
+    if (HardSphere::own_group_only(base) && sys->group_apart(other->igroup)) continue;
     // m g on every atom of its group, whatever the positions: known on
     // every copy (const_force()), so the members' flows take it with V_C
     // (pcva's ledger holds its energy, HSLocalModified::const_energy();

@@ -18,6 +18,7 @@
 #include "error.h"
 #include "fix.h"
 #include "force.h"
+#include "group.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -174,6 +175,11 @@ bool HSSystem::shares_atoms(int other_groupbit) const
   int any;
   MPI_Allreduce(&shared, &any, 1, MPI_INT, MPI_MAX, world);
   return any != 0;
+}
+
+bool HSSystem::group_apart(int igroup) const
+{
+  return !group->dynamic[igroup] && !shares_atoms(group->bitmask[igroup]);
 }
 
 void HSSystem::update_walls()

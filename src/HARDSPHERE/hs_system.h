@@ -95,6 +95,9 @@ class HSSystem : protected Pointers, public HSTypes {
   // whether an atom of this group is also in the group of other_groupbit,
   // on any rank (a collective: at set-up)
   bool shares_atoms(int other_groupbit) const;
+  // group igroup can never hold an atom of this group during the run: it
+  // shares none now and is not dynamic (a dynamic group may come to)
+  bool group_apart(int igroup) const;
 
   // cached per run
   bigint max_substeps = MAX_SUBSTEPS_BASE;
