@@ -118,34 +118,22 @@ inline bool own_group_only(const std::string &style_in)
 // lubrication, granular contacts, SPH) and brownian, dsmc. A collisional
 // step of cva, pcva, mcva and vci evaluates the pair forces again at every
 // contact as functions of the positions, which such a force is not (a
-// random force redrawn at each sub-step, a drag at mid-flight velocities)
-inline const std::vector<std::string> &velocity_pair_styles()
+// random force redrawn at each sub-step, a drag at mid-flight velocities).
+// Their names, bare and with the accelerator suffixes LAMMPS gives styles:
+// what FixHardSphere::check_fixes_beside() looks for with
+// Force::pair_match() among a pair style and its hybrid sub-styles
+inline std::vector<std::string> velocity_pair_names()
 {
-  static const std::vector<std::string> styles = {
+  static const char *const styles[] = {
       "dpd", "dpd/tstat", "dpd/ext", "dpd/ext/tstat", "dpd/fdt", "dpd/fdt/energy",
       "dpd/coul/slater/long", "mdpd", "tdpd", "edpd", "sdpd/taitwater/isothermal", "lubricate",
       "lubricate/poly", "lubricateU", "lubricateU/poly", "brownian", "brownian/poly",
       "gran/hooke", "gran/hooke/history", "gran/hertz/history", "granular", "bpm/spring", "dsmc",
       "rheo", "rheo/solid", "mesocnt/viscous", "sph/lj", "sph/idealgas", "sph/taitwater",
       "sph/taitwater/morris", "smd/ulsph", "smd/tlsph"};
-  return styles;
-}
-
-inline bool velocity_pair(const std::string &style_in)
-{
-  const std::string style = base_style(style_in);
-  for (const auto &s : velocity_pair_styles())
-    if (style == s) return true;
-  return false;
-}
-
-// those names with the accelerator suffixes LAMMPS gives styles: what
-// Force::pair_match() looks for among a pair style and its hybrid sub-styles
-inline std::vector<std::string> velocity_pair_names()
-{
   std::vector<std::string> out;
-  for (const auto &s : velocity_pair_styles()) {
-    out.push_back(s);
+  for (const char *s : styles) {
+    out.emplace_back(s);
     for (const auto &sfx : accelerator_suffixes()) out.push_back(s + sfx);
   }
   return out;
