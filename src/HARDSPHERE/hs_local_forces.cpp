@@ -864,12 +864,14 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         B.sub.push_back(R.data() + r);
         add_term(R.data() + r, width[b], R[r + width[b]]);
       }
+      kind_end_[b] = nterm;
     }
   }
   for (int b = 0; b < 4; b++) {
     if (rows_ && topo_ && !only_cross) break;
     Bonded &B = bonded_[b];
     B.sub.clear();
+    kind_end_[b] = nterm;
     if (!present[b] || only_cross) continue;
     for (int a : marked)
       for (int p = B.off[a]; p < B.off[a + 1]; p++) {
@@ -880,6 +882,7 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
         B.sub.push_back(row);
         add_term(row, width[b], row[width[b]]);
       }
+    kind_end_[b] = nterm;
   }
   nbonded_terms += (double) (nterm - npair_t);
   if (terms_only_) return;
@@ -914,6 +917,69 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
   last_ncalls_ = list_epoch();
   last_nc_ = nc;
   ncalls += 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   one bonded term by its style's compute() (hs_local_forces.h)
+------------------------------------------------------------------------- */
+
+double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, double **f)
+{
+  const int width = b == 0 ? 2 : b == 1 ? 3 : 4;
+  int row[5];
+  for (int k = 0; k < width; k++) row[k] = a[k];
+  row[width] = type;
+  int *one[1] = {row};
+  int *nlist[4] = {&neighbor->nbondlist, &neighbor->nanglelist, &neighbor->ndihedrallist,
+                   &neighbor->nimproperlist};
+  int ***plist[4] = {&neighbor->bondlist, &neighbor->anglelist, &neighbor->dihedrallist,
+                     &neighbor->improperlist};
+  double *energy = nullptr, *virial = nullptr;
+  if (b == 0 && force->bond) energy = &force->bond->energy, virial = force->bond->virial;
+  if (b == 1 && force->angle) energy = &force->angle->energy, virial = force->angle->virial;
+  if (b == 2 && force->dihedral)
+    energy = &force->dihedral->energy, virial = force->dihedral->virial;
+  if (b == 3 && force->improper)
+    energy = &force->improper->energy, virial = force->improper->virial;
+  if (!energy)
+    error->one(FLERR, "{}: internal error: a bonded term of kind {} without its style", owner_, b);
+  const double e_saved = *energy;
+  double v_saved[6];
+  for (int k = 0; k < 6; k++) v_saved[k] = virial[k];
+  // (a style may tally a part into the pair style's, e.g. dihedral charmm's
+  // 1-4 terms: that part is the term's too)
+  Pair *pair = force->pair;
+  double pv_saved[6] = {0, 0, 0, 0, 0, 0}, pe_saved[2] = {0.0, 0.0};
+  if (pair) {
+    pe_saved[0] = pair->eng_vdwl;
+    pe_saved[1] = pair->eng_coul;
+    for (int k = 0; k < 6; k++) pv_saved[k] = pair->virial[k];
+  }
+  const int n0 = *nlist[b];
+  int **l0 = *plist[b];
+  double **x_saved = atom->x, **f_saved = atom->f;
+  *nlist[b] = 1;
+  *plist[b] = one;
+  atom->x = x;
+  atom->f = f;
+  if (b == 0) force->bond->compute(1, 0);
+  if (b == 1) force->angle->compute(1, 0);
+  if (b == 2) force->dihedral->compute(1, 0);
+  if (b == 3) force->improper->compute(1, 0);
+  double e = *energy;
+  if (pair) {
+    e += (pair->eng_vdwl - pe_saved[0]) + (pair->eng_coul - pe_saved[1]);
+    pair->eng_vdwl = pe_saved[0];
+    pair->eng_coul = pe_saved[1];
+    for (int k = 0; k < 6; k++) pair->virial[k] = pv_saved[k];
+  }
+  atom->x = x_saved;
+  atom->f = f_saved;
+  *nlist[b] = n0;
+  *plist[b] = l0;
+  *energy = e_saved;
+  for (int k = 0; k < 6; k++) virial[k] = v_saved[k];
+  return e;
 }
 
 /* ----------------------------------------------------------------------

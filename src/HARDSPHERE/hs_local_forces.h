@@ -244,6 +244,20 @@ class HSLocalForces : protected Pointers {
     term_extra_.clear();
   }
   int npair_last() const { return npair_last_; }
+  // the bonded terms come kind by kind after the pair terms: those of kind
+  // b (0 bond, 1 angle, 2 dihedral, 3 improper) end at term kind_end(b)
+  int kind_end(int b) const { return kind_end_[b]; }
+  // one bonded term of kind b (1-3, or 0 for a bond style without single())
+  // with the atoms a[0 .. width) (local copies) and type, by its style's own
+  // compute() on a list of that term alone, at positions x (rows of those
+  // copies; the style reads no other) with its forces added into f (rows of
+  // those copies, zeroed by the caller; with newton_bond off the style adds
+  // only to owned copies, as LAMMPS does). Returns the style's energy tally
+  // of it (newton_bond off: the owned copies' share, as LAMMPS tallies it).
+  // atom->x, atom->f, the lists and the style's tallies are left as they
+  // were. pcva's local projection (hs_local_modified.cpp) differentiates
+  // such terms by it
+  double bonded_term(int b, const int *a, int type, double **x, double **f);
   // per term: a pair's special index (j >> SBBITS & 3), a bonded term's type
   const std::vector<int> &term_extra() const { return term_extra_; }
 
@@ -300,6 +314,7 @@ class HSLocalForces : protected Pointers {
   std::vector<int> zero_list_, touched_owned_, term_off_, term_local_, term_extra_;
   std::vector<int> marked_, starts_;    // evaluate()'s scratch (no allocation per call)
   int npair_last_ = 0;
+  int kind_end_[4] = {0, 0, 0, 0};
   // rows mode: the cell list of all local atoms (per list build) and the
   // folds (image j -> copy k) of the last compute_rows()
   bool rows_ = false;

@@ -36,6 +36,8 @@ HSLocalModified::~HSLocalModified()
 {
   memory->destroy(red);
   memory->destroy(fwd);
+  memory->destroy(xs);
+  memory->destroy(fs);
 }
 
 // the per-copy columns (kept zero outside the rows in use: a reverse
@@ -63,6 +65,7 @@ double HSLocalModified::memory_usage() const
 {
   const auto bytes = [](const auto &vec) { return HardSphere::capacity_bytes(vec); };
   double b = (double) nmax * 14 * sizeof(double);    // red, fwd
+  b += (double) nmax_xs * 6 * sizeof(double);         // xs, fs
   b += bytes(mtag) + bytes(mem) + bytes(cid) + bytes(ptag) + bytes(pstart) + bytes(remap_ms) +
       bytes(remap_ps) + bytes(remap_st) + bytes(remap_out) + bytes(remap_all) + bytes(pidx) +
       bytes(tloc) + bytes(toff) + bytes(textra) + bytes(tcopies) + bytes(owners) +
@@ -94,6 +97,7 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
   const int gb = sys->groupbit;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair, newton_bond = force->newton_bond;
+  const bool bond_single = pot->bond_by_single();
   double **cutsq = force->pair ? force->pair->cutsq : nullptr;
   static const double zero[3] = {0.0, 0.0, 0.0};
   E = Q = Qbb = 0.0;
@@ -119,11 +123,12 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
         HardSphere::prefetch_row(red[0], 7, l, true);
       }
     }
-    if (toff[t + 1] - toff[t] != 2)
-      error->one(FLERR, "Fix {} substep local: a term of {} atoms (only pair and bond terms "
-                 "are supported by the local projection)", sys->style_name, toff[t + 1] - toff[t]);
-    const int i = tloc[toff[t]], j = tloc[toff[t] + 1];
     const bool pair = t < npair;
+    if (!pair && (toff[t + 1] - toff[t] != 2 || !bond_single)) {
+      general_term<WITH_B>(t, xpos, E, Q, Qbb);
+      continue;
+    }
+    const int i = tloc[toff[t]], j = tloc[toff[t] + 1];
     if (!pair && textra[t] <= 0) continue;    // a broken bond
     const double *xi = xpos(i), *xj = xpos(j);
     const double del[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
@@ -179,6 +184,103 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
 }
 
 /* ----------------------------------------------------------------------
+   a term that is not radial (angle, dihedral, improper; a bond whose style
+   has no single()): its energy and forces from its style's compute() on
+   that term alone (HSLocalForces::bonded_term()), V_t'' v and V_t'' b by
+   differences of those forces along v and b, the five-point stencil of the
+   global path (HSPotential, doc "FDIFF": O(s^4), round-off eps/s, so a
+   displacement s |w| = 7.4e-4 L, L its length scale). Each term takes its
+   own step from its copies' velocities alone, the same on every rank that
+   lists it. With newton_bond off the style adds forces to owned copies only
+   and tallies the owned share of the energy, as LAMMPS does: the sums over
+   the ranks are whole
+------------------------------------------------------------------------- */
+
+template <bool WITH_B, class X>
+void HSLocalModified::general_term(int t, X xpos, double &E, double &Q, double &Qbb)
+{
+  const int *mask = atom->mask;
+  const int gb = sys->groupbit;
+  const int o = toff[t], w = toff[t + 1] - o;
+  if (w > 4)
+    error->one(FLERR, "Fix {} substep local: internal error: a bonded term of {} atoms",
+               sys->style_name, w);
+  int kind = 0;
+  while (kind < 3 && t >= kend[kind]) kind++;
+  const int *a = &tloc[o];
+  const int type = textra[t];
+  if (type <= 0) return;    // (a broken bond)
+  if (!xs || nmax_xs < nmax) {
+    memory->destroy(xs);
+    memory->destroy(fs);
+    nmax_xs = nmax;
+    memory->create(xs, nmax_xs, 3, "hs_local_modified:xs");
+    memory->create(fs, nmax_xs, 3, "hs_local_modified:fs");
+  }
+  static const double zero[3] = {0.0, 0.0, 0.0};
+  const double *vk[4], *bk[4];
+  double vmax = 0.0, bmax = 0.0;
+  for (int k = 0; k < w; k++) {
+    const bool in = mask[a[k]] & gb;
+    const double *row = HardSphere::row_at(fwd[0], 7, a[k]);
+    vk[k] = in ? row : zero;
+    bk[k] = (WITH_B && in) ? row + 3 : zero;
+    vmax = std::max(vmax, sqrt(vk[k][0] * vk[k][0] + vk[k][1] * vk[k][1] + vk[k][2] * vk[k][2]));
+    bmax = std::max(bmax, sqrt(bk[k][0] * bk[k][0] + bk[k][1] * bk[k][1] + bk[k][2] * bk[k][2]));
+  }
+  HSLocalForces &lf = *terms_lf;
+  // forces of the term at x + s dir, into F[k]; its energy tally
+  auto at = [&](double s, const double *const *dir, double (*F)[3]) {
+    for (int k = 0; k < w; k++) {
+      const double *x0 = xpos(a[k]);
+      for (int d = 0; d < 3; d++) {
+        xs[a[k]][d] = x0[d] + s * dir[k][d];
+        fs[a[k]][d] = 0.0;
+      }
+    }
+    const double e = lf.bonded_term(kind, a, type, xs, fs);
+    for (int k = 0; k < w; k++)
+      for (int d = 0; d < 3; d++) F[k][d] = fs[a[k]][d];
+    return e;
+  };
+  double F0[4][3];
+  E += at(0.0, vk, F0);
+  for (int k = 0; k < w; k++) {
+    double *r = HardSphere::row_at(red[0], 7, a[k]);
+    for (int d = 0; d < 3; d++) r[d] += F0[k][d];
+  }
+  // H[k] = (V_t'' dir)_k from F(x + m s dir), m = -2, -1, 1, 2
+  const double L = pot->length();
+  auto hess = [&](const double *const *dir, double dmax, double (*H)[3]) {
+    double Fm[4][4][3];
+    const double s = FD_STEP * L / dmax;
+    const int ms[4] = {-2, -1, 1, 2};
+    for (int e = 0; e < 4; e++) at(ms[e] * s, dir, Fm[e]);
+    for (int k = 0; k < w; k++)
+      for (int d = 0; d < 3; d++)
+        H[k][d] = -(-Fm[3][k][d] + 8.0 * Fm[2][k][d] - 8.0 * Fm[1][k][d] + Fm[0][k][d]) /
+            (12.0 * s);
+  };
+  if (vmax > 0.0) {
+    double H[4][3];
+    hess(vk, vmax, H);
+    for (int k = 0; k < w; k++) {
+      double *r = HardSphere::row_at(red[0], 7, a[k]);
+      for (int d = 0; d < 3; d++) {
+        r[3 + d] += H[k][d];
+        Q += vk[k][d] * H[k][d];
+      }
+    }
+  }
+  if (WITH_B && bmax > 0.0) {
+    double H[4][3];
+    hess(bk, bmax, H);
+    for (int k = 0; k < w; k++)
+      for (int d = 0; d < 3; d++) Qbb += bk[k][d] * H[k][d];
+  }
+}
+
+/* ----------------------------------------------------------------------
    this rank's part of L = T_C + V_CX + dt^2/24 (2 Q - G) with the
    conservative forces cons() and F of V_CX (red, owners), T the members'
    kinetic energy
@@ -228,6 +330,8 @@ void HSLocalModified::list_terms(HSStepView &eng)
   lf.set_labels(nullptr);
   lf.terms(mem.data(), (int) mem.size());
   npair = lf.npair_last();
+  for (int b = 0; b < 4; b++) kend[b] = lf.kind_end(b);
+  terms_lf = &lf;
   lf.take_terms(tloc, toff, textra);
   terms_ncalls = neighbor->ncalls;
 

@@ -30,9 +30,12 @@
    doc/fix_hardsphere_pcva.rst, "Local projection"; it is checked against
    compute hamiltonian/modified in unittest/lammps/test_pcva_local.cpp.
 
-   The terms are evaluated through the single path of HSPotential (pair and
-   bond styles with single(); phi'' analytic or by differences in r), on
-   the terms HSLocalForces finds for the members. With held (thermostat)
+   The terms are those HSLocalForces finds for the members: radial ones
+   (pair and bond styles with single()) through the single path of
+   HSPotential (phi'' analytic or by differences in r); the others (angles,
+   dihedrals, impropers, bonds without single()) by their style's compute()
+   on each term alone (HSLocalForces::bonded_term()), V_t'' v and V_t'' b
+   by five-point differences of its forces (general_term()). With held (thermostat)
    forces the ledger is that of the conservative map between the held half
    kicks: velocities after the first and before the last, conservative
    forces of members and partners from restricted evaluations of all their
@@ -152,6 +155,16 @@ class HSLocalModified : protected Pointers {
   // column 6). begin() needs no Qbb (the directions b come at the end)
   template <bool WITH_B, class X>
   void terms_eval(X xpos, double &E, double &Q, double &Qbb, bool flags);
+  // term t when it is not a radial pair or bond term (terms_eval())
+  template <bool WITH_B, class X>
+  void general_term(int t, X xpos, double &E, double &Q, double &Qbb);
+  int kend[4] = {0, 0, 0, 0};            // where each bonded kind's terms end
+  class HSLocalForces *terms_lf = nullptr;    // who listed them (bonded_term())
+  // general_term()'s displaced positions and forces (rows of its copies)
+  double **xs = nullptr, **fs = nullptr;
+  int nmax_xs = 0;
+  // its differences' step, as the global path's for V''w (HSPotential)
+  static constexpr double FD_STEP = 7.4e-4;
   double local_L(double E, double Q, double T);
   // conservative forces and velocities (held forces taken out), per local
   // index. Without held forces they are f and v (v0 at the start) themselves,

@@ -152,10 +152,12 @@ std::string HSMethodPCVA::local_limits()
   std::string why;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
   // (fix gravity's energy is the engine's: HSStepView::const_force())
-  if (!S.pot->radial_only_but_gravity())
-    add(fmt::format("a potential with other than radial pair and bond terms ({}: the local "
-                    "projection evaluates the colliding spheres' terms through single())",
-                    S.pot->nonradial()));
+  const std::string nonlocal = S.pot->nonlocal_terms();
+  if (!nonlocal.empty())
+    add(fmt::format("a potential with other than pair, bonded and fix gravity terms ({}: the "
+                    "local projection needs the energy of each of the colliding spheres' "
+                    "terms)",
+                    nonlocal));
   return why;
 }
 

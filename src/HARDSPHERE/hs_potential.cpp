@@ -1076,23 +1076,6 @@ std::string HSPotential::describe() const
   return s;
 }
 
-std::string HSPotential::nonradial() const
-{
-  const Impl &m = *impl;
-  std::string s;
-  auto add = [&](const std::string &t) { s += (s.empty() ? "" : ", ") + t; };
-  if (m.fd_pair) add(std::string("pair ") + force->pair_style);
-  if (m.fd_bond) add(std::string("bond ") + force->bond_style);
-  if (m.fd_angle) add(std::string("angle ") + force->angle_style);
-  if (m.fd_dihedral) add(std::string("dihedral ") + force->dihedral_style);
-  if (m.fd_improper) add(std::string("improper ") + force->improper_style);
-  if (m.fd_kspace) add(std::string("kspace ") + force->kspace_style);
-  for (int k : m.efix)
-    if (HardSphere::base_style(modify->fix[k]->style) != "gravity")
-      add(std::string("fix ") + modify->fix[k]->id + " " + modify->fix[k]->style);
-  return s;
-}
-
 /* ----------------------------------------------------------------------
    a full force evaluation as Verlet::run does it
 ------------------------------------------------------------------------- */
@@ -1178,13 +1161,22 @@ std::string HSPotential::energyless_names() const
   return impl->names(ks);
 }
 
-bool HSPotential::radial_only_but_gravity() const
+std::string HSPotential::nonlocal_terms() const
 {
   const Impl &m = *impl;
-  if (m.fd_styles()) return false;
+  std::string s;
+  auto add = [&](const std::string &t) { s += (s.empty() ? "" : ", ") + t; };
+  if (m.fd_pair) add(std::string("pair ") + force->pair_style);
+  if (m.fd_kspace) add(std::string("kspace ") + force->kspace_style);
   for (int k : m.efix)
-    if (HardSphere::base_style(modify->fix[k]->style) != "gravity") return false;
-  return true;
+    if (HardSphere::base_style(modify->fix[k]->style) != "gravity")
+      add(std::string("fix ") + modify->fix[k]->id + " " + modify->fix[k]->style);
+  return s;
+}
+
+bool HSPotential::bond_by_single() const
+{
+  return impl->bond_single != 0;
 }
 
 std::string HSPotential::unknown_names() const

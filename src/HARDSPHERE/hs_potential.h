@@ -53,10 +53,6 @@ class HSPotential : protected Pointers {
 
   // a one-line description of the path each contributing style takes
   std::string describe() const;
-  // the styles and fixes whose terms are not radial pair or bond terms
-  // through single() (those of describe() that take differences of force
-  // evaluations: fdiff), fix gravity left out; "" if none
-  std::string nonradial() const;
 
   // length scale L of the FDIFF differences (init() sets a tenth of the
   // shortest pair cutoff or bond length); an owner may override it after init()
@@ -88,9 +84,16 @@ class HSPotential : protected Pointers {
   // the potential energy (fix_modify ID energy no, most fixes' default),
   // "" if none
   std::string energyless_names() const;
-  // radial_only() but for fix gravity's energy (a one-atom term the local
-  // engine takes itself, HSStepView::const_force())
-  bool radial_only_but_gravity() const;
+  // every part of V is a sum of terms over LAMMPS' lists (pair styles
+  // through single(), bond, angle, dihedral, improper styles) or fix
+  // gravity's energy: what pcva's local projection can restrict to the
+  // colliding spheres' terms (hs_local_modified.h). "" if so, else the
+  // styles and fixes that are not (a pair style without single(), kspace,
+  // fixes with energy other than gravity)
+  std::string nonlocal_terms() const;
+  // bond terms through bond_term() (the bond style has single()); else a
+  // bond is a term of its style's compute(), as angles are
+  bool bond_by_single() const;
 
   // --- a force (re-)evaluation as Verlet::run does it, at the current
   // x: force_clear, pre_force, pair, bonded, kspace, pre_reverse, reverse
