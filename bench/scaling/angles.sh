@@ -8,11 +8,13 @@
 #
 #   bash bench/scaling/angles.sh                 # CHAINS="20 57" (4000, 32490 beads) REPEATS=3
 #   CHAINS=20 REPEATS=3 STEPS=200 bash bench/scaling/angles.sh
+#   GLOBAL_MAX=0 ...: pcva global left out (default: up to 4000 beads)
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
 LMP=${LMP:-$ROOT/build/lmp}
 CHAINS=${CHAINS:-"20 57"}
+GLOBAL_MAX=${GLOBAL_MAX:-4000}
 REPEATS=${REPEATS:-3}
 NICE=${NICE:-10}
 SCR=$HERE/scratch/angles
@@ -36,7 +38,7 @@ for n in $CHAINS; do
         cva-local) fix="fix hs all hardsphere/cva diameter 1.0 substep local"; s=$steps ;;
         pcva-local) fix="fix hs all hardsphere/pcva diameter 1.0 substep local"; s=$steps ;;
         pcva-global)
-          [ "$N" -le 4000 ] || continue
+          [ "$N" -le "$GLOBAL_MAX" ] || continue
           fix="fix hs all hardsphere/pcva diameter 1.0 substep global"; s=$((steps / 10)) ;;
       esac
       counts=yes; [ "$c" = nve ] && counts=no

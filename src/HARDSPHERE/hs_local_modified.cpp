@@ -187,11 +187,14 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
    a term that is not radial (angle, dihedral, improper; a bond whose style
    has no single()): its energy and forces from its style's compute() on
    that term alone (HSLocalForces::bonded_term()), V_t'' v and V_t'' b by
-   differences of those forces along v and b, the five-point stencil of the
-   global path (HSPotential, doc "FDIFF": O(s^4), round-off eps/s, so a
-   displacement s |w| = 7.4e-4 L, L its length scale). Each term takes its
-   own step from its copies' velocities alone, the same on every rank that
-   lists it. With newton_bond off the style adds forces to owned copies only
+   central differences of those forces along v and b, F(x +- s w), with a
+   displacement s |w|max = 1e-4 L (L: HSPotential's length scale, a tenth
+   of the shortest cutoff or bond length): truncation (s|w|/L)^2 / 6 ~ 2e-9
+   relative, the positions' round-off |x| eps / (s|w|) ~ 1e-10. These
+   enter L at dt^2/12, far below the ledger's O(dt^4); the global path's
+   five-point stencil (doc "FDIFF") would cost four evaluations instead of
+   two. Each term takes its own step from its copies' velocities alone, the
+   same on every rank that lists it. With newton_bond off the style adds forces to owned copies only
    and tallies the owned share of the energy, as LAMMPS does: the sums over
    the ranks are whole
 ------------------------------------------------------------------------- */
@@ -249,17 +252,15 @@ void HSLocalModified::general_term(int t, X xpos, double &E, double &Q, double &
     double *r = HardSphere::row_at(red[0], 7, a[k]);
     for (int d = 0; d < 3; d++) r[d] += F0[k][d];
   }
-  // H[k] = (V_t'' dir)_k from F(x + m s dir), m = -2, -1, 1, 2
+  // H[k] = (V_t'' dir)_k from F(x +- s dir)
   const double L = pot->length();
   auto hess = [&](const double *const *dir, double dmax, double (*H)[3]) {
-    double Fm[4][4][3];
+    double Fp[4][3], Fm[4][3];
     const double s = FD_STEP * L / dmax;
-    const int ms[4] = {-2, -1, 1, 2};
-    for (int e = 0; e < 4; e++) at(ms[e] * s, dir, Fm[e]);
+    at(s, dir, Fp);
+    at(-s, dir, Fm);
     for (int k = 0; k < w; k++)
-      for (int d = 0; d < 3; d++)
-        H[k][d] = -(-Fm[3][k][d] + 8.0 * Fm[2][k][d] - 8.0 * Fm[1][k][d] + Fm[0][k][d]) /
-            (12.0 * s);
+      for (int d = 0; d < 3; d++) H[k][d] = -(Fp[k][d] - Fm[k][d]) / (2.0 * s);
   };
   if (vmax > 0.0) {
     double H[4][3];

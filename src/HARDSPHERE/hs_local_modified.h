@@ -163,8 +163,8 @@ class HSLocalModified : protected Pointers {
   // general_term()'s displaced positions and forces (rows of its copies)
   double **xs = nullptr, **fs = nullptr;
   int nmax_xs = 0;
-  // its differences' step, as the global path's for V''w (HSPotential)
-  static constexpr double FD_STEP = 7.4e-4;
+  // its central differences' displacement over L (general_term())
+  static constexpr double FD_STEP = 1.0e-4;
   double local_L(double E, double Q, double T);
   // conservative forces and velocities (held forces taken out), per local
   // index. Without held forces they are f and v (v0 at the start) themselves,
