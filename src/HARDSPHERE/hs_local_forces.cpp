@@ -946,14 +946,25 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
   const double e_saved = *energy;
   double v_saved[6];
   for (int k = 0; k < 6; k++) v_saved[k] = virial[k];
-  // (a style may tally a part into the pair style's, e.g. dihedral charmm's
-  // 1-4 terms: that part is the term's too)
+  // (a style may tally a part into the pair style's through Pair::ev_tally(),
+  // e.g. dihedral charmm's 1-4 terms: that part is the term's too. That
+  // tally follows the pair style's own flags, those of its last compute():
+  // set to the global energy alone for the call, so that the part is
+  // counted and no per-atom array of the pair style is written)
   Pair *pair = force->pair;
   double pv_saved[6] = {0, 0, 0, 0, 0, 0}, pe_saved[2] = {0.0, 0.0};
+  int pflags[7] = {0, 0, 0, 0, 0, 0, 0};
   if (pair) {
     pe_saved[0] = pair->eng_vdwl;
     pe_saved[1] = pair->eng_coul;
     for (int k = 0; k < 6; k++) pv_saved[k] = pair->virial[k];
+    int *pf[7] = {&pair->eflag_either, &pair->eflag_global, &pair->eflag_atom,
+                  &pair->vflag_either, &pair->vflag_global, &pair->vflag_atom,
+                  &pair->cvflag_atom};
+    for (int k = 0; k < 7; k++) {
+      pflags[k] = *pf[k];
+      *pf[k] = k < 2 ? 1 : 0;
+    }
   }
   const int n0 = *nlist[b];
   int **l0 = *plist[b];
@@ -972,6 +983,10 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
     pair->eng_vdwl = pe_saved[0];
     pair->eng_coul = pe_saved[1];
     for (int k = 0; k < 6; k++) pair->virial[k] = pv_saved[k];
+    int *pf[7] = {&pair->eflag_either, &pair->eflag_global, &pair->eflag_atom,
+                  &pair->vflag_either, &pair->vflag_global, &pair->vflag_atom,
+                  &pair->cvflag_atom};
+    for (int k = 0; k < 7; k++) *pf[k] = pflags[k];
   }
   atom->x = x_saved;
   atom->f = f_saved;

@@ -375,6 +375,92 @@ TEST(LocalForces, AfterReneighboring)
   check_c(h, lf, random_c(h.lmp, 20, 4, true), "after run 5 more");
 }
 
+// HSLocalForces::bonded_term(): one term by its style's compute() on a
+// list of that term alone (pcva's local projection, hs_local_modified.cpp).
+// A 4-atom molecule whose only interaction is one dihedral charmm term with
+// weight 1: its 1-4 pair energy goes through the pair style's ev_tally(),
+// which follows the pair style's own flags (those of its last compute()).
+// Expected: LAMMPS' own potential energy and forces of a full evaluation
+// (pe = the dihedral's energy + the 1-4 part), also after the pair style's
+// flags were left without energy, as a step without thermo leaves them;
+// LAMMPS' state (tallies, flags, atom->x, atom->f) as before
+TEST(LocalForces, BondedTermIsItsStylesEnergyAndForce)
+{
+  HSLammps h;
+  h.lines(R"LMP(units lj
+atom_style full
+atom_modify map array
+boundary p p p
+region box block -6 6 -6 6 -6 6
+create_box 1 box bond/types 1 dihedral/types 1 extra/bond/per/atom 2 extra/dihedral/per/atom 1 extra/special/per/atom 6
+create_atoms 1 single 0.0 0.0 0.0
+create_atoms 1 single 1.1 0.1 0.0
+create_atoms 1 single 1.6 1.1 0.1
+create_atoms 1 single 2.9 1.3 0.8
+set atom 1 charge 0.3
+set atom 4 charge -0.4
+mass 1 1.0
+pair_style lj/charmm/coul/charmm 4.0 5.0
+pair_coeff 1 1 1.0 0.9 0.7 0.8
+bond_style zero
+bond_coeff 1 1.1
+dihedral_style charmm
+dihedral_coeff 1 1.2 3 0 1.0
+create_bonds single/bond 1 1 2
+create_bonds single/bond 1 2 3
+create_bonds single/bond 1 3 4
+create_bonds single/dihedral 1 1 2 3 4
+special_bonds charmm
+thermo_style custom step pe
+thermo_modify norm no
+run 0
+)LMP");
+  auto *lmp = h.lmp;
+  const double pe = lammps_get_thermo(lmp, "pe");
+  LAMMPS_NS::Force *force = lmp->force;
+  LAMMPS_NS::Atom *atom = lmp->atom;
+  ASSERT_EQ(lmp->neighbor->ndihedrallist, 1);
+  int row[4];
+  for (int k = 0; k < 4; k++) row[k] = lmp->neighbor->dihedrallist[0][k];
+  const int type = lmp->neighbor->dihedrallist[0][4];
+  // the 1-4 part alone, from the pair style's single() with its 1-4 table
+  // absent (special_bonds charmm: the pair list has no 1-4 pair): pe less
+  // the dihedral's own tally
+  const double e14 = pe - force->dihedral->energy;
+  EXPECT_GT(std::fabs(e14), 1e-3) << "the test needs a 1-4 part";
+  const int n = atom->nlocal + atom->nghost;
+  std::vector<double> fb(3 * n, 0.0);
+  std::vector<double *> f(n);
+  for (int i = 0; i < n; i++) f[i] = &fb[3 * i];
+  HSLocalForces lf(lmp, "test");
+  lf.init();
+  for (int flags = 0; flags < 2; flags++) {
+    // flags 1: the pair style's flags as a step without energy leaves them
+    if (flags) force->pair->eflag_either = force->pair->eflag_global = 0;
+    const int ef[2] = {force->pair->eflag_either, force->pair->eflag_global};
+    const double tally[3] = {force->pair->eng_vdwl, force->pair->eng_coul,
+                             force->dihedral->energy};
+    double **x0 = atom->x, **f0 = atom->f;
+    std::fill(fb.begin(), fb.end(), 0.0);
+    const double e = lf.bonded_term(2, row, type, atom->x, f.data());
+    EXPECT_NEAR(e, pe, 1e-12 * std::fabs(pe)) << "pair flags " << (flags ? "off" : "as run 0 left them");
+    // forces: LAMMPS' own of run 0 (the dihedral's and the 1-4 pair's only),
+    // each atom's image folded into it
+    for (int k = 0; k < 4; k++) {
+      const int o = atom->map(atom->tag[row[k]]);
+      for (int d = 0; d < 3; d++)
+        EXPECT_NEAR(f[row[k]][d], atom->f[o][d], 1e-12) << "atom " << atom->tag[row[k]];
+    }
+    EXPECT_EQ(atom->x, x0);
+    EXPECT_EQ(atom->f, f0);
+    EXPECT_EQ(force->pair->eflag_either, ef[0]);
+    EXPECT_EQ(force->pair->eflag_global, ef[1]);
+    EXPECT_EQ(force->pair->eng_vdwl, tally[0]);
+    EXPECT_EQ(force->pair->eng_coul, tally[1]);
+    EXPECT_EQ(force->dihedral->energy, tally[2]);
+  }
+}
+
 TEST(LocalForces, ReportsUnrestrictableStyles)
 {
   {
