@@ -93,6 +93,29 @@ void HSLocalForces::init()
         if (has_suffix(n.c_str(), suf))
           add("pair style " + n + " (accelerator variant: thread-private forces)");
   }
+  // bonded styles: hybrid splits neighbor->bondlist (anglelist, ...) into
+  // its sub-styles' lists only at a list build (neighbor->ago == 0), so a
+  // restricted list swapped in is ignored in other steps (every term's
+  // forces were computed) and, in a list build's step, kept for LAMMPS' own
+  // evaluations after it (terms lost); accelerator variants keep their
+  // forces in thread-private arrays
+  if (atom->molecular != Atom::ATOMIC) {
+    const std::pair<const char *, const char *> bonded[4] = {
+        {"bond", force->bond ? force->bond_style : nullptr},
+        {"angle", force->angle ? force->angle_style : nullptr},
+        {"dihedral", force->dihedral ? force->dihedral_style : nullptr},
+        {"improper", force->improper ? force->improper_style : nullptr}};
+    for (const auto &[kind, name] : bonded) {
+      if (!name) continue;
+      if (strncmp(name, "hybrid", 6) == 0)
+        add(fmt::format("{} style {} (it splits LAMMPS' {} list among its sub-styles only at "
+                        "a list build)",
+                        kind, name, kind));
+      for (const char *suf : {"/omp", "/gpu", "/kk", "/kk/host", "/kk/device", "/intel"})
+        if (has_suffix(name, suf))
+          add(fmt::format("{} style {} (accelerator variant: thread-private forces)", kind, name));
+    }
+  }
   // on several ranks a restricted evaluation without rows (held forces of
   // pcva's projection, newton_pair off) sums the ghosts' forces with
   // comm->reverse_comm(), which also sums what else the atom style reverses

@@ -511,6 +511,24 @@ TEST(LocalForces, ReportsUnrestrictableStyles)
       EXPECT_NE(lf.unrestrictable().find("many-body"), std::string::npos) << lf.unrestrictable();
     }
   }
+  {
+    // bonded hybrid styles split LAMMPS' list among their sub-styles only at
+    // a list build: a restricted list is not seen in other steps (before:
+    // cva and pcva local computed every angle's forces at each contact and
+    // lost energy; sweep of 2026-12-01)
+    HSLammps h;
+    h.lines("units lj\natom_style angle\natom_modify map array\nregion box block 0 6 0 6 0 6\n"
+            "create_box 1 box angle/types 2\ncreate_atoms 1 random 20 5 NULL\nmass 1 1.0\n"
+            "pair_style lj/cut 2.5\npair_coeff 1 1 1.0 1.0\n"
+            "angle_style hybrid harmonic cosine\nangle_coeff 1 harmonic 5.0 110.0\n"
+            "angle_coeff 2 cosine 1.0\n");
+    HSLocalForces lf(h.lmp, "test");
+    lf.init();
+    EXPECT_FALSE(lf.exact());
+    EXPECT_NE(lf.unrestrictable().find("angle style hybrid"), std::string::npos)
+        << lf.unrestrictable();
+    EXPECT_EQ(lf.unrestrictable().find("pair style"), std::string::npos) << lf.unrestrictable();
+  }
 }
 
 // ---- rank-local rows (compute_rows(), issue 20): C may hold any local
