@@ -1297,9 +1297,9 @@ bool HSLocalEngine::member_copies(Run &r)
     const double need = std::ceil(reach_needed * 100.0) / 100.0;
     outgrown_msg = fmt::format(
         "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches beyond "
-        "what the ghost cutoff {} covers (atom {} needs every atom within the neighbor cutoff "
-        "{} of it on the rank of atom {}){}: use a larger comm_modify cutoff (the engine's "
-        "default is {}), a smaller timestep, substep global, overflow global (such steps taken "
+        "what the ghost cutoff {:.6g} covers (atom {} needs every atom within the neighbor "
+        "cutoff {:.6g} of it on the rank of atom {}){}: use a larger comm_modify cutoff (the "
+        "engine's default is {:.6g}), a smaller timestep, substep global, overflow global (such steps taken "
         "globally) or overflow widen (the engine widens the ghost cutoff and takes the step "
         "again)",
         sys->style_name, ids, nm > 8 ? " ..." : "", update->ntimestep, comm->cutghostuser,
