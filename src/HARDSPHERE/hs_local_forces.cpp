@@ -977,14 +977,16 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
   Pair *pair = force->pair;
   double pv_saved[6] = {0, 0, 0, 0, 0, 0}, pe_saved[2] = {0.0, 0.0};
   int pflags[7] = {0, 0, 0, 0, 0, 0, 0};
+  int *pf[7] = {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
   if (pair) {
     pe_saved[0] = pair->eng_vdwl;
     pe_saved[1] = pair->eng_coul;
     for (int k = 0; k < 6; k++) pv_saved[k] = pair->virial[k];
-    int *pf[7] = {&pair->eflag_either, &pair->eflag_global, &pair->eflag_atom,
-                  &pair->vflag_either, &pair->vflag_global, &pair->vflag_atom,
-                  &pair->cvflag_atom};
+    int *flags[7] = {&pair->eflag_either, &pair->eflag_global, &pair->eflag_atom,
+                     &pair->vflag_either, &pair->vflag_global, &pair->vflag_atom,
+                     &pair->cvflag_atom};
     for (int k = 0; k < 7; k++) {
+      pf[k] = flags[k];
       pflags[k] = *pf[k];
       *pf[k] = k < 2 ? 1 : 0;
     }
@@ -1006,9 +1008,6 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
     pair->eng_vdwl = pe_saved[0];
     pair->eng_coul = pe_saved[1];
     for (int k = 0; k < 6; k++) pair->virial[k] = pv_saved[k];
-    int *pf[7] = {&pair->eflag_either, &pair->eflag_global, &pair->eflag_atom,
-                  &pair->vflag_either, &pair->vflag_global, &pair->vflag_atom,
-                  &pair->cvflag_atom};
     for (int k = 0; k < 7; k++) *pf[k] = pflags[k];
   }
   atom->x = x_saved;
