@@ -1295,6 +1295,7 @@ bool HSLocalEngine::member_copies(Run &r)
     for (int q = 0; q < nm && q < 8; q++) ids += fmt::format(" {}", r.mtags[q]);
     // (rounded up: the reach at the list build's positions)
     const double need = std::ceil(reach_needed * 100.0) / 100.0;
+    missing.clear();
     outgrown_msg = fmt::format(
         "Fix {} substep local: the collision cluster of atoms{}{} on step {} reaches beyond "
         "what the ghost cutoff {:.6g} covers (atom {} needs every atom within the neighbor "
@@ -1331,6 +1332,7 @@ bool HSLocalEngine::member_copies(Run &r)
     return true;
   };
   double **x = atom->x;
+  missing.clear();
   for (int k = 0; k < nm; k++) {
     auto it = topo.of.find(r.mtags[k]);
     if (it == topo.of.end()) continue;
@@ -1348,18 +1350,20 @@ bool HSLocalEngine::member_copies(Run &r)
         }
         if (here) continue;
         if (sys->overflow == HSSystem::OVERFLOW_GLOBAL || widening()) return false;
-        outgrown_msg = fmt::format(
-                   "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster "
-                   "on step {}, has no copy near it on the rank of atom {} (ghost cutoff {}): "
-                   "use a larger comm_modify cutoff, substep global, overflow global "
-                   "(such steps taken globally) or overflow widen",
-                   sys->style_name, t, r.mtags[k], update->ntimestep, rtag,
-                   comm->cutghostuser);
-        return false;
+        if (missing.empty())
+          outgrown_msg = fmt::format(
+              "Fix {} substep local: atom {}, bonded to atom {} of a collision cluster on step "
+              "{}, has no copy near it on the rank of atom {} (ghost cutoff {:.6g}): use a "
+              "larger comm_modify cutoff, substep global, overflow global (such steps taken "
+              "globally) or overflow widen",
+              sys->style_name, t, r.mtags[k], update->ntimestep, rtag, comm->cutghostuser);
+        // (every missing partner of the cluster, for overflow_error() to name
+        // a cutoff that holds them all)
+        missing.push_back({t, {x[r.members[k]][0], x[r.members[k]][1], x[r.members[k]][2]}});
       }
     }
   }
-  return true;
+  return missing.empty();
 }
 
 /* ----------------------------------------------------------------------
@@ -2977,6 +2981,52 @@ void HSLocalEngine::overflow_error()
 {
   std::string msg;
   msg.swap(outgrown_msg);
+  // the bonded-partner form (member_copies()): the rank that raises it
+  // (the lowest with a message) sends the missing partners' IDs with the
+  // copies of their members and its sub-domain; each partner's owner
+  // measures how far the partner's image nearest that copy lies outside
+  // the sub-domain along each direction (LAMMPS keeps the ghosts within the
+  // cutoff of each face), and the message names the largest. Orthogonal
+  // boxes (a triclinic one's sub-domain is in box fractions)
+  const int nprocs = comm->nprocs;
+  int mine = msg.empty() ? nprocs : comm->me, from = nprocs;
+  MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, world);
+  std::vector<double> buf;
+  if (comm->me == from && !domain->triclinic)
+    for (const auto &mp : missing) {
+      buf.push_back((double) mp.first);
+      for (int d = 0; d < 3; d++) buf.push_back(mp.second[d]);
+    }
+  int n = (int) buf.size();
+  if (from < nprocs) MPI_Bcast(&n, 1, MPI_INT, from, world);
+  if (n > 0) {
+    double box[6];
+    for (int d = 0; d < 3; d++) {
+      box[d] = domain->sublo[d];
+      box[3 + d] = domain->subhi[d];
+    }
+    MPI_Bcast(box, 6, MPI_DOUBLE, from, world);
+    buf.resize(n);
+    MPI_Bcast(buf.data(), n, MPI_DOUBLE, from, world);
+    double out = -1.0, all = -1.0;
+    for (int p = 0; p < n; p += 4) {
+      const int m = atom->map((tagint) buf[p]);
+      if (m < 0 || m >= atom->nlocal) continue;
+      double d[3] = {atom->x[m][0] - buf[p + 1], atom->x[m][1] - buf[p + 2],
+                     atom->x[m][2] - buf[p + 3]};
+      domain->minimum_image(d);
+      for (int k = 0; k < domain->dimension; k++) {
+        const double q = buf[p + 1 + k] + d[k];
+        out = MAX(out, MAX(box[k] - q, q - box[3 + k]));
+      }
+    }
+    MPI_Allreduce(&out, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+    if (all > 0.0 && comm->me == from)
+      msg += fmt::format(". The farthest of the cluster's {} bonded atom(s) without a copy there "
+                         "lies {:.6g} beyond that rank's sub-domain: comm_modify cutoff {:.6g} "
+                         "would hold them",
+                         n / 4, all, std::ceil(all * 100.0) / 100.0);
+  }
   sys->error_from_lowest(msg);
   error->all(FLERR,
              "Fix {} substep local: a collision cluster on step {} reaches beyond the ghost "

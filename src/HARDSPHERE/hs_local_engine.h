@@ -524,6 +524,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // in outgrown_msg, which overflow_error() raises on every rank)
   bool member_copies(Run &r);
   std::string outgrown_msg;
+  // the bonded-partner form of that error: each missing partner's ID and
+  // its member's copy here, for overflow_error() to name the cutoff that
+  // holds them (their owners know where they are)
+  std::vector<std::pair<tagint, std::array<double, 3>>> missing;
   void overflow_error();
   // work lists of cluster keys; runs not cross-checked yet
   std::vector<tagint> workA, workB, workX, uncheckedA, uncheckedB;

@@ -829,6 +829,91 @@ if ref=$(run long_ref 1 in.local_long -var np 1 -var nsteps 100 -var yb p -var w
 else
   fail=1
 fi
+# a missing bonded partner (member_copies(): a member's bonded atoms must
+# have their bonded image on the rank that runs the cluster). Two chains of
+# 4 beads 2.5 apart whose ends meet head-on across the face x = 15 of a
+# 2-rank run: the other end's angle and dihedral partners lie up to 8.1
+# beyond the running rank's sub-domain. The error names the cutoff that
+# holds them all (their owners measure it, overflow_error()); with it, 2
+# ranks end as 1 rank does. Until 2026-12-01 it named none
+cat > in.local_partner <<'EOF2'
+units       lj
+atom_style  molecular
+atom_modify map array
+boundary    p p p
+processors  * 1 1
+region      box block 0 30 0 10 0 10
+create_box  1 box bond/types 1 angle/types 1 dihedral/types 1 extra/bond/per/atom 2 extra/angle/per/atom 3 extra/dihedral/per/atom 4 extra/special/per/atom 8
+create_atoms 1 single 14.4 5.0 5.0
+create_atoms 1 single 11.9 5.4 5.0
+create_atoms 1 single  9.4 5.0 5.3
+create_atoms 1 single  6.9 5.4 5.3
+create_atoms 1 single 15.6 5.0 5.0
+create_atoms 1 single 18.1 5.4 5.0
+create_atoms 1 single 20.6 5.0 5.3
+create_atoms 1 single 23.1 5.4 5.3
+mass        1 1.0
+pair_style  lj/cut 0.9
+pair_coeff  1 1 1.0 0.8
+pair_modify shift yes
+bond_style  harmonic
+bond_coeff  1 10.0 2.5
+angle_style cosine
+angle_coeff 1 1.0
+dihedral_style harmonic
+dihedral_coeff 1 0.5 1 2
+create_bonds single/bond 1 1 2
+create_bonds single/bond 1 2 3
+create_bonds single/bond 1 3 4
+create_bonds single/bond 1 5 6
+create_bonds single/bond 1 6 7
+create_bonds single/bond 1 7 8
+create_bonds single/angle 1 1 2 3
+create_bonds single/angle 1 2 3 4
+create_bonds single/angle 1 5 6 7
+create_bonds single/angle 1 6 7 8
+create_bonds single/dihedral 1 1 2 3 4
+create_bonds single/dihedral 1 5 6 7 8
+special_bonds lj 0.0 1.0 1.0
+velocity    all set 0 0 0
+group       ends id 1 5
+velocity    ends set 1.0 0 0
+set         atom 5 vx -1.0
+neighbor    0.3 bin
+neigh_modify every 1 delay 0 check yes
+fix         hs all hardsphere/cva diameter 1.0
+timestep    0.01
+run         40
+EOF2
+result_line >> in.local_partner
+labels_saved=("${LABELS[@]}")
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps")
+mpirun -np 2 --oversubscribe "$LMP" -in in.local_partner -log log.partner.2 -screen none -echo none > out.partner.2 2>&1
+need=$(grep -o "comm_modify cutoff [0-9.]* would hold them" log.partner.2 | awk '{print $3}')
+if grep -q "^ERROR: .*bonded to atom .* has no copy near it" log.partner.2 && [ -n "$need" ]; then
+  echo "  missing bonded partners on 2 ranks: the error names comm_modify cutoff $need: ok"
+  if ref=$(run partner 1 in.local_partner); then
+    sed "s/^neigh_modify every 1 delay 0 check yes/&\ncomm_modify cutoff $need/" in.local_partner > in.local_partner_cut
+    if got=$(run partner_cut 2 in.local_partner_cut); then
+      compare partner_cut "$ref" "$got" 2 && echo "  2 ranks with the named comm_modify cutoff $need: ok" || fail=1
+    else
+      fail=1
+    fi
+    # (a hundredth less is not enough: the named value is the least one, rounded up)
+    less=$(/usr/bin/python3 -c "print(round($need - 0.01, 2))")
+    sed "s/^neigh_modify every 1 delay 0 check yes/&\ncomm_modify cutoff $less/" in.local_partner > in.local_partner_less
+    if mpirun -np 2 --oversubscribe "$LMP" -in in.local_partner_less -log none -screen none -echo none > out.partner_less.2 2>&1; then
+      echo "  FAIL: comm_modify cutoff $less (below the named $need) ran through"; fail=1
+    else
+      echo "  comm_modify cutoff $less stops with the same error: ok"
+    fi
+  else
+    fail=1
+  fi
+else
+  echo "  FAIL: missing bonded partners on 2 ranks: no error naming a cutoff"; tail -3 log.partner.2; fail=1
+fi
+LABELS=("${labels_saved[@]}")
 # asked for: such a step is taken by the global engine and counted; the
 # cradle's analytic end (the far sphere, ID 7, leaves with the striker's
 # velocity 2) on 2 ranks
