@@ -943,6 +943,29 @@ void HSLocalForces::evaluate(const int *c, int nc, bool record_terms)
 }
 
 /* ----------------------------------------------------------------------
+   the style of bonded kind b (0 bond, 1 angle, 2 dihedral, 3 improper)
+   computed on the list (n, rows), swapped into Neighbor's for the call
+------------------------------------------------------------------------- */
+
+void HSLocalForces::compute_kind_on(int b, int n, int **rows, int ef)
+{
+  int *nlist[4] = {&neighbor->nbondlist, &neighbor->nanglelist, &neighbor->ndihedrallist,
+                   &neighbor->nimproperlist};
+  int ***plist[4] = {&neighbor->bondlist, &neighbor->anglelist, &neighbor->dihedrallist,
+                     &neighbor->improperlist};
+  const int n0 = *nlist[b];
+  int **l0 = *plist[b];
+  *nlist[b] = n;
+  *plist[b] = rows;
+  if (b == 0) force->bond->compute(ef, 0);
+  if (b == 1) force->angle->compute(ef, 0);
+  if (b == 2) force->dihedral->compute(ef, 0);
+  if (b == 3) force->improper->compute(ef, 0);
+  *nlist[b] = n0;
+  *plist[b] = l0;
+}
+
+/* ----------------------------------------------------------------------
    one bonded term by its style's compute() (hs_local_forces.h)
 ------------------------------------------------------------------------- */
 
@@ -953,10 +976,6 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
   for (int k = 0; k < width; k++) row[k] = a[k];
   row[width] = type;
   int *one[1] = {row};
-  int *nlist[4] = {&neighbor->nbondlist, &neighbor->nanglelist, &neighbor->ndihedrallist,
-                   &neighbor->nimproperlist};
-  int ***plist[4] = {&neighbor->bondlist, &neighbor->anglelist, &neighbor->dihedrallist,
-                     &neighbor->improperlist};
   double *energy = nullptr, *virial = nullptr;
   if (b == 0 && force->bond) energy = &force->bond->energy, virial = force->bond->virial;
   if (b == 1 && force->angle) energy = &force->angle->energy, virial = force->angle->virial;
@@ -991,17 +1010,10 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
       *pf[k] = k < 2 ? 1 : 0;
     }
   }
-  const int n0 = *nlist[b];
-  int **l0 = *plist[b];
   double **x_saved = atom->x, **f_saved = atom->f;
-  *nlist[b] = 1;
-  *plist[b] = one;
   atom->x = x;
   atom->f = f;
-  if (b == 0) force->bond->compute(1, 0);
-  if (b == 1) force->angle->compute(1, 0);
-  if (b == 2) force->dihedral->compute(1, 0);
-  if (b == 3) force->improper->compute(1, 0);
+  compute_kind_on(b, 1, one, 1);
   double e = *energy;
   if (pair) {
     e += (pair->eng_vdwl - pe_saved[0]) + (pair->eng_coul - pe_saved[1]);
@@ -1012,8 +1024,6 @@ double HSLocalForces::bonded_term(int b, const int *a, int type, double **x, dou
   }
   atom->x = x_saved;
   atom->f = f_saved;
-  *nlist[b] = n0;
-  *plist[b] = l0;
   *energy = e_saved;
   for (int k = 0; k < 6; k++) virial[k] = v_saved[k];
   return e;
@@ -1299,26 +1309,11 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     L->numneigh = numneigh0;
     L->firstneigh = firstneigh0;
   }
-  int *nlist[4] = {&neighbor->nbondlist, &neighbor->nanglelist, &neighbor->ndihedrallist,
-                   &neighbor->nimproperlist};
-  int ***plist[4] = {&neighbor->bondlist, &neighbor->anglelist, &neighbor->dihedrallist,
-                     &neighbor->improperlist};
   // a topology's terms are listed once: every copy takes its force
   const int newton_bond = force->newton_bond;
   if (rows_ && topo_) force->newton_bond = 1;
-  for (int b = 0; b < 4; b++) {
-    if (!present[b]) continue;
-    const int n0 = *nlist[b];
-    int **l0 = *plist[b];
-    *nlist[b] = (int) bonded_[b].sub.size();
-    *plist[b] = bonded_[b].sub.data();
-    if (b == 0) force->bond->compute(ef, 0);
-    if (b == 1) force->angle->compute(ef, 0);
-    if (b == 2) force->dihedral->compute(ef, 0);
-    if (b == 3) force->improper->compute(ef, 0);
-    *nlist[b] = n0;
-    *plist[b] = l0;
-  }
+  for (int b = 0; b < 4; b++)
+    if (present[b]) compute_kind_on(b, (int) bonded_[b].sub.size(), bonded_[b].sub.data(), ef);
   force->newton_bond = newton_bond;
   force->newton_pair = newton_pair;
   if (swap_f)

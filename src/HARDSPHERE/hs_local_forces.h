@@ -372,6 +372,7 @@ class HSLocalForces : protected Pointers {
   class NeighList *pair_list() const;
   void grow();
   void run_styles(class NeighList *L, const bool present[4], bool first = true);
+  void compute_kind_on(int b, int n, int **rows, int ef);
   int64_t last_ncalls_ = -1;
   int last_nc_ = -1;
   bool terms_only_ = false;

@@ -194,9 +194,9 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
    enter L at dt^2/12, far below the ledger's O(dt^4); the global path's
    five-point stencil (doc "FDIFF") would cost four evaluations instead of
    two. Each term takes its own step from its copies' velocities alone, the
-   same on every rank that lists it. With newton_bond off the style adds forces to owned copies only
-   and tallies the owned share of the energy, as LAMMPS does: the sums over
-   the ranks are whole
+   same on every rank that lists it. With newton_bond off the style adds
+   forces to owned copies only and tallies the owned share of the energy, as
+   LAMMPS does: the sums over the ranks are whole
 ------------------------------------------------------------------------- */
 
 template <bool WITH_B, class X>

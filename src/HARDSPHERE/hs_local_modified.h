@@ -35,8 +35,8 @@
    HSPotential (phi'' analytic or by differences in r); the others (angles,
    dihedrals, impropers, bonds without single()) by their style's compute()
    on each term alone (HSLocalForces::bonded_term()), V_t'' v and V_t'' b
-   by five-point differences of its forces (general_term()). With held (thermostat)
-   forces the ledger is that of the conservative map between the held half
+   by central differences of its forces (general_term()). With held
+   (thermostat) forces the ledger is that of the conservative map between the held half
    kicks: velocities after the first and before the last, conservative
    forces of members and partners from restricted evaluations of all their
    terms. Any number of MPI ranks: each rank evaluates its share of the
