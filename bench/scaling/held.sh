@@ -3,6 +3,7 @@
 # spheres (in.held). Two parts:
 #  cost:     seconds per step of fix nve (on a soft core, the same coul/long and kspace),
 #            hardsphere/cva with substep local and (at sizes in GLOBAL_SIZES) substep global,
+#            hardsphere/pcva with substep local (CONTENDERS: the list, default "nve local pcva"),
 #            alternated, REPEATS times; ratios to fix nve from the same repeat
 #  accuracy: the largest energy error per ion over T time units, cva local at each dt of
 #            DTS (and substep global at the dts of GLOBAL_DTS), ACC_CELLS^3 ions, kspace ewald
@@ -19,6 +20,7 @@ PART=${PART:-all}
 SIZES=${SIZES:-"16 32"}              # lattice cells per edge: 4096 and 32768 ions
 GLOBAL_SIZES=${GLOBAL_SIZES:-"16"}
 REPEATS=${REPEATS:-3}
+CONTENDERS=${CONTENDERS:-"nve local pcva"}
 STEPS=${STEPS:-100}
 ACC_CELLS=${ACC_CELLS:-10}
 DTS=${DTS:-"0.01 0.005 0.0025"}
@@ -49,7 +51,7 @@ if [ "$PART" = all ] || [ "$PART" = cost ]; then
   echo "## cost: seconds per step ($STEPS steps, dt 0.005, pppm 1e-4, E 0.2), $REPEATS alternated repeats"
   for n in $SIZES; do
     ions=$((n * n * n))
-    contenders="nve local"
+    contenders=$CONTENDERS
     for g in $GLOBAL_SIZES; do [ "$g" = "$n" ] && contenders="$contenders global"; done
     for r in $(seq 1 "$REPEATS"); do
       line="ions $ions repeat $r:"

@@ -477,6 +477,24 @@ void HSLocalModified::begin(HSStepView &eng)
     }
   T *= 0.5 * force->mvv2e;
   L0 = local_L(E, Q, T) + const_energy(eng, true);
+  mstart.clear();
+  if (held_work) {
+    // G0 = f - F_C - m g (red: the force of V_CX, every term of a member)
+    double fc[3], xs[3];
+    for (int m : mem) {
+      MemberStart ms{};
+      if (mask[m] & gb) {
+        eng.const_force(m, fc);
+        const double *F = cons(m);
+        for (int d = 0; d < 3; d++) {
+          ms.g0[d] = F[d] - red[m][d] - fc[d];
+          xs[d] = eng.start_x(m)[d];
+        }
+        domain->unmap(xs, atom->image[m], ms.q0.data());
+      }
+      mstart.push_back(ms);
+    }
+  }
   ptag.clear();
   pstart.clear();
   for (size_t s = 0; s < owners.size(); s++) {
@@ -642,13 +660,18 @@ void HSLocalModified::remap()
   ms.clear();
   ps.clear();
   out.clear();
+  // (with held_work a member's MemberStart travels with it: 6 more values)
+  const int nmw = held_work ? 6 : 0;
   for (size_t k = 0; k < mtag.size(); k++) {
     if (here(mtag[k])) {
-      ms.push_back({cid[k], me, (int) k, mtag[k]});
+      ms.push_back({cid[k], me, (int) k, mtag[k], (int) k});
       continue;
     }
     for (double d : {0.0, (double) mtag[k], (double) cid[k], (double) me, (double) k})
       out.push_back(d);
+    if (held_work)
+      for (const Vec *a : {&mstart[k].g0, &mstart[k].q0})
+        for (int d = 0; d < 3; d++) out.push_back((*a)[d]);
   }
   for (size_t k = 0; k < ptag.size(); k++) {
     if (here(ptag[k])) {
@@ -666,8 +689,9 @@ void HSLocalModified::remap()
     const bool partner = all[p] > 0.5;
     const tagint t = (tagint) all[p + 1];
     if (!partner) {
-      if (here(t)) ms.push_back({(int) all[p + 2], (int) all[p + 3], (int) all[p + 4], t});
-      p += 5;
+      if (here(t))
+        ms.push_back({(int) all[p + 2], (int) all[p + 3], (int) all[p + 4], t, -1 - (int) (p + 5)});
+      p += 5 + nmw;
       continue;
     }
     if (here(t)) ps.emplace_back(t, -1 - (int) (p + 2));    // (its data in all)
@@ -679,10 +703,22 @@ void HSLocalModified::remap()
   });
   mtag.clear();
   cid.clear();
+  remap_mst.clear();
   for (const RemapMember &m : ms) {
     mtag.push_back(m.tag);
     cid.push_back(m.cid);
+    if (!held_work) continue;
+    MemberStart st;
+    if (m.src >= 0)
+      st = mstart[m.src];
+    else {
+      int q = -1 - m.src;
+      for (Vec *a : {&st.g0, &st.q0})
+        for (int d = 0; d < 3; d++) (*a)[d] = all[q++];
+    }
+    remap_mst.push_back(st);
   }
+  mstart.swap(remap_mst);
   // (partners by ID: (ID, where its data is) sorted, the data then copied
   // once in that order)
   std::sort(ps.begin(), ps.end());
@@ -755,7 +791,7 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
     dTP += 0.5 * mvv2e * sys->mass_of(p) * kin;
   }
   double sums[3];
-  sums[0] = L1 - L0 + dTP + dt * dt / 6.0 * gk;
+  sums[0] = L1 - L0 + dTP + dt * dt / 6.0 * gk + (held_work ? held_energy_change(eng) : 0.0);
 
   // the projection's coefficients
   double mb2 = 0.0, bkv = 0.0;
@@ -777,6 +813,31 @@ void HSLocalModified::end(HSStepView &eng, double &A, double &B, double &C0)
   C0 = tot[0];
   A = tot[1];
   B = tot[2];
+}
+
+// minus the work of the held smooth forces on this rank's members over the
+// step, by the trapezoid rule: -1/2 (G0 + G1).(q1 - q0), G1 = f - F_C - m g
+// now (red: V_CX's forces at the end), q unwrapped. The rule's error is
+// O(dG/dt dt^2 dv) in a step where a member's velocity jumps by dv: second
+// order, with the held terms' curvature as its constant (doc
+// fix_hardsphere_pcva, "Held smooth forces")
+double HSLocalModified::held_energy_change(HSStepView &eng)
+{
+  const int *mask = atom->mask;
+  const int gb = sys->groupbit;
+  double W = 0.0, fc[3], xs[3], q1[3];
+  for (size_t k = 0; k < mem.size(); k++) {
+    const int m = mem[k];
+    if (!(mask[m] & gb)) continue;
+    eng.const_force(m, fc);
+    const double *F = cons(m);
+    for (int d = 0; d < 3; d++) xs[d] = atom->x[m][d];
+    domain->unmap(xs, atom->image[m], q1);
+    const MemberStart &st = mstart[k];
+    for (int d = 0; d < 3; d++)
+      W += 0.5 * (st.g0[d] + F[d] - red[m][d] - fc[d]) * (q1[d] - st.q0[d]);
+  }
+  return -W;
 }
 
 // b = v - the cluster's centre-of-mass velocity for the members (v itself

@@ -35,7 +35,10 @@
    HSPotential (phi'' analytic or by differences in r); the others (angles,
    dihedrals, impropers, bonds without single()) by their style's compute()
    on each term alone (HSLocalForces::bonded_term()), V_t'' v and V_t'' b
-   by central differences of its forces (general_term()). With held
+   by central differences of its forces (general_term()). kspace and
+   fixes with an energy (not restrictable; the engine holds their forces
+   G on the members) enter by the members' share of their energy change,
+   minus G's work on them by the trapezoid rule (held_energy_change()). With held
    (thermostat) forces the ledger is that of the conservative map between the held half
    kicks: velocities after the first and before the last, conservative
    forces of members and partners from restricted evaluations of all their
@@ -85,6 +88,13 @@ class HSLocalModified : protected Pointers {
   // this rank's members' part of V_C from constant one-atom forces (fix
   // gravity: -F.q, unwrapped), at the step's start or end
   double const_energy(HSStepView &, bool at_start) const;
+  // kspace or fixes with an energy (not fix gravity's) in V: the engine
+  // holds their forces G = f - F_C on the members (riding inside their
+  // flows, the closing kick making the impulse dt/2 (G0 + G1)); their
+  // energy, not restrictable, changes by minus their work on each member,
+  // taken by the trapezoid rule: -1/2 (G0 + G1).(q1 - q0) (doc
+  // fix_hardsphere_pcva, "Held smooth forces")
+  void set_held_work(bool on) { held_work = on; }
   // bytes of its per-copy columns and kept lists (the fix's memory_usage())
   double memory_usage() const;
   int nmembers() const { return (int) mem.size(); }
@@ -98,6 +108,16 @@ class HSLocalModified : protected Pointers {
   // or move them to other ranks: what end() needs of the start is kept by
   // ID (remap())
   std::vector<tagint> mtag;           // members owned here
+  bool held_work = false;
+  // with held_work, per member (mtag's order): G and the unwrapped
+  // position at the step's start
+  struct MemberStart {
+    Vec g0, q0;
+  };
+  std::vector<MemberStart> mstart;
+  std::vector<MemberStart> remap_mst;
+  // this rank's members' held forces' work -1/2 (G0 + G1).(q1 - q0) (end())
+  double held_energy_change(HSStepView &);
   std::vector<int> mem, cid;          // their local indices, cluster index
   int ncl = 0;                        // the step's clusters (the same on every rank)
   struct Start {
@@ -110,6 +130,7 @@ class HSLocalModified : protected Pointers {
   struct RemapMember {
     int cid, rank, seq;    // cluster; rank and position in begin()'s list
     tagint tag;
+    int src;               // its MemberStart: index in mstart, or -1 - offset in remap_all
   };
   std::vector<RemapMember> remap_ms;
   std::vector<std::pair<tagint, int>> remap_ps;    // ID, index in pstart or -1 - offset in remap_all

@@ -152,18 +152,28 @@ std::string HSMethodPCVA::local_limits()
   std::string why;
   auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
   // (fix gravity's energy is the engine's: HSStepView::const_force())
-  const std::string nonlocal = S.pot->nonlocal_terms();
-  if (!nonlocal.empty())
-    add(fmt::format("a potential with other than pair, bonded and fix gravity terms ({}: the "
-                    "local projection needs the energy of each of the colliding spheres' "
-                    "terms)",
-                    nonlocal));
+  const std::string pair = S.pot->unsingled_pair();
+  if (!pair.empty())
+    add(fmt::format("{} (a pair style without single(): the local projection needs the "
+                    "energy of each of the colliding spheres' pair terms)",
+                    pair));
+  // kspace and energy fixes: held smooth forces of the engine, whose work
+  // on the members the ledger counts (HSLocalModified::set_held_work()).
+  // With a thermostat's held forces they ride together inside the members'
+  // flows, and the thermostat's work there cannot be told apart
+  held_work = S.pot->held_energy_terms();
+  if (!held_work.empty() && S.nheld)
+    add(fmt::format("{} beside the held thermostat forces of {} (both ride inside the "
+                    "colliding spheres' flows, where the local projection cannot tell the "
+                    "thermostat's work from the conservative forces')",
+                    held_work, S.pot->held_names()));
   return why;
 }
 
 void HSMethodPCVA::cluster_step_begun(HSStepView &view)
 {
   if (!lmod) lmod = new HSLocalModified(lmp, &S, S.pot);
+  lmod->set_held_work(!held_work.empty());
   lmod->begin(view);
   note_atoms();
 }

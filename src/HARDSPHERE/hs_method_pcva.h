@@ -57,6 +57,7 @@ class HSMethodPCVA : public HSMethod {
   void project_momenta(const char *where);
   void skipped(const std::string &what);
   HSLocalModified *lmod = nullptr;
+  std::string held_work;    // local_limits(): kspace, energy fixes ("" if none)
 };
 
 }    // namespace LAMMPS_NS

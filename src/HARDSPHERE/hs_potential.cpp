@@ -1161,12 +1161,16 @@ std::string HSPotential::energyless_names() const
   return impl->names(ks);
 }
 
-std::string HSPotential::nonlocal_terms() const
+std::string HSPotential::unsingled_pair() const
+{
+  return impl->fd_pair ? std::string("pair ") + force->pair_style : std::string();
+}
+
+std::string HSPotential::held_energy_terms() const
 {
   const Impl &m = *impl;
   std::string s;
   auto add = [&](const std::string &t) { s += (s.empty() ? "" : ", ") + t; };
-  if (m.fd_pair) add(std::string("pair ") + force->pair_style);
   if (m.fd_kspace) add(std::string("kspace ") + force->kspace_style);
   for (int k : m.efix)
     if (HardSphere::base_style(modify->fix[k]->style) != "gravity")

@@ -84,13 +84,14 @@ class HSPotential : protected Pointers {
   // the potential energy (fix_modify ID energy no, most fixes' default),
   // "" if none
   std::string energyless_names() const;
-  // every part of V is a sum of terms over LAMMPS' lists (pair styles
-  // through single(), bond, angle, dihedral, improper styles) or fix
-  // gravity's energy: what pcva's local projection can restrict to the
-  // colliding spheres' terms (hs_local_modified.h). "" if so, else the
-  // styles and fixes that are not (a pair style without single(), kspace,
-  // fixes with energy other than gravity)
-  std::string nonlocal_terms() const;
+  // the parts of V that pcva's local projection (hs_local_modified.h)
+  // cannot restrict to the colliding spheres' terms, "" if none: a pair
+  // style without single() (its terms are not known one by one), and the
+  // smooth held terms, kspace and fixes with an energy other than fix
+  // gravity's (the local engine holds their forces; the projection counts
+  // the members' share of their energy by the work of those forces)
+  std::string unsingled_pair() const;
+  std::string held_energy_terms() const;
   // bond terms through bond_term() (the bond style has single()); else a
   // bond is a term of its style's compute(), as angles are
   bool bond_by_single() const;

@@ -316,6 +316,15 @@ LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "ski
 method_cases pcva 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
   '' "bonds, angles, dihedrals"
 no_fallback pcvamelt "1 2 4"
+# the hot fluid tethered by fix spring/self (a held force with an energy:
+# the members' start G and positions travel with them when they change rank
+# within a step, HSLocalModified::remap())
+sed 's/^fix         hs all hardsphere/fix         ss all spring\/self 0.5\nfix_modify  ss energy yes\nfix         hs all hardsphere/' \
+  in.local_pcvahot > in.local_pcvahotspring
+grep -q "^fix_modify  ss energy yes$" in.local_pcvahotspring || { echo "FAIL: in.local_pcvahotspring has no spring"; exit 1; }
+echo "pcva: the hot fluid tethered by fix spring/self 0.5 (held, with energy), 200 steps:"
+check_system pcvahotspring in.local_pcvahotspring "2 4" -var nsteps 200
+no_fallback pcvahotspring "2 4"
 
 # vci's local form (the discrete energy matched inside each cluster's flow,
 # its trial sub-steps on the runner's copies; its counters summed over the
@@ -393,6 +402,18 @@ vci_too() {
   no_fallback "vci$1" "2 4"
   LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 }
+# pcva_too <name>: in.local_<name> with hardsphere/pcva (its projections and
+# skipped ones on the RESULT line; in.local_pcva<name>), 200 steps on 1, 2,
+# 4 ranks, no fall-back to substep global
+pcva_too() {
+  sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
+    "in.local_$1" > "in.local_pcva$1"
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
+  echo "pcva: the same, 200 steps:"
+  RTOL=1e-9 check_system "pcva$1" "in.local_pcva$1" "2 4" -var nsteps 200
+  no_fallback "pcva$1" "2 4"
+  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+}
 poly_input > in.local_poly
 cva_and_pcva poly "polydisperse spheres (atom style sphere), 1000 atoms" \
   "the same with fix viscous 0.2 (held forces)" 's/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/'
@@ -465,8 +486,8 @@ cva_and_pcva hybrid "a mixture under pair hybrid (lj/cut, soft, none), 1000 atom
 # held smooth forces: kspace and force fixes that only add to f ride inside
 # the members' flows as the constant G(q0) = f - F_C (hs_local_engine.cpp,
 # held_smooth); charged hard spheres (coul/long + pppm) in a field (fix
-# efield), 1000 ions: cva and vci, no fall-back (pcva falls back: its
-# projection needs every term's energy)
+# efield), 1000 ions: cva, pcva (its ledger counts the held forces' work on
+# the members) and vci, no fall-back
 charged_input() {
   cat <<EOF2
 units       lj
@@ -502,11 +523,12 @@ LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds
 echo "charged hard spheres, coul/long + pppm, fix efield (held smooth forces), 1000 ions, 200 steps:"
 check_system charged in.local_charged "2 4" -var nsteps 200
 no_fallback charged "2 4"
+pcva_too charged
 vci_too charged
 
 # the same ions between this fix's walls (boundary p p f, pppm with
 # kspace_modify slab), the field across them: held kspace and field forces
-# with wall contacts; cva and vci, no fall-back
+# with wall contacts; cva, pcva and vci, no fall-back
 charged_input | sed -e 's/^atom_style  charge/&\nboundary    p p f/' \
   -e 's/^region      box block 0 10 0 10 0 10/region      box block 0 10 0 10 -0.5 9.5/' \
   -e 's/^kspace_style pppm 1e-4/&\nkspace_modify slab 3.0/' \
@@ -515,6 +537,7 @@ charged_input | sed -e 's/^atom_style  charge/&\nboundary    p p f/' \
 echo "the charged spheres between walls, pppm slab, the field across them, 200 steps:"
 check_system slab in.local_slab "2 4" -var nsteps 200
 no_fallback slab "2 4"
+pcva_too slab
 vci_too slab
 
 # fix gravity: m g in the members' V_C (inside their flows, with the cross
