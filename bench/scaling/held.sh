@@ -5,8 +5,8 @@
 #            hardsphere/cva with substep local and (at sizes in GLOBAL_SIZES) substep global,
 #            hardsphere/pcva with substep local (CONTENDERS: the list, default "nve local pcva"),
 #            alternated, REPEATS times; ratios to fix nve from the same repeat
-#  accuracy: the largest energy error per ion over T time units, cva local at each dt of
-#            DTS (and substep global at the dts of GLOBAL_DTS), ACC_CELLS^3 ions, kspace ewald
+#  accuracy: the largest energy error per ion over T time units, cva local and pcva local
+#            at each dt of DTS (and cva substep global at the dts of GLOBAL_DTS; ACC_METHODS), ACC_CELLS^3 ions, kspace ewald
 #            (its forces are its energy's gradient; pppm's are not: an energy floor)
 #   bash bench/scaling/held.sh                        # both parts
 #   PART=cost SIZES="16 32" REPEATS=3 bash bench/scaling/held.sh
@@ -21,6 +21,7 @@ SIZES=${SIZES:-"16 32"}              # lattice cells per edge: 4096 and 32768 io
 GLOBAL_SIZES=${GLOBAL_SIZES:-"16"}
 REPEATS=${REPEATS:-3}
 CONTENDERS=${CONTENDERS:-"nve local pcva"}
+ACC_METHODS=${ACC_METHODS:-"local pcva global"}    # local, global: cva; pcva: pcva local
 STEPS=${STEPS:-100}
 ACC_CELLS=${ACC_CELLS:-10}
 DTS=${DTS:-"0.01 0.005 0.0025"}
@@ -72,7 +73,7 @@ fi
 if [ "$PART" = all ] || [ "$PART" = accuracy ]; then
   ions=$((ACC_CELLS * ACC_CELLS * ACC_CELLS))
   echo "## accuracy: largest |E(t) - E(0)| per ion over $T time units, $ions ions, ewald 1e-5, coul/long $RC"
-  for m in local global; do
+  for m in $ACC_METHODS; do
     dts=$DTS
     [ "$m" = global ] && dts=$GLOBAL_DTS
     prev=""
@@ -80,7 +81,7 @@ if [ "$PART" = all ] || [ "$PART" = accuracy ]; then
       res=$(run "$OUT/log.acc.$m.$dt" -var n "$ACC_CELLS" -var method "$m" -var dt "$dt" \
               -var T "$T" -var kspace "ewald 1e-5" -var rc "$RC")
       read -r t c fb de <<< "$res"
-      line="cva $m dt $dt: max |dE| $de, collisions $c, fell back $fb, $t s per step"
+      line="$m dt $dt: max |dE| $de, collisions $c, fell back $fb, $t s per step"
       [ -n "$prev" ] && line+=" (order $(/usr/bin/python3 -c "import math; print(round(math.log2($prev / $de), 2))"))"
       echo "$line"
       prev=$de
