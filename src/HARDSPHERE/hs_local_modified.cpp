@@ -478,23 +478,12 @@ void HSLocalModified::begin(HSStepView &eng)
   T *= 0.5 * force->mvv2e;
   L0 = local_L(E, Q, T) + const_energy(eng, true);
   mstart.clear();
-  if (held_work) {
-    // G0 = f - F_C - m g (red: the force of V_CX, every term of a member)
-    double fc[3], xs[3];
+  if (held_work)
     for (int m : mem) {
       MemberStart ms{};
-      if (mask[m] & gb) {
-        eng.const_force(m, fc);
-        const double *F = cons(m);
-        for (int d = 0; d < 3; d++) {
-          ms.g0[d] = F[d] - red[m][d] - fc[d];
-          xs[d] = eng.start_x(m)[d];
-        }
-        domain->unmap(xs, atom->image[m], ms.q0.data());
-      }
+      if (mask[m] & gb) held_state(eng, m, eng.start_x(m), ms.g0, ms.q0);
       mstart.push_back(ms);
     }
-  }
   ptag.clear();
   pstart.clear();
   for (size_t s = 0; s < owners.size(); s++) {
@@ -525,14 +514,12 @@ double HSLocalModified::const_energy(HSStepView &eng, bool at_start) const
 {
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
-  double V = 0.0, fc[3], q[3], xs[3];
+  double V = 0.0, fc[3], q[3];
   for (int m : mem) {
     if (!(mask[m] & gb)) continue;
     eng.const_force(m, fc);
     if (fc[0] == 0.0 && fc[1] == 0.0 && fc[2] == 0.0) continue;
-    const double *x = at_start ? eng.start_x(m) : atom->x[m];
-    for (int d = 0; d < 3; d++) xs[d] = x[d];
-    domain->unmap(xs, atom->image[m], q);
+    domain->unmap(at_start ? eng.start_x(m) : atom->x[m], atom->image[m], q);
     V -= fc[0] * q[0] + fc[1] * q[1] + fc[2] * q[2];
   }
   return V;
@@ -825,19 +812,28 @@ double HSLocalModified::held_energy_change(HSStepView &eng)
 {
   const int *mask = atom->mask;
   const int gb = sys->groupbit;
-  double W = 0.0, fc[3], xs[3], q1[3];
+  double W = 0.0;
+  Vec g1, q1;
   for (size_t k = 0; k < mem.size(); k++) {
     const int m = mem[k];
     if (!(mask[m] & gb)) continue;
-    eng.const_force(m, fc);
-    const double *F = cons(m);
-    for (int d = 0; d < 3; d++) xs[d] = atom->x[m][d];
-    domain->unmap(xs, atom->image[m], q1);
+    held_state(eng, m, atom->x[m], g1, q1);
     const MemberStart &st = mstart[k];
-    for (int d = 0; d < 3; d++)
-      W += 0.5 * (st.g0[d] + F[d] - red[m][d] - fc[d]) * (q1[d] - st.q0[d]);
+    for (int d = 0; d < 3; d++) W += 0.5 * (st.g0[d] + g1[d]) * (q1[d] - st.q0[d]);
   }
   return -W;
+}
+
+// member m's held force G = f - F_C - m g now (cons(): f; red: the force of
+// V_CX, every term of a member) and x, its position, unwrapped with its
+// image flags now (begin() runs before LAMMPS' reneighboring: those of x0)
+void HSLocalModified::held_state(HSStepView &eng, int m, const double *x, Vec &g, Vec &q) const
+{
+  double fc[3];
+  eng.const_force(m, fc);
+  const double *F = cons(m);
+  for (int d = 0; d < 3; d++) g[d] = F[d] - red[m][d] - fc[d];
+  domain->unmap(x, atom->image[m], q.data());
 }
 
 // b = v - the cluster's centre-of-mass velocity for the members (v itself

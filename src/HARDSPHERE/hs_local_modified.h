@@ -118,6 +118,8 @@ class HSLocalModified : protected Pointers {
   std::vector<MemberStart> remap_mst;
   // this rank's members' held forces' work -1/2 (G0 + G1).(q1 - q0) (end())
   double held_energy_change(HSStepView &);
+  // G of member m now and its position x unwrapped (begin(): x0; end(): x)
+  void held_state(HSStepView &, int m, const double *x, Vec &g, Vec &q) const;
   std::vector<int> mem, cid;          // their local indices, cluster index
   int ncl = 0;                        // the step's clusters (the same on every rank)
   struct Start {

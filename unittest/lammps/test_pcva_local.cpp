@@ -211,23 +211,29 @@ reset_timestep 0
   return L.fix_vector("mx", 3);
 }
 
+// pcva local against cva local at each dt of dts (pcva at least 10x
+// below), and the fitted order of pcva's error
+static double held_order(const std::string &held, const std::vector<double> &dts, int cells)
+{
+  std::vector<double> ep;
+  for (double dt : dts) {
+    const double p = max_modified_error_held("pcva", dt, 111, held, cells),
+                 c = max_modified_error_held("cva", dt, 111, held, cells);
+    std::printf("%s, dt %g max|dH~|/N: pcva local %.3e, cva local %.3e (%.0fx)\n", held.c_str(),
+                dt, p, c, c / p);
+    EXPECT_GT(c, 10.0 * p) << held << " dt " << dt;
+    ep.push_back(p);
+  }
+  const double order = hs_chain::loglog_slope(dts, ep);
+  std::printf("pcva local with %s: fitted order %.2f\n", held.c_str(), order);
+  return order;
+}
+
 // 500 spheres tethered by fix spring/self (k 5, fix_modify energy yes).
 // Measured: pcva 7.3e-6, 4.0e-7, 5.0e-8 (order 3.6), 18-138x below cva
 TEST(PCVALocal, HeldSpringEnergyByItsWork)
 {
-  const std::vector<double> dts = {0.01, 0.005, 0.0025};
-  std::vector<double> ep;
-  for (double dt : dts) {
-    const double p = max_modified_error_held("pcva", dt, 111, "spring"),
-                 c = max_modified_error_held("cva", dt, 111, "spring");
-    std::printf("spring/self, dt %g max|dH~|/N: pcva local %.3e, cva local %.3e (%.0fx)\n", dt,
-                p, c, c / p);
-    EXPECT_GT(c, 10.0 * p) << "dt " << dt;
-    ep.push_back(p);
-  }
-  const double order = hs_chain::loglog_slope(dts, ep);
-  std::printf("pcva local with spring/self: fitted order %.2f\n", order);
-  EXPECT_GE(order, 2.5);
+  EXPECT_GE(held_order("spring", {0.01, 0.005, 0.0025}, 5), 2.5);
 }
 
 // charged hard spheres: the fluid with charges +-0.5, coul/long 3.0 and
@@ -237,19 +243,7 @@ TEST(PCVALocal, HeldSpringEnergyByItsWork)
 // 100x worse than cva)
 TEST(PCVALocal, HeldKspaceEnergyByItsWork)
 {
-  const std::vector<double> dts = {0.01, 0.005};
-  std::vector<double> ep;
-  for (double dt : dts) {
-    const double p = max_modified_error_held("pcva", dt, 111, "ewald", 4),
-                 c = max_modified_error_held("cva", dt, 111, "ewald", 4);
-    std::printf("ewald, dt %g max|dH~|/N: pcva local %.3e, cva local %.3e (%.0fx)\n", dt, p, c,
-                c / p);
-    EXPECT_GT(c, 10.0 * p) << "dt " << dt;
-    ep.push_back(p);
-  }
-  const double order = hs_chain::loglog_slope(dts, ep);
-  std::printf("pcva local with ewald: order %.2f\n", order);
-  EXPECT_GE(order, 1.8);
+  EXPECT_GE(held_order("ewald", {0.01, 0.005}, 4), 1.8);
 }
 
 // a bead-spring melt with angle, dihedral and improper terms (the local projection's

@@ -382,13 +382,7 @@ cva_and_pcva() {
   echo "$what, 200 steps:"
   check_system "$name" "in.local_$name" "2 4" -var nsteps 200
   no_fallback "$name" "2 4"
-  sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
-    "in.local_$name" | sed "${extra:-}" > "in.local_pcva$name"
-  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
-  echo "pcva: $pwhat, 200 steps:"
-  check_system "pcva$name" "in.local_pcva$name" "2 4" -var nsteps 200
-  no_fallback "pcva$name" "2 4"
-  LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
+  pcva_too "$name" "$pwhat" "$extra"
 }
 # vci_too <name>: in.local_<name> with hardsphere/vci (its solved, no-root and
 # zero-impulse counts on the RESULT line; in.local_vci<name>), 200 steps on
@@ -402,16 +396,18 @@ vci_too() {
   no_fallback "vci$1" "2 4"
   LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 }
-# pcva_too <name>: in.local_<name> with hardsphere/pcva (its projections and
-# skipped ones on the RESULT line; in.local_pcva<name>), 200 steps on 1, 2,
-# 4 ranks, no fall-back to substep global
+# pcva_too <name> [what] [sed]: in.local_<name> with hardsphere/pcva (its
+# projections and skipped ones on the RESULT line; in.local_pcva<name>,
+# changed by the sed script if given), 200 steps on 1, 2, 4 ranks, no
+# fall-back to substep global
 pcva_too() {
+  local name=$1 what=${2:-the same} extra=${3:-}
   sed 's/hardsphere\/cva/hardsphere\/pcva/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[6]) $(f_hs[7]) $(f_hs[9]) $(f_hs[12])/' \
-    "in.local_$1" > "in.local_pcva$1"
+    "in.local_$name" | sed "${extra:-}" > "in.local_pcva$name"
   LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "projections" "skipped" "clusters" "rounds")
-  echo "pcva: the same, 200 steps:"
-  RTOL=1e-9 check_system "pcva$1" "in.local_pcva$1" "2 4" -var nsteps 200
-  no_fallback "pcva$1" "2 4"
+  echo "pcva: $what, 200 steps:"
+  check_system "pcva$name" "in.local_pcva$name" "2 4" -var nsteps 200
+  no_fallback "pcva$name" "2 4"
   LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "clusters" "rounds")
 }
 poly_input > in.local_poly
