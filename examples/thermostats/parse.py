@@ -15,6 +15,7 @@ def expected(th, n, damp):
     dof = 3 * n / (3 * n - 3)    # langevin (zero no) thermalizes 3N components
     return {
         "langevin": T0 * dof,
+        "langevin_spring": T0 * dof,    # (the tether changes no kinetic average)
         "langevin_zero": T0,
         # drag adds up, noise is langevin's only: gamma_L = 1/damp, viscous 1.0
         "langevin_viscous": T0 * dof * (1.0 / damp) / (1.0 / damp + 1.0),
@@ -49,7 +50,8 @@ for f in sorted(glob.glob(os.path.join(out, "*.out"))):
     rows.append((th, label, (T.mean(), se, float(r.group(4)), len(T), sec.group(1) if sec else "?",
                              expected(th, n, damp))))
 
-order = ["langevin", "langevin_zero", "langevin_viscous", "berendsen", "rescale"]
+order = ["langevin", "langevin_zero", "langevin_viscous", "berendsen", "rescale",
+         "langevin_spring"]
 mord = ["nve", "psa", "cva", "pcva", "vci", "mcva", "mcva (108 atoms)",
         "mcva (108 atoms, damp 0.1)"]
 print("# Thermostats beside the hard-sphere methods: measured\n")

@@ -6,6 +6,8 @@
 #
 #   bash examples/thermostats/run.sh            # all methods, all thermostats
 #   METHODS="cva pcva" THERMOS="langevin" bash examples/thermostats/run.sh
+#   THERMOS=langevin_spring NRUN=20000 OUT=/tmp/spring RESULTS=results-spring.md \
+#     bash examples/thermostats/run.sh          # beside a held smooth force
 #   NRUN_MCVA=2000 ...                          # mcva costs ~0.5 s per step here
 #   METHODS=mcva ALL_MCVA=1 CELLS_MCVA=3 NRUN_MCVA=4000 bash examples/thermostats/run.sh
 #                                               # mcva with 108 atoms (rows "mcva (108 atoms)")
@@ -22,7 +24,7 @@ METHODS="${METHODS:-nve psa cva pcva vci}"
 THERMOS="${THERMOS:-langevin langevin_zero langevin_viscous berendsen rescale}"
 NRUN="${NRUN:-6000}"
 NRUN_MCVA="${NRUN_MCVA:-2000}"
-OUT="$HERE/out"
+OUT="${OUT:-$HERE/out}"
 mkdir -p "$OUT"
 cd "$OUT"
 CELLS_MCVA="${CELLS_MCVA:-5}"
@@ -55,5 +57,6 @@ for th in $THERMOS; do
     fi
   done
 done
-/usr/bin/python3 "$HERE/parse.py" "$OUT" > "$HERE/results.md"
-cat "$HERE/results.md"
+RESULTS="${RESULTS:-results.md}"
+/usr/bin/python3 "$HERE/parse.py" "$OUT" > "$HERE/$RESULTS"
+cat "$HERE/$RESULTS"

@@ -500,39 +500,18 @@ void FixHardSphere::capture_rule()
   S.cap_on = 0;
   S.uncapture();
   if (!engine || !engine->takes_captured_forces()) return;
-  std::string before, after;
-  bool self_seen = false;
-  for (int k = 0; k < modify->nfix; k++) {
-    Fix *other = modify->fix[k];
-    if (other == this) {
-      self_seen = true;
-      continue;
-    }
-    if (!(modify->fmask[k] & FixConst::POST_FORCE) || HardSphere::package_fix(other->style))
-      continue;
-    const std::string base = HardSphere::base_style(other->style);
-    if (base == "enforce2d") continue;    // (zeroes z: conservative forces have none)
-    const bool is_held =
-        HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::HELD;
-    const std::string name = fmt::format("fix {} {}", other->id, other->style);
-    if (!self_seen && is_held) before += (before.empty() ? "" : ", ") + name;
-    if (self_seen && !is_held) after += (after.empty() ? "" : ", ") + name;
-  }
-  if (before.empty() && after.empty()) {
+  const std::string why = S.pot->capture_order(this);
+  if (why.empty()) {
     S.cap_on = 1;
     capture_told.clear();
     return;
   }
-  const std::string why = !before.empty()
-      ? fmt::format("{} come(s) before it in the input", before)
-      : fmt::format("{} come(s) after it in the input", after);
   if (comm->me == 0 && why != capture_told)
     utils::logmesg(lmp,
                    "fix {}: {}, so the force it sees in its post_force stage is not the "
-                   "conservative force alone: the held forces come from a second evaluation "
-                   "of the conservative forces in each collisional step. Define thermostats "
-                   "after fix {} and force fixes (gravity) before it to save that\n",
-                   style_name, why, id);
+                   "conservative force alone: {}. Define thermostats after fix {} and force "
+                   "fixes before it to save that\n",
+                   style_name, why, engine->uncaptured_cost(), id);
   capture_told = why;
 }
 

@@ -196,17 +196,27 @@ std::string HSLocalEngine::limits()
 
 void HSLocalEngine::chosen()
 {
-  if (!held_smooth.empty() && held_smooth != held_smooth_told && me == 0)
+  // beside a thermostat: its forces stay half kicks if the fix can copy
+  // LAMMPS' force before them (FixHardSphere::capture_rule(), splits_held())
+  std::string thermo;
+  if (sys->nheld) {
+    const std::string order = sys->pot->capture_order(sys->host);
+    thermo = order.empty()
+        ? fmt::format("; the held thermostat forces of {} stay two half kicks around the flows "
+                      "(the fix copies LAMMPS' force before them)",
+                      sys->pot->held_names())
+        : fmt::format("; the held thermostat forces of {} ride with them, since {}",
+                      sys->pot->held_names(), order);
+  }
+  const std::string told = held_smooth + thermo;
+  if (!held_smooth.empty() && told != held_smooth_told && me == 0)
     utils::logmesg(lmp,
                    "fix {}: substep local holds the forces of {} through collisional steps: "
                    "on the colliding spheres their force at the step's start acts as a "
                    "constant force inside the sub-stepped flows, the end's in the closing "
                    "kick (second order; substep global evaluates them at every contact){}\n",
-                   sys->style_name, held_smooth,
-                   sys->nheld ? "; held thermostat forces ride with them, instead of the two "
-                                "half kicks"
-                              : "");
-  held_smooth_told = held_smooth;
+                   sys->style_name, held_smooth, thermo);
+  held_smooth_told = told;
   locf->keep_energy(meth.needs_flow_energy());
   locf->set_near(sys->list_cutoff, sys->groupbit);
   cutneigh = sys->list_cutoff;
@@ -315,6 +325,10 @@ void HSLocalEngine::set_ghost_cutoff(double cut)
 
 void HSLocalEngine::reborder()
 {
+  // (the fix's copy of the conservative force stays valid: no owned atom
+  // moves to another index; held forces split the same on any number of
+  // ranks, splits_held())
+  const bigint ncalls_before = neighbor->ncalls;
   resize_shell();
   // (as exchange() begins: the map cleared while it still lists the ghosts)
   if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
@@ -327,6 +341,7 @@ void HSLocalEngine::reborder()
   modify->pre_neighbor();
   neighbor->build(1);
   modify->post_neighbor();
+  sys->capture_kept(ncalls_before);
 }
 
 /* ----------------------------------------------------------------------
@@ -1378,8 +1393,10 @@ void HSLocalEngine::held_of(Run &r)
   if (!holds()) return;
   // an owned member's f less LAMMPS' own conservative force of the start,
   // when the fix could copy it (HSSystem::capture_forces()): no evaluation.
-  // A ghost copy's (a member owned by another rank) is evaluated below
-  double **fcap = sys->captured(true);
+  // A ghost copy's (a member owned by another rank) is evaluated below.
+  // Riding, held0 is all of f - F_C (the copy holds the held smooth
+  // forces too): evaluated
+  double **fcap = rides() ? nullptr : sys->captured(true);
   const int nlocal = atom->nlocal;
   std::vector<int> need;
   for (int l : r.members) {
@@ -1436,7 +1453,21 @@ bool HSLocalEngine::rides() const
 
 bool HSLocalEngine::takes_captured_forces() const
 {
-  return sys->nheld && !rides();
+  return sys->nheld != 0;
+}
+
+std::string HSLocalEngine::uncaptured_cost() const
+{
+  if (rides())
+    return "the held thermostat forces ride inside the colliding spheres' flows with the "
+           "held smooth forces, instead of two half kicks around them (pcva: substep global)";
+  return HSStepEngine::uncaptured_cost();
+}
+
+// (captured(): the same answer on every rank)
+bool HSLocalEngine::splits_held() const
+{
+  return sys->nheld && rides() && sys->captured(true) != nullptr;
 }
 
 // fix gravity's force on copy i (force units; f += m g in its post_force(),
@@ -1950,18 +1981,20 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   // velocity wrong by O(G dt) (a sphere bouncing under a constant force:
   // first order in energy, measured); inside, by O(dt^2). The closing kick
   // makes the step's impulse dt/2 (G(q0) + G(q1)) (second halves' end)
+  // (split_: the thermostat's part, kick0, stays a half kick; G rides)
   if (rides())
     for (int k = 0; k < nm; k++)
-      for (int d = 0; d < 3; d++) fc[k][d] += held0[M[k]][d];
+      for (int d = 0; d < 3; d++) fc[k][d] += held0[M[k]][d] - (split_ ? kick0[M[k]][d] : 0.0);
   if (first_half) {
     r.fk0 = fk;
     // the held forces' half kick (f - F_C: LAMMPS' forces minus V_C's)
     for (int k = 0; k < nm; k++) {
       const int i = M[k];
       double vn[3] = {v0[i][0], v0[i][1], v0[i][2]};
-      if (holds() && !rides()) {
+      if ((holds() && !rides()) || split_) {
         const double dtfm = F.dtf / F.mass_of(i);
-        for (int d = 0; d < 3; d++) vn[d] += dtfm * held0[i][d];
+        double **h = split_ ? kick0 : held0;
+        for (int d = 0; d < 3; d++) vn[d] += dtfm * h[i][d];
       }
       set_v(i, vn);
     }
@@ -2262,7 +2295,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       // (riding: the closing kick adds dt/2 G(q1); here -dt/2 G(q0))
       if (rides()) {
         const double dtfm = F.dtf / F.mass_of(i);
-        for (int d = 0; d < 3; d++) r.ve[k][d] -= dtfm * held0[i][d];
+        for (int d = 0; d < 3; d++)
+          r.ve[k][d] -= dtfm * (held0[i][d] - (split_ ? kick0[i][d] : 0.0));
       }
       set_x(i, r.xm[k].data());
       set_v(i, r.vm[k].data());
@@ -3130,6 +3164,7 @@ int HSLocalEngine::step_clusters()
   // (the owned atoms' a, x0 and v0 are set by predict_all(); the ghosts'
   // v, a go with the first guess's flags)
   const double ncoll0 = ncollective;
+  split_ = false;
   // after a step whose first guess was empty, the flagged spheres alone
   // first (quick_clear(); the same decision, made on every rank)
   if (quick_next && quick_clear()) {
@@ -3150,6 +3185,17 @@ int HSLocalEngine::step_clusters()
     return NEEDS_WIDE;
   }
   ncoll_steps += 1.0;
+  // held smooth forces beside a thermostat: the thermostat's part of each
+  // copy's start force, f - the fix's copy of the conservative force, from
+  // its owner (one exchange; only such inputs)
+  split_ = splits_held();
+  if (split_) {
+    double **fcap = sys->captured(true), **f = atom->f;
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int d = 0; d < 3; d++) kick0[i][d] = f[i][d] - fcap[i][d];
+    comm->forward_comm_array(3, kick0);
+    ncollective += 1.0;
+  }
   // lj/cut: the restricted evaluations by its kernel (hs_ljcut.h), with
   // the coefficients of this step (fix adapt may change them)
   locf->set_lj_table(F.pot->lj_cut_table());
@@ -3331,8 +3377,15 @@ void HSLocalEngine::final_kick()
     all.push_back(i);
   }
   // members' held forces: f - their conservative force from all their terms
-  // (LAMMPS' own, if the fix copied it before the held fixes added theirs)
-  double **fcap = holds() ? sys->captured(false) : nullptr;
+  // (LAMMPS' own, if the fix copied it before the held fixes added theirs;
+  // riding, the kick is all of f - F_C: G's start value left the flow's end)
+  double **fcap = (holds() && !rides()) ? sys->captured(false) : nullptr;
+  // (pcva's ledger takes the thermostat's closing kick from the end's copy)
+  if (split_ && !sys->captured(false))
+    error->all(FLERR,
+               "Fix {} substep local: internal error: the conservative force was copied at "
+               "the start of step {} but not at its end",
+               sys->style_name, update->ntimestep);
   if (fcap)
     for (int i : all) {
       const double dtfm = F.dtf / F.mass_of(i);

@@ -68,6 +68,9 @@
    f - F_C; with them it rides inside the members' flows instead (its start
    value as a constant force in both halves, the end's in the closing
    kick: rides()), since a kick before a flow errs by O(dt) at a contact.
+   With both, a thermostat's part H = f - (the copy) stays two half kicks
+   and only G = (the copy) - F_C rides (splits_held()); without the copy
+   (the input's fix order) both ride.
 
    Rows: V_C's forces come from rank-local interaction rows of the
    members' copies (HSLocalForces::compute_rows) and their contact
@@ -155,9 +158,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void pre_exchange() override;
   double counter(int k) override;
   double memory_usage() const override;
-  // (not with kspace or fixes that only add a force, held by limits():
-  // their force is in LAMMPS' f but in no restricted evaluation)
+  // (with kspace or fixes that only add a force, held by limits(), the
+  // copy splits a member's held force into the thermostat's and theirs)
   bool takes_captured_forces() const override;
+  std::string uncaptured_cost() const override;
 
   // HSStepView: the step's clusters and state, for a method's own
   // bookkeeping (hs_local_modified.h); valid from step() to the
@@ -331,6 +335,11 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   int nmax = 0;
   double **x0 = nullptr, **v0 = nullptr;    // the step's start
   double **held0 = nullptr;                 // members' held force at the step's start
+  // with held smooth forces beside a thermostat and the fix's copy of the
+  // conservative force (splits_held()): the thermostat's part of held0,
+  // f - the copy, at the step's start on every copy (forwarded)
+  double **kick0 = nullptr;
+  bool split_ = false;    // this step: splits_held(), the same on every rank
   // fix gravity (limits()): a constant force per atom, m g, in the members'
   // V_C (inside their flows, as part of the constant force of each half)
   // and in V_R for everyone else (LAMMPS' forces); const_force() is that
@@ -350,6 +359,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // ... as a constant force inside their flows (held smooth forces, and
   // then thermostats' too) instead of kicks before and after them
   bool rides() const;
+  // riding, with the fix's copy of the conservative force at the step's
+  // start: a thermostat's part (kick0) stays two half kicks, the held
+  // smooth forces' (held0 - kick0) rides
+  bool splits_held() const;
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;
@@ -412,11 +425,12 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   };
   void grow_arrays();
   // the per-atom arrays, allocated together (columns)
-  std::array<std::pair<double ***, int>, 9> peratom()
+  std::array<std::pair<double ***, int>, 10> peratom()
   {
     return {{{&x0, 3},
              {&v0, 3},
              {&held0, 3},
+             {&kick0, 3},
              {&wq, 4},
              {&sa, 7},
              {&sb, 7},

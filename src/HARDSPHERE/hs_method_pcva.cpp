@@ -159,14 +159,19 @@ std::string HSMethodPCVA::local_limits()
                     pair));
   // kspace and energy fixes: held smooth forces of the engine, whose work
   // on the members the ledger counts (HSLocalModified::set_held_work()).
-  // With a thermostat's held forces they ride together inside the members'
-  // flows, and the thermostat's work there cannot be told apart
+  // Beside a thermostat's held forces the fix's copy of LAMMPS' force
+  // between the two (FixHardSphere::capture_rule()) tells them apart: the
+  // thermostat's stay half kicks outside the conservative map. Without the
+  // copy both would ride inside the flows, where the thermostat's work
+  // cannot be told from theirs
   held_work = S.pot->held_energy_terms();
-  if (!held_work.empty() && S.nheld)
-    add(fmt::format("{} beside the held thermostat forces of {} (both ride inside the "
-                    "colliding spheres' flows, where the local projection cannot tell the "
-                    "thermostat's work from the conservative forces')",
-                    held_work, S.pot->held_names()));
+  const std::string order = S.nheld ? S.pot->capture_order(S.host) : std::string();
+  if (!held_work.empty() && !order.empty())
+    add(fmt::format("{} beside the held thermostat forces of {} when {} (the local "
+                    "projection needs LAMMPS' force between the two, which fix {} copies in "
+                    "its post_force stage: define the thermostat after fix {} and the force "
+                    "fixes before it)",
+                    held_work, S.pot->held_names(), order, S.host->id, S.host->id));
   return why;
 }
 

@@ -1178,6 +1178,30 @@ std::string HSPotential::held_energy_terms() const
   return s;
 }
 
+std::string HSPotential::capture_order(const Fix *self) const
+{
+  std::string before, after;
+  bool self_seen = false;
+  for (int k = 0; k < modify->nfix; k++) {
+    Fix *other = modify->fix[k];
+    if (other == self) {
+      self_seen = true;
+      continue;
+    }
+    if (!(modify->fmask[k] & FixConst::POST_FORCE) || HardSphere::package_fix(other->style))
+      continue;
+    if (HardSphere::base_style(other->style) == "enforce2d") continue;    // (zeroes z only)
+    const bool is_held =
+        HardSphere::fix_force_kind(other->style) == HardSphere::FixForceKind::HELD;
+    const std::string name = fmt::format("fix {} {}", other->id, other->style);
+    if (!self_seen && is_held) before += (before.empty() ? "" : ", ") + name;
+    if (self_seen && !is_held) after += (after.empty() ? "" : ", ") + name;
+  }
+  if (!before.empty()) return fmt::format("{} come(s) before it in the input", before);
+  if (!after.empty()) return fmt::format("{} come(s) after it in the input", after);
+  return {};
+}
+
 bool HSPotential::bond_by_single() const
 {
   return impl->bond_single != 0;

@@ -92,6 +92,10 @@ class HSPotential : protected Pointers {
   // the members' share of their energy by the work of those forces)
   std::string unsingled_pair() const;
   std::string held_energy_terms() const;
+  // why LAMMPS' f in the post_force() of fix `self` is not the conservative
+  // force alone ("" if it is): a held fix comes before it in the input, or
+  // a conservative one after it (they add their forces in the input's order)
+  std::string capture_order(const class Fix *self) const;
   // bond terms through bond_term() (the bond style has single()); else a
   // bond is a term of its style's compute(), as angles are
   bool bond_by_single() const;

@@ -41,6 +41,13 @@ class HSStepEngine : protected Pointers {
   // force when the fix can copy it (HSSystem::captured()): only if every
   // force in f but the held ones is in its restricted evaluations
   virtual bool takes_captured_forces() const { return false; }
+  // what the engine does instead when the fix cannot copy that force (for
+  // the log)
+  virtual std::string uncaptured_cost() const
+  {
+    return "the held forces come from a second evaluation of the conservative forces in "
+           "each collisional step";
+  }
   // initial_integrate of a step in which screening found spheres that may
   // touch: the step up to its closing half kick (collective). Returns false
   // if the engine declined the step, with the state left as before (the

@@ -1070,6 +1070,11 @@ void HSSystem::capture_forces()
   cap_nlocal = nlocal;
 }
 
+void HSSystem::capture_kept(bigint ncalls_before)
+{
+  if (cap_ncalls == ncalls_before) cap_ncalls = neighbor->ncalls;
+}
+
 // the start's forces are the last step's end (captured before this step's
 // integrate: no list build since, which would sort or move atoms), the
 // end's this step's post_force (after any build of the step). The same

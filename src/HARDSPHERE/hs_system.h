@@ -153,6 +153,9 @@ class HSSystem : protected Pointers, public HSTypes {
   // holds this step's forces under the current local indices; else null
   double **captured(bool at_start) const;
   void uncapture() { cap_step = -1; }
+  // a list build that kept every owned atom's index (ghosts rebuilt only,
+  // HSLocalEngine::reborder()): a copy valid before it stays valid
+  void capture_kept(bigint ncalls_before);
   Fix *other_integrator = nullptr;    // a fix that integrates atoms outside the group
 
   // screening (screened ahead by the closing kick, see closing_kick())

@@ -162,7 +162,8 @@ TEST(PCVALocal, GravityModifiedHamiltonianFourthOrder)
 // terms' curvature as its constant (doc fix_hardsphere_pcva, "Held smooth
 // forces"). max |H~(t) - H~(0)| per atom over 0.5 time units, no fall-back
 static double max_modified_error_held(const std::string &method, double dt, int seed,
-                                      const std::string &held, int cells = 5)
+                                      const std::string &held, int cells = 5,
+                                      const std::string &after = "")
 {
   const bool ions = held == "ewald";
   HSLammps L;
@@ -203,7 +204,7 @@ reset_timestep 0
     L.lines(hs_fluid::fluid("fix ss all spring/self 5.0\nfix_modify ss energy yes", 0.005, seed,
                             cells, "lj/gromacs 2.0 2.5"));
   L.lines("timestep " + hs_chain::f17(dt) + "\nfix hs all hardsphere/" + method +
-          " diameter 1.0 substep local\n");
+          " diameter 1.0 substep local\n" + after);
   track_max_modified_error(L);
   L.cmd("run " + std::to_string((int) std::lround(0.5 / dt)));
   EXPECT_EQ(L.fix_vector("hs", method == "cva" ? 9 : 12), 0.0)
@@ -244,6 +245,29 @@ TEST(PCVALocal, HeldSpringEnergyByItsWork)
 TEST(PCVALocal, HeldKspaceEnergyByItsWork)
 {
   EXPECT_GE(held_order("ewald", {0.01, 0.005}, 4), 1.8);
+}
+
+// beside a thermostat's held forces (fix viscous here, after the
+// integrator): the fix copies LAMMPS' force before the thermostat adds its
+// own, which splits a member's held force into the thermostat's (two half
+// kicks around the conservative map, out of the ledger) and the spring's
+// (riding, its work in the ledger). A zero thermostat force must then
+// change nothing: the same max |H~(t) - H~(0)| as without it, to round-off
+// (the ledger's thermostat path sums in another order). Before, this input
+// fell back to substep global; a ledger that took the thermostat's
+// velocities for the spring's (or the spring's for the thermostat's) would
+// be first order, as without the work term (1e-2 .. 3e-3)
+TEST(PCVALocal, HeldSpringBesideZeroThermostat)
+{
+  for (double dt : {0.01, 0.005}) {
+    const double p = max_modified_error_held("pcva", dt, 111, "spring", 5),
+                 z = max_modified_error_held("pcva", dt, 111, "spring", 5,
+                                             "fix vi all viscous 0.0\n");
+    std::printf("spring, dt %g max|dH~|/N: pcva local %.6e, with fix viscous 0 after it %.6e\n",
+                dt, p, z);
+    EXPECT_GT(p, 0.0);
+    EXPECT_NEAR(z, p, 1e-4 * p) << "dt " << dt;
+  }
 }
 
 // a bead-spring melt with angle, dihedral and improper terms (the local projection's
@@ -553,8 +577,10 @@ TEST(PCVALocal, FallbacksAndErrorsNameTheCause)
 {
   // a conservative fix with an energy of its own (fix spring/self,
   // fix_modify energy yes) is a held smooth force, whose work the ledger
-  // counts; beside a thermostat's held forces (fix langevin) both ride in
-  // the members' flows and the thermostat's work cannot be told apart
+  // counts; beside a thermostat's held forces (fix langevin) the fix's copy
+  // of LAMMPS' force before the thermostat's tells the two apart: defined
+  // after the integrator, it runs locally; before it, both would ride in
+  // the members' flows, where the thermostat's work cannot be told apart
   const std::string base = R"LMP(units lj
 atom_style atomic
 atom_modify map array
@@ -577,10 +603,18 @@ timestep 0.005
                                  {"substep local (collisions sub-stepped per cluster)"});
   EXPECT_EQ(alone.output.find("falls back"), std::string::npos) << alone.output;
   const std::string lg = "fix lg all langevin 1.0 1.0 1.0 4711\n";
+  const auto split = expect_runs(base + "fix hs all hardsphere/pcva diameter 1.0\n" + lg +
+                                     "run 5\n",
+                                 {"substep local (collisions sub-stepped per cluster)",
+                                  "the held thermostat forces of fix lg langevin stay two half "
+                                  "kicks around the flows"});
+  EXPECT_EQ(split.output.find("falls back"), std::string::npos) << split.output;
   // the fixes named, not the pair style beside them
   const auto r = expect_runs(base + lg + "fix hs all hardsphere/pcva diameter 1.0\nrun 5\n",
                              {"substep local is not available with fix ss spring/self beside "
-                              "the held thermostat forces of fix lg langevin",
+                              "the held thermostat forces of fix lg langevin when fix lg "
+                              "langevin come(s) before it in the input",
+                              "define the thermostat after fix hs",
                               "falls back to substep global"});
   const size_t w = r.output.find("substep local is not available");
   ASSERT_NE(w, std::string::npos);

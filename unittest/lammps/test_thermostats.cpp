@@ -17,6 +17,11 @@
 // - langevin + viscous: the drag adds up, the noise is langevin's only
 //   (fluctuation-dissipation): <T> = T0 3N/(3N-3) g_L / (g_L + g_v/m),
 //   g_L = 1/damp;
+// - langevin + spring/self (each sphere tethered to its start; the spring
+//   is a held smooth force of the local engine, defined before the
+//   integrator and the thermostat after it, so that the thermostat's force
+//   stays two half kicks and the spring's rides in the colliding spheres'
+//   flows): as langevin, T0 3N/(3N-3), and no fall-back to substep global;
 // - temp/berendsen and temp/rescale act on compute temp: <T> = T0.
 // Error bars: 20 or 100 block means (each block much longer than the correlation
 // time of the kinetic energy); a check is meaningful only with a standard
@@ -82,9 +87,13 @@ Blocks run_fluid(const std::string &method, const std::string &thermo, double da
 {
   const int cells = 3;
   NATOMS = 4.0 * cells * cells * cells;
-  std::string th;
+  std::string th, pre;
   const std::string T = hs_chain::f17(T0), d = hs_chain::f17(damp), s = std::to_string(seed);
   if (thermo == "langevin") th = "fix th all langevin " + T + " " + T + " " + d + " " + s;
+  else if (thermo == "langevin_spring") {
+    pre = "fix sp all spring/self 2.0\nfix_modify sp energy yes\n";
+    th = "fix th all langevin " + T + " " + T + " " + d + " " + s;
+  }
   else if (thermo == "langevin_zero")
     th = "fix th all langevin " + T + " " + T + " " + d + " " + s + " zero yes";
   else if (thermo == "langevin_viscous")
@@ -110,7 +119,7 @@ neigh_modify every 1 delay 0 check yes
 comm_modify cutoff 3.0
 velocity all create )LMP" + T + " " + s + R"LMP( dist gaussian
 timestep 0.005
-fix int all hardsphere/)LMP" + method + R"LMP( diameter 1.05
+)LMP" + pre + "fix int all hardsphere/" + method + R"LMP( diameter 1.05
 )LMP" + th + R"LMP(
 thermo 1000
 run )LMP" + std::to_string(equil) + R"LMP(
@@ -145,7 +154,7 @@ print "COLLISIONS $(f_int[1]-v_cstart) STEPS )LMP" + std::to_string(nrun) + R"LM
 double expected_T(const std::string &thermo, double damp)
 {
   const double dof = (3.0 * NATOMS) / (3.0 * NATOMS - 3.0);
-  if (thermo == "langevin") return T0 * dof;
+  if (thermo == "langevin" || thermo == "langevin_spring") return T0 * dof;
   if (thermo == "langevin_viscous") {
     const double gL = 1.0 / damp, gv = 5.0;    // viscous gamma / mass 1
     return T0 * dof * gL / (gL + gv);
@@ -251,6 +260,31 @@ INSTANTIATE_TEST_SUITE_P(MCVA, Thermostat,
                                                               "langevin_viscous", "berendsen",
                                                               "rescale")),
                          case_name);
+
+// held smooth forces beside a thermostat (doc fix_hardsphere, "Held smooth
+// forces"): the local methods run locally (no fall-back) and give langevin's
+// temperature, the spring's force riding in the members' flows and the
+// thermostat's as two half kicks (18000 steps, 100 blocks, as above)
+class ThermostatSpring : public ::testing::TestWithParam<const char *> {};
+
+TEST_P(ThermostatSpring, LangevinBesideHeldSpring)
+{
+  const std::string method = GetParam();
+  std::string log;
+  Blocks b = run_fluid(method, "langevin_spring", 0.1, 18000, 4711, 1000, &log, 100);
+  check_run(method, "langevin_spring", 0.1, b, 0.0045);
+  if (method != "psa") {
+    EXPECT_NE(log.find("substep local (collisions sub-stepped per cluster)"), std::string::npos)
+        << log;
+    EXPECT_EQ(log.find("falls back"), std::string::npos) << log;
+    EXPECT_NE(log.find("stay two half kicks"), std::string::npos) << log;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Fluid, ThermostatSpring, ::testing::Values("psa", "cva", "pcva", "vci"),
+                         [](const ::testing::TestParamInfo<const char *> &i) {
+                           return std::string(i.param);
+                         });
 
 // the sharper kurtosis check: weak coupling (damp 0.5), where uniform random
 // numbers change the kurtosis by at most 0.012

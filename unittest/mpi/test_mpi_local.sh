@@ -31,7 +31,9 @@
 # ghost atoms; a dilute fluid whose shell widens and narrows many times
 # equals 1 rank); a triclinic box; newton off (fluids and melt); an error found by one rank inside a
 # cluster ends every rank. hardsphere/pcva on the fluids, the hot and held
-# fluid and the melt (bonds only) as well, hardsphere/vci on the fluids,
+# fluid, the hot fluid tethered by fix spring/self (alone, and beside fix
+# viscous: the thermostat's held force split from the spring's) and the
+# melt (bonds only) as well, hardsphere/vci on the fluids,
 # the hot and held fluid and the melt.
 
 source "$(dirname "${BASH_SOURCE[0]}")/lib/lib_mpi.sh"
@@ -325,6 +327,22 @@ grep -q "^fix_modify  ss energy yes$" in.local_pcvahotspring || { echo "FAIL: in
 echo "pcva: the hot fluid tethered by fix spring/self 0.5 (held, with energy), 200 steps:"
 check_system pcvahotspring in.local_pcvahotspring "2 4" -var nsteps 200
 no_fallback pcvahotspring "2 4"
+# ... and beside a thermostat's held forces (fix viscous after the
+# integrator): the fix's copy of LAMMPS' force before the thermostat's
+# splits a member's held force, the thermostat's part forwarded to the
+# member's ghost copies (HSLocalEngine::kick0); the copy survives the
+# engine's own ghost rebuilds (reborder()), so 1 rank and several split alike
+sed 's/^fix         hs all hardsphere.*$/&\nfix         vis all viscous 0.2/' \
+  in.local_pcvahotspring > in.local_pcvahotspringvis
+echo "pcva: the same with fix viscous 0.2 after the integrator (thermostat split from the spring), 200 steps:"
+check_system pcvahotspringvis in.local_pcvahotspringvis "2 4" -var nsteps 200
+no_fallback pcvahotspringvis "2 4"
+for np in 1 2 4; do
+  grep -q "fix vis viscous stay two half kicks" "out.pcvahotspringvis.$np" || {
+    echo "  FAIL: pcvahotspringvis on $np ranks: the thermostat's forces are not split from the spring's"
+    fail=1
+  }
+done
 
 # vci's local form (the discrete energy matched inside each cluster's flow,
 # its trial sub-steps on the runner's copies; its counters summed over the
