@@ -10,6 +10,8 @@
 #            (its forces are its energy's gradient; pppm's are not: an energy floor)
 #   bash bench/scaling/held.sh                        # both parts
 #   PART=cost SIZES="16 32" REPEATS=3 bash bench/scaling/held.sh
+#   PART=cost THERMO=langevin CONTENDERS="nve local pcva pcva_global" SIZES=16 GLOBAL_SIZES="" \
+#     REPEATS=2 bash bench/scaling/held.sh        # beside fix langevin (after the integrator)
 #   PART=accuracy ACC_CELLS=10 DTS="0.01 0.005 0.0025" GLOBAL_DTS="0.01" bash bench/scaling/held.sh
 #   PART=accuracy ACC_CELLS=16 RC=6.0 DTS="0.01 0.005" GLOBAL_DTS="" bash bench/scaling/held.sh
 set -euo pipefail
@@ -28,6 +30,7 @@ DTS=${DTS:-"0.01 0.005 0.0025"}
 GLOBAL_DTS=${GLOBAL_DTS:-"0.01"}
 T=${T:-5}
 RC=${RC:-4.0}                        # the coul/long cutoff (its kspace part the smoother, the larger)
+THERMO=${THERMO:-none}               # langevin: fix langevin after the integrator (cost part)
 OUT=$HERE/scratch/held
 mkdir -p "$OUT"
 
@@ -49,7 +52,7 @@ PY
 }
 
 if [ "$PART" = all ] || [ "$PART" = cost ]; then
-  echo "## cost: seconds per step ($STEPS steps, dt 0.005, pppm 1e-4, E 0.2), $REPEATS alternated repeats"
+  echo "## cost: seconds per step ($STEPS steps, dt 0.005, pppm 1e-4, E 0.2, thermostat $THERMO), $REPEATS alternated repeats"
   for n in $SIZES; do
     ions=$((n * n * n))
     contenders=$CONTENDERS
@@ -59,7 +62,7 @@ if [ "$PART" = all ] || [ "$PART" = cost ]; then
       tnve=""
       for m in $contenders; do
         res=$(run "$OUT/log.cost.$n.$m.$r" -var n "$n" -var method "$m" -var dt 0.005 \
-                -var T "$(/usr/bin/python3 -c "print($STEPS * 0.005)")")
+                -var T "$(/usr/bin/python3 -c "print($STEPS * 0.005)")" -var thermo "$THERMO")
         read -r t c fb _ <<< "$res"
         [ "$m" = nve ] && tnve=$t
         ratio=$(/usr/bin/python3 -c "print(f'{$t / $tnve:.2f}')")
