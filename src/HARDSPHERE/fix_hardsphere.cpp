@@ -491,8 +491,10 @@ void FixHardSphere::check_fixes_beside()
    conservative fix) and those of the held fixes, which add theirs in the
    input's order: if this fix comes between them, its post_force() copies
    f there and the engine takes f - that copy; else the engine evaluates
-   the conservative force again (the same forces, to round-off). The
-   engine says whether it can (HSStepEngine::takes_captured_forces())
+   the conservative force again (the same forces, to round-off), or, with
+   held smooth forces in the local engine, lets the thermostat's forces
+   ride with them (HSStepEngine::uncaptured_cost() says which in the log).
+   The engine says whether it can (HSStepEngine::takes_captured_forces())
 ------------------------------------------------------------------------- */
 
 void FixHardSphere::capture_rule()

@@ -1984,7 +1984,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   // (split_: the thermostat's part, kick0, stays a half kick; G rides)
   if (rides())
     for (int k = 0; k < nm; k++)
-      for (int d = 0; d < 3; d++) fc[k][d] += held0[M[k]][d] - (split_ ? kick0[M[k]][d] : 0.0);
+      for (int d = 0; d < 3; d++) fc[k][d] += riding(M[k], d);
   if (first_half) {
     r.fk0 = fk;
     // the held forces' half kick (f - F_C: LAMMPS' forces minus V_C's)
@@ -2295,8 +2295,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       // (riding: the closing kick adds dt/2 G(q1); here -dt/2 G(q0))
       if (rides()) {
         const double dtfm = F.dtf / F.mass_of(i);
-        for (int d = 0; d < 3; d++)
-          r.ve[k][d] -= dtfm * (held0[i][d] - (split_ ? kick0[i][d] : 0.0));
+        for (int d = 0; d < 3; d++) r.ve[k][d] -= dtfm * riding(i, d);
       }
       set_x(i, r.xm[k].data());
       set_v(i, r.vm[k].data());

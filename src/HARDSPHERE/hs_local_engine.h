@@ -363,6 +363,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   // start: a thermostat's part (kick0) stays two half kicks, the held
   // smooth forces' (held0 - kick0) rides
   bool splits_held() const;
+  // the part of copy i's held force that rides inside its flow: all of
+  // held0, or held0 - kick0 when this step splits
+  double riding(int i, int d) const { return held0[i][d] - (split_ ? kick0[i][d] : 0.0); }
   // Phi_H2's velocity w (0-2) and "may touch in Phi_H2" (3): the owner's,
   // forwarded to the ghosts
   double **wq = nullptr;

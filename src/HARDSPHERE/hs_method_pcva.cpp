@@ -165,8 +165,9 @@ std::string HSMethodPCVA::local_limits()
   // copy both would ride inside the flows, where the thermostat's work
   // cannot be told from theirs
   held_work = S.pot->held_energy_terms();
-  const std::string order = S.nheld ? S.pot->capture_order(S.host) : std::string();
-  if (!held_work.empty() && !order.empty())
+  const std::string order =
+      (S.nheld && !held_work.empty()) ? S.pot->capture_order(S.host) : std::string();
+  if (!order.empty())
     add(fmt::format("{} beside the held thermostat forces of {} when {} (the local "
                     "projection needs LAMMPS' force between the two, which fix {} copies in "
                     "its post_force stage: define the thermostat after fix {} and the force "

@@ -38,8 +38,10 @@ class HSStepEngine : protected Pointers {
   // mode multi)
   virtual double ghost_needed() const { return 0.0; }
   // true if the engine takes held forces as f less LAMMPS' own conservative
-  // force when the fix can copy it (HSSystem::captured()): only if every
-  // force in f but the held ones is in its restricted evaluations
+  // force when the fix can copy it (HSSystem::captured()): the whole held
+  // force where every force in f but the held ones is in its restricted
+  // evaluations, else the part the copy separates (the local engine's
+  // held smooth forces beside a thermostat, HSLocalEngine::splits_held())
   virtual bool takes_captured_forces() const { return false; }
   // what the engine does instead when the fix cannot copy that force (for
   // the log)
