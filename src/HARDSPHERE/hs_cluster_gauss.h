@@ -1,0 +1,410 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   HARDSPHERE package: the 2-stage Gauss-Legendre flow of the modified
+   Hamiltonian of one collision cluster (issue 21: the local form of fix
+   hardsphere/mcva, doc/fix_hardsphere_mcva.rst "Local form"), with its
+   stage equations solved by full Newton on the exact Jacobian.
+
+   A cluster: n moving spheres ("members", slots 0..n-1) with inverse
+   masses im (a = im F; the units' ftm2v mvv2e = 1, as in every LAMMPS
+   unit style, so the kinetic energy is 1/2 v^2 / im), a constant force
+   fc per member (the local engine's cross terms and held smooth forces)
+   and the radial terms phi(|q_a - q_b|) of its restricted potential,
+   either between two members or between a member and a static atom (a
+   partner, which does not move in Phi_H1). Its modified Hamiltonian
+   (Bond & Leimkuhler 2007, section 3, H_[2,VV] with the step dt of the
+   splitting, c = dt^2/12):
+
+     H~ = 1/2 v^T M v + V + c v^T V'' v - c/2 grad V^T M^-1 grad V,
+     V  = sum_t phi_t - fc . q,
+
+   and its flow in (q, v), F = -grad V, a = M^-1 F:
+
+     dq/dt = v + 2c M^-1 V'' v
+     dv/dt = M^-1 (F - c V'''[v, v] - c V'' a)
+
+   (the field of HSMethodMCVA::field(), restricted to the cluster).
+
+   Why full Newton here and simplified Newton (hs_newton.h) in the global
+   form: a cluster has 2-8 members, so its 12n stage equations are small
+   and dense and a partial-pivot LU (Eigen) is cheap; the exact Jacobian
+   makes the iteration converge quadratically (2-3 iterations from the
+   predictor) where the simplified one contracts by h^2 |V'''| |v| per
+   iteration, and it is the same for any dt where Verlet is stable.
+
+   The Jacobian is exact: each term's contribution to the field is a
+   function of its two spheres' q, v and a (18 numbers), differentiated by
+   forward-mode automatic differentiation (Eigen's AutoDiffScalar with a
+   fixed 18-vector: no heap); the a-dependence goes through da/dq =
+   -M^-1 V'' by the chain rule. The radial derivatives come from the
+   caller's phi(kind, r, d): d[k] = phi^(k)(r), k = 0..4 (phi'''' for the
+   Jacobian of V'''[v, v]).
+
+   The modified impulse (alpha-hat, hs_modified.h) keeps H~ across a
+   contact; contact times are found on the Gauss flow (contact_root()).
+
+   Pure math, no LAMMPS types, header-only, unit-tested alone
+   (unittest/math/test_cluster_gauss.cpp).
+------------------------------------------------------------------------- */
+
+#ifndef LMP_HS_CLUSTER_GAUSS_H
+#define LMP_HS_CLUSTER_GAUSS_H
+
+#include "hs_gauss.h"
+#include "hs_modified.h"
+
+#include <Eigen/Dense>
+#include <unsupported/Eigen/AutoDiff>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace HardSphere {
+
+// one radial term of a cluster: between members a and b, or (b < 0)
+// between member a and a static atom at xb; kind: the caller's key for phi
+struct ClusterTerm {
+  int a = 0, b = -1;
+  double xb[3] = {0.0, 0.0, 0.0};
+  int kind = 0;
+};
+
+struct ClusterNewtonOptions {
+  // converged when the largest change of a stage derivative, relative to
+  // the largest stage derivative of its block (q' or v'), drops to tol, or
+  // stops decreasing below stag_tol (round-off of the field reached)
+  double tol = 1.0e-14;
+  double stag_tol = 1.0e-10;
+  int maxit = 20;
+};
+
+struct ClusterNewtonStatus {
+  bool converged = false;
+  int iterations = 0;    // Newton iterations (each: two fields and two Jacobians, one LU)
+  int fields = 0;        // field evaluations (stages and predictor)
+  int jacobians = 0;     // Jacobian evaluations
+  double residual = 0.0;
+  // the relative change of each iteration (for the rate of convergence)
+  std::vector<double> history;
+};
+
+template <class Phi> class ClusterGauss {
+ public:
+  using Mat = Eigen::MatrixXd;
+  using Vec = Eigen::VectorXd;
+
+  // n members, their inverse masses im[n], constant forces fc[3n] (null:
+  // none), H~'s coefficient c = dt^2/12, the terms, the radial functions
+  ClusterGauss(int n, const double *im, const double *fc, double c, std::vector<ClusterTerm> terms,
+               Phi phi) :
+      n_(n), c_(c), im_(im, im + n), fc_(3 * n, 0.0), terms_(std::move(terms)), phi_(phi)
+  {
+    if (fc) std::copy(fc, fc + 3 * n, fc_.begin());
+  }
+
+  int dim() const { return 6 * n_; }
+  int members() const { return n_; }
+  double coefficient() const { return c_; }
+
+  // H~ at y = (q[3n], v[3n])
+  double energy(const double *y) const
+  {
+    const double *q = y, *v = y + 3 * n_;
+    double V = 0.0;
+    std::vector<double> F(3 * n_, 0.0);
+    Mat K = Mat::Zero(3 * n_, 3 * n_);
+    forces(q, V, F.data(), &K);
+    double T = 0.0, vKv = 0.0, g2 = 0.0;
+    Eigen::Map<const Vec> vv(v, 3 * n_);
+    vKv = vv.dot(K * vv);
+    for (int k = 0; k < n_; k++)
+      for (int d = 0; d < 3; d++) {
+        T += 0.5 * v[3 * k + d] * v[3 * k + d] / im_[k];
+        g2 += im_[k] * F[3 * k + d] * F[3 * k + d];
+      }
+    return T + V + c_ * vKv - 0.5 * c_ * g2;
+  }
+
+  // the field (dq/dt, dv/dt) at y into k[6n]; J (if not null): its Jacobian
+  void field(const double *y, double *k, Mat *J = nullptr) const
+  {
+    const int m = 3 * n_;
+    const double *q = y, *v = y + m;
+    double V = 0.0;
+    std::vector<double> F(m, 0.0), a(m);
+    Mat K = Mat::Zero(m, m);
+    forces(q, V, F.data(), &K);
+    for (int i = 0; i < n_; i++)
+      for (int d = 0; d < 3; d++) a[3 * i + d] = im_[i] * F[3 * i + d];
+    for (int i = 0; i < n_; i++)
+      for (int d = 0; d < 3; d++) {
+        k[3 * i + d] = v[3 * i + d];
+        k[m + 3 * i + d] = a[3 * i + d];
+      }
+    Mat Da;    // da/dq = -M^-1 V''
+    if (J) {
+      J->setZero(2 * m, 2 * m);
+      J->block(0, m, m, m).setIdentity();
+      Da = -K;
+      for (int r = 0; r < m; r++) Da.row(r) *= im_[r / 3];
+      J->block(m, 0, m, m) = Da;
+    }
+    for (const ClusterTerm &t : terms_) {
+      const bool two = t.b >= 0;
+      // inputs: q_a, q_b, v_a, v_b, a_a, a_b (a static atom: q = xb, v = a = 0)
+      double z[18];
+      for (int d = 0; d < 3; d++) {
+        z[d] = q[3 * t.a + d];
+        z[3 + d] = two ? q[3 * t.b + d] : t.xb[d];
+        z[6 + d] = v[3 * t.a + d];
+        z[9 + d] = two ? v[3 * t.b + d] : 0.0;
+        z[12 + d] = a[3 * t.a + d];
+        z[15 + d] = two ? a[3 * t.b + d] : 0.0;
+      }
+      // outputs: 2c V_t'' w on a (b: minus) and -c (grad(w^T V_t'' w) + V_t'' a_rel) on a
+      // (b: minus), w = v_a - v_b, a_rel = a_a - a_b
+      if (!J) {
+        double o[6];
+        term_field<double>(t.kind, z, o);
+        add_term(t, o, k);
+        continue;
+      }
+      AD za[18], o[6];
+      for (int s = 0; s < 18; s++) za[s] = AD(z[s], 18, s);
+      term_field<AD>(t.kind, za, o);
+      double ov[6];
+      for (int r = 0; r < 6; r++) ov[r] = o[r].value();
+      add_term(t, ov, k);
+      // chain rule into J: a row block (outputs of member a, and -those of b)
+      // by the inputs' columns; a's columns through Da
+      for (int side = 0; side < (two ? 2 : 1); side++) {
+        const int who = side == 0 ? t.a : t.b;
+        const double sgn = side == 0 ? 1.0 : -1.0;
+        for (int r = 0; r < 6; r++) {
+          const int row = (r < 3 ? 0 : m) + 3 * who + (r % 3);
+          const double scale = sgn * im_[who];
+          const auto &g = o[r].derivatives();
+          for (int blk = 0; blk < 6; blk++) {
+            // blk: 0 q_a, 1 q_b, 2 v_a, 3 v_b, 4 a_a, 5 a_b
+            const int atom = (blk % 2 == 0) ? t.a : t.b;
+            if (atom < 0) continue;
+            for (int d = 0; d < 3; d++) {
+              const double gd = scale * g[3 * blk + d];
+              if (gd == 0.0) continue;
+              const int col = 3 * atom + d;
+              if (blk < 2) (*J)(row, col) += gd;
+              else if (blk < 4) (*J)(row, m + col) += gd;
+              else (*J).row(row).head(m) += gd * Da.row(col);
+            }
+          }
+        }
+      }
+    }
+  }
+
+  // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by full
+  // Newton from the predictor K1 = K2 = f(y0)
+  ClusterNewtonStatus step(const double *y0, double h, double *y1,
+                           const ClusterNewtonOptions &opt = ClusterNewtonOptions()) const
+  {
+    using GL = GaussLegendre2;
+    const int N = dim(), m = 3 * n_;
+    ClusterNewtonStatus st;
+    Vec K1(N), K2(N);
+    field(y0, K1.data());
+    st.fields++;
+    K2 = K1;
+    Vec Y1(N), Y2(N), f1(N), f2(N), R(2 * N), D(2 * N);
+    Mat J1, J2, A(2 * N, 2 * N);
+    Eigen::Map<const Vec> y(y0, N);
+    double prev = std::numeric_limits<double>::infinity();
+    for (int it = 0; it < opt.maxit; it++) {
+      Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
+      Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
+      field(Y1.data(), f1.data(), &J1);
+      field(Y2.data(), f2.data(), &J2);
+      st.fields += 2;
+      st.jacobians += 2;
+      // R = K - f(Y); dR/dK = I - h [[a11 J1, a12 J1], [a21 J2, a22 J2]]
+      R.head(N) = K1 - f1;
+      R.tail(N) = K2 - f2;
+      A.setIdentity();
+      A.block(0, 0, N, N) -= h * GL::a11 * J1;
+      A.block(0, N, N, N) -= h * GL::a12 * J1;
+      A.block(N, 0, N, N) -= h * GL::a21 * J2;
+      A.block(N, N, N, N) -= h * GL::a22 * J2;
+      D = Eigen::PartialPivLU<Mat>(A).solve(R);
+      K1 -= D.head(N);
+      K2 -= D.tail(N);
+      st.iterations++;
+      // relative change per block (q', v'), as hs_gauss.h
+      double res = 0.0;
+      for (int blk = 0; blk < 2; blk++) {
+        const int off = blk * m;
+        const double sc = std::max({K1.segment(off, m).cwiseAbs().maxCoeff(),
+                                    K2.segment(off, m).cwiseAbs().maxCoeff(), 1e-300});
+        res = std::max({res, D.segment(off, m).cwiseAbs().maxCoeff() / sc,
+                        D.segment(N + off, m).cwiseAbs().maxCoeff() / sc});
+      }
+      st.residual = res;
+      st.history.push_back(res);
+      if (!(res == res) || std::isinf(res)) break;
+      if (res <= opt.tol || (res <= opt.stag_tol && res >= prev)) {
+        st.converged = true;
+        break;
+      }
+      prev = res;
+    }
+    Eigen::Map<Vec>(y1, N) = y + h * (GL::b1 * K1 + GL::b2 * K2);
+    return st;
+  }
+
+  // the strength alpha of the impulse p -> p + alpha u (u[3n]) at y that
+  // keeps H~ (alpha-hat, Bond & Leimkuhler 2007, eq. (3.3); hs_modified.h);
+  // false if H~ is not convex in p along u
+  bool alpha_hat(const double *y, const double *u, double &alpha) const
+  {
+    const int m = 3 * n_;
+    double V = 0.0;
+    std::vector<double> F(m, 0.0);
+    Mat K = Mat::Zero(m, m);
+    forces(y, V, F.data(), &K);
+    Eigen::Map<const Vec> uu(u, m), vv(y + m, m);
+    Vec w(m);
+    for (int r = 0; r < m; r++) w[r] = im_[r / 3] * u[r];
+    const Vec Kw = K * w;
+    return modified_alpha(uu.dot(vv), uu.dot(w), Kw.dot(vv), Kw.dot(w), 2.0 * c_, alpha);
+  }
+
+  // the first time t in (0, tmax] at which members i and j (j < 0: a static
+  // atom at xj) come within sigma on the Gauss flow from y0, from the guess
+  // (e.g. the Verlet prediction); each evaluation is one step() from y0
+  RootResult contact_time(const double *y0, int i, int j, const double *xj, double sigma,
+                          double guess, double tmax, double ttol, int maxeval = 40) const
+  {
+    std::vector<double> yt(dim());
+    auto gap = [&](double t, double &g, double &dg) {
+      step(y0, t, yt.data());
+      double dq[3], dv[3];
+      for (int d = 0; d < 3; d++) {
+        dq[d] = yt[3 * i + d] - (j >= 0 ? yt[3 * j + d] : xj[d]);
+        dv[d] = yt[3 * n_ + 3 * i + d] - (j >= 0 ? yt[3 * n_ + 3 * j + d] : 0.0);
+      }
+      const double r = std::sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
+      g = r - sigma;
+      dg = (dq[0] * dv[0] + dq[1] * dv[1] + dq[2] * dv[2]) / r;
+    };
+    return contact_root(gap, guess, tmax, ttol, maxeval);
+  }
+
+ private:
+  using Der = Eigen::Matrix<double, 18, 1>;
+  using AD = Eigen::AutoDiffScalar<Der>;
+
+  int n_;
+  double c_;
+  std::vector<double> im_, fc_;
+  std::vector<ClusterTerm> terms_;
+  Phi phi_;
+
+  // V, F = -grad V (fc included) and V'' (K) at positions q
+  void forces(const double *q, double &V, double *F, Mat *K) const
+  {
+    V = 0.0;
+    for (int i = 0; i < 3 * n_; i++) {
+      F[i] = fc_[i];
+      V -= fc_[i] * q[i];
+    }
+    for (const ClusterTerm &t : terms_) {
+      double x[3];
+      for (int d = 0; d < 3; d++) x[d] = q[3 * t.a + d] - (t.b >= 0 ? q[3 * t.b + d] : t.xb[d]);
+      const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+      double p[5];
+      phi_(t.kind, r, p);
+      V += p[0];
+      const double e[3] = {x[0] / r, x[1] / r, x[2] / r};
+      for (int d = 0; d < 3; d++) {
+        F[3 * t.a + d] -= p[1] * e[d];
+        if (t.b >= 0) F[3 * t.b + d] += p[1] * e[d];
+      }
+      if (!K) continue;
+      // V_t'' = phi'' e e^T + phi'/r (I - e e^T)
+      Eigen::Matrix3d H;
+      for (int r1 = 0; r1 < 3; r1++)
+        for (int c1 = 0; c1 < 3; c1++)
+          H(r1, c1) = (p[2] - p[1] / r) * e[r1] * e[c1] + (r1 == c1 ? p[1] / r : 0.0);
+      K->block<3, 3>(3 * t.a, 3 * t.a) += H;
+      if (t.b >= 0) {
+        K->block<3, 3>(3 * t.b, 3 * t.b) += H;
+        K->block<3, 3>(3 * t.a, 3 * t.b) -= H;
+        K->block<3, 3>(3 * t.b, 3 * t.a) -= H;
+      }
+    }
+  }
+
+  // phi^(k)(r) for k = 1..3 as S (an AD r carries phi^(k+1) dr)
+  void radial(int kind, double r, double out[3]) const
+  {
+    double p[5];
+    phi_(kind, r, p);
+    for (int k = 0; k < 3; k++) out[k] = p[k + 1];
+  }
+  void radial(int kind, const AD &r, AD out[3]) const
+  {
+    double p[5];
+    phi_(kind, r.value(), p);
+    for (int k = 0; k < 3; k++) out[k] = AD(p[k + 1], p[k + 2] * r.derivatives());
+  }
+
+  // one term's part of the field, before the inverse mass (member a's; b's is
+  // its negative): o[0..2] = 2c V_t'' w, o[3..5] = -c (grad_x (w^T V_t'' w)
+  // + V_t'' a_rel), x = q_a - q_b, w = v_a - v_b, a_rel = a_a - a_b. With
+  // s = e.w, V_t'' z = A (e.z) e + B z, A = phi'' - phi'/r, B = phi'/r:
+  // w^T V_t'' w = A s^2 + B |w|^2, grad_x = A' s^2 e + 2 A s (w - s e)/r
+  // + B' |w|^2 e, A' = phi''' - phi''/r + phi'/r^2, B' = phi''/r - phi'/r^2
+  template <class S> void term_field(int kind, const S *z, S *o) const
+  {
+    using std::sqrt;
+    S x[3], w[3], ar[3];
+    for (int d = 0; d < 3; d++) {
+      x[d] = z[d] - z[3 + d];
+      w[d] = z[6 + d] - z[9 + d];
+      ar[d] = z[12 + d] - z[15 + d];
+    }
+    const S r = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    S p[3];
+    radial(kind, r, p);
+    S e[3];
+    for (int d = 0; d < 3; d++) e[d] = x[d] / r;
+    const S A = p[1] - p[0] / r, B = p[0] / r;
+    const S Ap = p[2] - p[1] / r + p[0] / (r * r), Bp = p[1] / r - p[0] / (r * r);
+    const S s = e[0] * w[0] + e[1] * w[1] + e[2] * w[2];
+    const S ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    const S sa = e[0] * ar[0] + e[1] * ar[1] + e[2] * ar[2];
+    for (int d = 0; d < 3; d++) {
+      const S Hw = A * s * e[d] + B * w[d];
+      const S Ha = A * sa * e[d] + B * ar[d];
+      const S grad = Ap * s * s * e[d] + 2.0 * A * s * (w[d] - s * e[d]) / r + Bp * ww * e[d];
+      o[d] = 2.0 * c_ * Hw;
+      o[3 + d] = -c_ * (grad + Ha);
+    }
+  }
+
+  void add_term(const ClusterTerm &t, const double *o, double *k) const
+  {
+    const int m = 3 * n_;
+    for (int d = 0; d < 3; d++) {
+      k[3 * t.a + d] += im_[t.a] * o[d];
+      k[m + 3 * t.a + d] += im_[t.a] * o[3 + d];
+      if (t.b >= 0) {
+        k[3 * t.b + d] -= im_[t.b] * o[d];
+        k[m + 3 * t.b + d] -= im_[t.b] * o[3 + d];
+      }
+    }
+  }
+};
+
+}    // namespace HardSphere
+
+#endif
