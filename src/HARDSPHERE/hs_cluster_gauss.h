@@ -64,10 +64,13 @@ namespace HardSphere {
 
 // one radial term of a cluster: between members a and b, or (b < 0)
 // between member a and a static atom at xb; kind: the caller's key for phi
+// (partner: the caller's index of that static atom, >= 0 if it takes the
+// term's momentum, partner_forces())
 struct ClusterTerm {
   int a = 0, b = -1;
   double xb[3] = {0.0, 0.0, 0.0};
   int kind = 0;
+  int partner = -1;
 };
 
 struct ClusterNewtonOptions {
@@ -89,6 +92,17 @@ struct ClusterNewtonStatus {
   std::vector<double> history;
 };
 
+// what a step leaves besides its end state: the stage states Y1, Y2 (for
+// the partners' momentum by the method's own quadrature) and the
+// collocation polynomial of the positions, q(t) = q0 + t vq + t^2/2 aq on
+// [0, h]: a Gauss method is the collocation method of its stages (Hairer,
+// Lubich & Wanner, II.1.3), of degree 2 here, so q(t) is a parabola that
+// ends at the step's end (the path on which contacts are predicted, as a
+// Verlet sub-step's)
+struct ClusterStepDetail {
+  std::vector<double> Y1, Y2, vq, aq;
+};
+
 template <class Phi> class ClusterGauss {
  public:
   using Mat = Eigen::MatrixXd;
@@ -106,6 +120,7 @@ template <class Phi> class ClusterGauss {
   int dim() const { return 6 * n_; }
   int members() const { return n_; }
   double coefficient() const { return c_; }
+  double inverse_mass(int k) const { return im_[k]; }
 
   // H~ at y = (q[3n], v[3n])
   double energy(const double *y) const
@@ -206,7 +221,8 @@ template <class Phi> class ClusterGauss {
   // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by full
   // Newton from the predictor K1 = K2 = f(y0)
   ClusterNewtonStatus step(const double *y0, double h, double *y1,
-                           const ClusterNewtonOptions &opt = ClusterNewtonOptions()) const
+                           const ClusterNewtonOptions &opt = ClusterNewtonOptions(),
+                           ClusterStepDetail *detail = nullptr) const
   {
     using GL = GaussLegendre2;
     const int N = dim(), m = 3 * n_;
@@ -257,7 +273,54 @@ template <class Phi> class ClusterGauss {
       prev = res;
     }
     Eigen::Map<Vec>(y1, N) = y + h * (GL::b1 * K1 + GL::b2 * K2);
+    if (detail) {
+      Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
+      Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
+      detail->Y1.assign(Y1.data(), Y1.data() + N);
+      detail->Y2.assign(Y2.data(), Y2.data() + N);
+      // u'(c_i h) = K_i (q part): u' = vq + aq t, aq = (K2 - K1) / ((c2 - c1) h)
+      detail->vq.resize(m);
+      detail->aq.resize(m);
+      for (int r = 0; r < m; r++) {
+        const double aq = (K2[r] - K1[r]) / ((GL::c2 - GL::c1) * h);
+        detail->aq[r] = aq;
+        detail->vq[r] = K1[r] - aq * GL::c1 * h;
+      }
+    }
     return st;
+  }
+
+  // the force each term puts on its partner (ClusterTerm::partner) at y,
+  // added into out[3 * partner]: minus the term's part of the members'
+  // dp/dt (its force and its modified terms), so that members and partners
+  // together conserve momentum (a term between two members gives +-)
+  void partner_forces(const double *y, double *out) const
+  {
+    const int m = 3 * n_;
+    const double *q = y, *v = y + m;
+    double V = 0.0;
+    std::vector<double> F(m, 0.0), a(m);
+    forces(q, V, F.data(), nullptr);
+    for (int r = 0; r < m; r++) a[r] = im_[r / 3] * F[r];
+    for (const ClusterTerm &t : terms_) {
+      if (t.b >= 0 || t.partner < 0) continue;
+      double z[18], o[6];
+      for (int d = 0; d < 3; d++) {
+        z[d] = q[3 * t.a + d];
+        z[3 + d] = t.xb[d];
+        z[6 + d] = v[3 * t.a + d];
+        z[9 + d] = 0.0;
+        z[12 + d] = a[3 * t.a + d];
+        z[15 + d] = 0.0;
+      }
+      term_field<double>(t.kind, z, o);
+      double x[3];
+      for (int d = 0; d < 3; d++) x[d] = z[d] - t.xb[d];
+      const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+      double p[5];
+      phi_(t.kind, r, p);
+      for (int d = 0; d < 3; d++) out[3 * t.partner + d] += p[1] * x[d] / r - o[3 + d];
+    }
   }
 
   // the strength alpha of the impulse p -> p + alpha u (u[3n]) at y that

@@ -1,0 +1,181 @@
+// Unit tests for src/HARDSPHERE/hs_cluster_flow.h: one cluster's flow with
+// contacts for mcva's local form (Gauss-Legendre flow of the cluster's
+// modified Hamiltonian H~, contacts on the collocation parabola refined on
+// the flow, alpha-hat impulses, partners' momentum by Gauss quadrature).
+//
+// Expected values, none from the kernel's own output:
+// - a sphere bouncing on a wall under a constant force (no terms: the flow
+//   is the exact parabola and alpha-hat the elastic impulse): contact
+//   times, bounce count and end state from the closed-form solution;
+// - two spheres on a spring that collide again and again: H~ is kept
+//   through the contacts to fourth order in dt (each run's H~ with its own
+//   dt; fitted slope >= 3.6), as many contacts at every dt, momentum kept
+//   to round-off (Gauss keeps linear invariants, the impulse is equal and
+//   opposite);
+// - members tied to static partners: the members' and partners' momenta
+//   together are kept to round-off (the partners' quadrature);
+// - a static sphere in the way ends the flow with its index.
+
+#include "hs_cluster_flow.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+using namespace HardSphere;
+
+namespace {
+
+// kind 1: spring 20/2 (r - 1.2)^2; kind 2: a soft repulsion 0.5 / r^4
+void phi(int kind, double r, double *d)
+{
+  if (kind == 1) {
+    d[0] = 10.0 * (r - 1.2) * (r - 1.2);
+    d[1] = 20.0 * (r - 1.2);
+    d[2] = 20.0;
+    d[3] = d[4] = 0.0;
+  } else {
+    const double i = 1.0 / r, i4 = i * i * i * i;
+    d[0] = 0.5 * i4;
+    d[1] = -2.0 * i4 * i;
+    d[2] = 10.0 * i4 * i * i;
+    d[3] = -60.0 * i4 * i * i * i;
+    d[4] = 420.0 * i4 * i4;
+  }
+}
+using PhiFn = void (*)(int, double, double *);
+using Gauss = ClusterGauss<PhiFn>;
+using Flow = ClusterFlow<PhiFn>;
+
+ClusterTerm term(int a, int b, int kind, std::vector<double> xb = {0, 0, 0}, int partner = -1)
+{
+  ClusterTerm t;
+  t.a = a;
+  t.b = b;
+  t.kind = kind;
+  t.partner = partner;
+  for (int d = 0; d < 3; d++) t.xb[d] = xb[d];
+  return t;
+}
+
+TEST(ClusterFlow, WallBounceUnderConstantForceIsExact)
+{
+  const double m = 2.0, g = 1.5, R = 0.5;
+  const double im[1] = {1.0 / m}, fc[3] = {0.0, 0.0, -m * g};
+  const Gauss G(1, im, fc, 0.01 * 0.01 / 12.0, {}, &phi);
+  FlowWall W;
+  W.dim = 2;
+  W.coord = 0.0;
+  W.sign = 1.0;
+  Flow F(G, {R}, {}, {W}, 0, 1e-12);
+  const double z0 = 2.0, vz0 = 0.3, vx = 0.7, T = 3.0;
+  std::vector<double> y = {0.0, 0.0, z0, vx, 0.0, vz0}, pm;
+  ASSERT_EQ(F.run(T, y, pm), Flow::DONE);
+  // closed form: first impact at t1, then bounces every 2 v_imp / g
+  const double vimp = std::sqrt(vz0 * vz0 + 2.0 * g * (z0 - R));
+  const double t1 = (vz0 + vimp) / g, period = 2.0 * vimp / g;
+  int nb = 0;
+  double tlast = 0.0;
+  for (double tb = t1; tb <= T; tb += period) {
+    nb++;
+    tlast = tb;
+  }
+  EXPECT_EQ(F.stats.wall, nb);
+  const double s = T - tlast;
+  EXPECT_NEAR(y[2], R + vimp * s - 0.5 * g * s * s, 1e-11);
+  EXPECT_NEAR(y[5], vimp - g * s, 1e-11);
+  EXPECT_NEAR(y[0], vx * T, 1e-12);
+  // the sub-steps end at the contacts
+  const auto &sg = F.segments()[0];
+  ASSERT_EQ((int) sg.size(), nb + 1);
+  for (int k = 0; k < nb; k++) EXPECT_NEAR(sg[k].t1, t1 + k * period, 1e-12) << "bounce " << k;
+}
+
+// two unit-radius-sum spheres (masses 1 and 3) on a spring of rest length
+// 1.2 with a soft repulsion, oscillating hard enough to collide at r = 1
+struct Pair {
+  std::vector<double> im = {1.0, 1.0 / 3.0};
+  std::vector<ClusterTerm> terms = {term(0, 1, 1), term(0, 1, 2)};
+  std::vector<double> y0 = {0.0, 0.0, 0.0, 1.6, 0.2, 0.0,     // q
+                            1.0, 0.3, -0.2, -0.6, 0.1, 0.4};   // v
+};
+
+TEST(ClusterFlow, SpringPairKeepsModifiedEnergyToFourthOrderThroughContacts)
+{
+  Pair P;
+  // static atoms in the terms too: their terms' directions differ from the
+  // contact normal, so the elastic impulse would change H~ (with the pair's
+  // terms alone, along the normal, it keeps it)
+  P.terms.push_back(term(0, -1, 1, {-1.0, 0.3, 0.1}));
+  P.terms.push_back(term(1, -1, 2, {2.6, -0.4, 0.2}));
+  const double T = 10.0;
+  std::vector<double> dts = {0.04, 0.02, 0.01}, errs;
+  std::vector<double> ncoll;
+  for (double dt : dts) {
+    const Gauss G(2, P.im.data(), nullptr, dt * dt / 12.0, P.terms, &phi);
+    Flow F(G, {0.5, 0.5}, {}, {}, 0, 1e-12);
+    std::vector<double> y = P.y0, pm;
+    const double H0 = G.energy(y.data());
+    double emax = 0.0;
+    const int nsteps = (int) std::lround(T / dt);
+    for (int s = 0; s < nsteps; s++) {
+      ASSERT_EQ(F.run(dt, y, pm), Flow::DONE) << "dt " << dt << " step " << s;
+      emax = std::max(emax, std::fabs(G.energy(y.data()) - H0));
+    }
+    std::printf("dt %.3f: %g contacts, max |H~ - H~0| %.3e; Newton %.2f per solve (max %g), "
+                "%.2f solves per sub-step\n",
+                dt, F.stats.pair, emax, F.stats.iterations / F.stats.solves, F.stats.maxit,
+                F.stats.solves / F.stats.substeps);
+    errs.push_back(emax);
+    ncoll.push_back(F.stats.pair);
+    EXPECT_LE(F.stats.maxit, 6.0);
+  }
+  const double order = std::log(errs.front() / errs.back()) / std::log(dts.front() / dts.back());
+  std::printf("order of H~'s error: %.2f\n", order);
+  EXPECT_GE(order, 3.6);
+  EXPECT_GE(ncoll.back(), 5.0);
+  for (double c : ncoll) EXPECT_NEAR(c, ncoll.back(), 1.0);
+}
+
+TEST(ClusterFlow, PartnersTakeTheMomentumTheMembersLose)
+{
+  Pair P;
+  // member 0 tied to a static partner (index 0), member 1 repelled by
+  // another (index 1)
+  P.terms.push_back(term(0, -1, 1, {-1.0, 0.3, 0.1}, 0));
+  P.terms.push_back(term(1, -1, 2, {2.6, -0.4, 0.2}, 1));
+  const double dt = 0.02;
+  const Gauss G(2, P.im.data(), nullptr, dt * dt / 12.0, P.terms, &phi);
+  Flow F(G, {0.5, 0.5}, {}, {}, 2, 1e-12);
+  std::vector<double> y = P.y0, pm;
+  double p0[3];
+  for (int d = 0; d < 3; d++) p0[d] = y[6 + d] / P.im[0] + y[9 + d] / P.im[1];
+  for (int s = 0; s < 200; s++) ASSERT_EQ(F.run(dt, y, pm), Flow::DONE);
+  EXPECT_GT(F.stats.pair, 0.0);
+  double pmax = 0.0;
+  for (double v : pm) pmax = std::max(pmax, std::fabs(v));
+  EXPECT_GT(pmax, 0.1);
+  for (int d = 0; d < 3; d++)
+    EXPECT_NEAR(y[6 + d] / P.im[0] + y[9 + d] / P.im[1] + pm[d] + pm[3 + d], p0[d], 1e-11)
+        << "dimension " << d;
+}
+
+TEST(ClusterFlow, StaticSphereInTheWayEndsTheFlow)
+{
+  Pair P;
+  const Gauss G(2, P.im.data(), nullptr, 1e-4, P.terms, &phi);
+  FlowStatic far, behind;
+  far.x[1] = -3.0;
+  behind.x[0] = -1.5;    // member 0 (at the origin) runs into it at vx = -4
+  behind.x[1] = -0.1;
+  Flow F(G, {0.5, 0.5}, {far, behind}, {}, 0, 1e-12);
+  std::vector<double> y = P.y0, pm;
+  y[6] = -4.0;
+  EXPECT_EQ(F.run(0.5, y, pm), Flow::STATIC_HIT);
+  EXPECT_EQ(F.hit_member, 0);
+  EXPECT_EQ(F.hit_static, 1);
+}
+
+}    // namespace
