@@ -55,13 +55,17 @@ struct FlowSeg {
   double t0, t1;
   double q[3], v[3], a[3];    // q(t) = q + (t - t0) v + (t - t0)^2 / 2 a
 };
+// an impulse given: to member i the momentum J (member j, if any, -J; j <
+// 0: wall -1 - j), in the kernel's units (a = im F: J = alpha u with u the
+// unit normal), dq the contact normal (q_i - q_j, or q_i - the wall's plane)
+struct FlowKick {
+  int i, j;
+  double J[3], dq[3];
+};
+// (the Gauss solves' counts: the kernel's ClusterTally)
 struct FlowStats {
   double pair = 0.0, wall = 0.0;    // impulses given
   double substeps = 0.0;            // accepted Gauss steps
-  double solves = 0.0;              // Gauss steps solved (sub-steps and trial lengths)
-  double iterations = 0.0;          // Newton iterations of all solves
-  double maxit = 0.0;               // most Newton iterations of one solve
-  double fields = 0.0, jacobians = 0.0;
   double refine = 0.0;              // Gauss steps of the contact-time searches
 };
 
@@ -71,17 +75,30 @@ template <class Phi> class ClusterFlow {
   // (dt too large for the curvature of V; the global form's error):
   // hit_member and hit_static name the contact (a wall w as -1 - w), y is
   // at it
-  enum End { DONE = 0, STATIC_HIT = 1, FAILED = 2, NONCONVEX = 3 };
+  // OVERLAP: a pair or wall overlaps by more than the tolerance at a
+  // sub-step's start (a missed contact: the caller's error)
+  enum End { DONE = 0, STATIC_HIT = 1, FAILED = 2, NONCONVEX = 3, OVERLAP = 4 };
 
   // radii of the members; statics: contact candidates that do not move;
   // npartners: the partners' count (ClusterTerm::partner < npartners);
-  // tol: the contact tolerance of a gap in length units (hs_types.h)
+  // tol: touching within tol sigma^2 of a pair's |d|^2 - sigma^2, tol 2r of
+  // a wall's gap (hs_types.h, TOUCH_TOL)
   ClusterFlow(const ClusterGauss<Phi> &g, std::vector<double> radii,
               std::vector<FlowStatic> statics, std::vector<FlowWall> walls, int npartners,
               double tol) :
       G(g), rad(std::move(radii)), stat(std::move(statics)), wall(std::move(walls)),
-      np(npartners), tol_(tol)
+      np(npartners), tol_(tol), poff(3 * rad.size() * rad.size(), 0.0)
   {
+  }
+  // periodic images: the separation of members i and j is q_i - q_j +
+  // off (off[3] for i < j; the caller's nearest images at the flow's start)
+  void set_pair_offset(int i, int j, const double *off)
+  {
+    const int n = (int) rad.size();
+    for (int d = 0; d < 3; d++) {
+      poff[3 * (i * n + j) + d] = off[d];
+      poff[3 * (j * n + i) + d] = -off[d];
+    }
   }
 
   // the flow over time h from y (6n; left at the end, or at the static
@@ -90,6 +107,7 @@ template <class Phi> class ClusterFlow {
   {
     const int n = G.members(), N = G.dim();
     segs.assign(n, {});
+    kick.clear();
     pmom.resize(3 * np, 0.0);
     std::vector<double> y1(N), pf(3 * np);
     ClusterStepDetail det;
@@ -99,6 +117,7 @@ template <class Phi> class ClusterFlow {
       const double tau = h - t;
       if (!solve(y, tau, y1, det)) return FAILED;
       Hit hit = earliest(y, det, tau);
+      if (hit.overlap) return OVERLAP;
       if (hit.kind == Hit::NONE) {
         accept(y, y1, det, t, tau, pf, pmom);
         return DONE;
@@ -114,7 +133,11 @@ template <class Phi> class ClusterFlow {
       for (int round = 0; round < 8; round++) {
         ts = refine(y, hit, ts, tau);
         if (!(ts >= 0.0)) return FAILED;
-        if (ts > 0.0 && !solve(y, ts, y1, det)) return FAILED;
+        if (const Trial *tr = tried(ts)) {
+          y1 = tr->y1;
+          det = tr->det;
+        } else if (ts > 0.0 && !solve(y, ts, y1, det))
+          return FAILED;
         if (ts == 0.0) {
           y1 = y;
           break;
@@ -141,6 +164,8 @@ template <class Phi> class ClusterFlow {
   }
 
   const std::vector<std::vector<FlowSeg>> &segments() const { return segs; }
+  // the impulses of the last run(), in time order
+  const std::vector<FlowKick> &kicks() const { return kick; }
   FlowStats stats;
   int hit_member = -1, hit_static = -1;
 
@@ -151,24 +176,22 @@ template <class Phi> class ClusterFlow {
   std::vector<FlowWall> wall;
   int np;
   double tol_;
+  std::vector<double> poff;    // [n][n][3] pair offsets
+  const double *pair_off(int i, int j) const { return &poff[3 * (i * (int) rad.size() + j)]; }
   std::vector<std::vector<FlowSeg>> segs;
+  std::vector<FlowKick> kick;
 
   struct Hit {
     enum { NONE = 0, PAIR = 1, WALL = 2, STATIC = 3 };
     int kind = NONE, i = -1, j = -1;
     double t = std::numeric_limits<double>::infinity();
+    bool overlap = false;    // some pair or wall already overlaps (a missed contact)
   };
 
   bool solve(const std::vector<double> &y, double tau, std::vector<double> &y1,
              ClusterStepDetail &det)
   {
-    const ClusterNewtonStatus st = G.step(y.data(), tau, y1.data(), ClusterNewtonOptions(), &det);
-    stats.solves += 1.0;
-    stats.iterations += st.iterations;
-    stats.maxit = std::max(stats.maxit, (double) st.iterations);
-    stats.fields += st.fields;
-    stats.jacobians += st.jacobians;
-    return st.converged;
+    return G.step(y.data(), tau, y1.data(), ClusterNewtonOptions(), &det).converged;
   }
 
   // the earliest contact on the step's parabola within (0, tmax]
@@ -176,10 +199,11 @@ template <class Phi> class ClusterFlow {
   {
     const int n = G.members();
     Hit b;
-    auto consider = [&](const double *c, int deg, int kind, int i, int j) {
-      const Contact ct = first_contact(c, deg, tmax, tol_);
-      if (ct.status == NO_CONTACT) return;
-      const double tc = (ct.status == CONTACT) ? ct.t : 0.0;
+    auto consider = [&](const double *c, int deg, double tol, int kind, int i, int j) {
+      const Contact ct = first_contact(c, deg, tmax, tol);
+      if (ct.status == HardSphere::NO_CONTACT) return;
+      if (ct.status == HardSphere::OVERLAP) b.overlap = true;
+      const double tc = (ct.status == HardSphere::CONTACT) ? ct.t : 0.0;
       if (tc < b.t) {
         b.kind = kind;
         b.i = i;
@@ -192,62 +216,108 @@ template <class Phi> class ClusterFlow {
       const double *qi = &y[3 * i], *vi = &det.vq[3 * i], *ai = &det.aq[3 * i];
       for (int j = i + 1; j < n; j++) {
         double dq[3], dv[3], da[3];
+        const double *off = pair_off(i, j);
         for (int d = 0; d < 3; d++) {
-          dq[d] = qi[d] - y[3 * j + d];
+          dq[d] = qi[d] - y[3 * j + d] + off[d];
           dv[d] = vi[d] - det.vq[3 * j + d];
           da[d] = ai[d] - det.aq[3 * j + d];
         }
-        pair_gap_poly(dq, dv, da, rad[i] + rad[j], c);
-        scale_tol(c, rad[i] + rad[j]);
-        consider(c, 4, Hit::PAIR, i, j);
+        const double sig = rad[i] + rad[j];
+        pair_gap_poly(dq, dv, da, sig, c);
+        consider(c, 4, tol_ * sig * sig, Hit::PAIR, i, j);
       }
       for (int s = 0; s < (int) stat.size(); s++) {
         double dq[3];
         for (int d = 0; d < 3; d++) dq[d] = qi[d] - stat[s].x[d];
         const double sig = rad[i] + stat[s].radius;
         pair_gap_poly(dq, vi, ai, sig, c);
-        scale_tol(c, sig);
-        consider(c, 4, Hit::STATIC, i, s);
+        consider(c, 4, tol_ * sig * sig, Hit::STATIC, i, s);
       }
       for (int w = 0; w < (int) wall.size(); w++) {
         const FlowWall &W = wall[w];
         wall_gap_poly(W.sign * (qi[W.dim] - W.coord) - rad[i], W.sign * vi[W.dim],
                       W.sign * ai[W.dim], c);
-        consider(c, 2, Hit::WALL, i, w);
+        consider(c, 2, tol_ * 2.0 * rad[i], Hit::WALL, i, w);
       }
     }
     return b;
   }
-  // the pair gap polynomial is |d|^2 - sigma^2 ~ 2 sigma (|d| - sigma): in
-  // length units, as the wall's (so one tolerance serves both)
-  static void scale_tol(double *c, double sigma)
-  {
-    for (int k = 0; k < 5; k++) c[k] /= 2.0 * sigma;
-  }
-
-  // the contact time of hit on the flow from y, near the guess
+  // the contact time of hit on the flow from y, near the guess (each trial
+  // one Gauss step from y; the last ones kept, so that the step to the
+  // root found is not solved again: tried())
+  struct Trial {
+    double t;
+    std::vector<double> y1;
+    ClusterStepDetail det;
+  };
+  std::vector<Trial> trials;
   double refine(const std::vector<double> &y, const Hit &hit, double guess, double tmax)
   {
+    trials.clear();
     if (guess <= 0.0) return 0.0;
-    RootResult rr;
-    const double ttol = 1e-14 * std::max(tmax, 1e-300) + 1e-300;
-    if (hit.kind == Hit::PAIR)
-      rr = G.contact_time(y.data(), hit.i, hit.j, nullptr, rad[hit.i] + rad[hit.j], guess, tmax,
-                          ttol);
-    else {
-      const FlowWall &W = wall[hit.j];
-      std::vector<double> yt(G.dim());
-      auto gap = [&](double tt, double &g, double &dg) {
-        G.step(y.data(), tt, yt.data());
+    // to 1e-11 of the sub-step: the gap then errs by ~1e-11 h |v_n|, far
+    // below the touching tolerance
+    const double ttol = 1e-11 * std::max(tmax, 1e-300) + 1e-300;
+    const int n = G.members(), N = G.dim();
+    auto gap = [&](double tt, double &g, double &dg) {
+      if (trials.size() >= 3) trials.erase(trials.begin());
+      trials.push_back({tt, std::vector<double>(N), ClusterStepDetail()});
+      Trial &tr = trials.back();
+      G.step(y.data(), tt, tr.y1.data(), ClusterNewtonOptions(), &tr.det);
+      const std::vector<double> &yt = tr.y1;
+      if (hit.kind == Hit::PAIR) {
+        const double *off = pair_off(hit.i, hit.j);
+        double dq[3], dv[3], r = 0.0, rv = 0.0;
+        for (int d = 0; d < 3; d++) {
+          dq[d] = yt[3 * hit.i + d] - yt[3 * hit.j + d] + off[d];
+          dv[d] = yt[3 * n + 3 * hit.i + d] - yt[3 * n + 3 * hit.j + d];
+          r += dq[d] * dq[d];
+          rv += dq[d] * dv[d];
+        }
+        r = std::sqrt(r);
+        g = r - (rad[hit.i] + rad[hit.j]);
+        dg = rv / r;
+      } else {
+        const FlowWall &W = wall[hit.j];
         g = W.sign * (yt[3 * hit.i + W.dim] - W.coord) - rad[hit.i];
-        dg = W.sign * yt[3 * G.members() + 3 * hit.i + W.dim];
-      };
-      rr = contact_root(gap, guess, tmax, ttol, 60);
+        dg = W.sign * yt[3 * n + 3 * hit.i + W.dim];
+      }
+    };
+    // safeguarded Newton on the gap from the parabola's time (its error is
+    // the step's O(h^3)), stopped at a gap within gtol on the allowed side:
+    // a time bracket of width ttol would need a point past the contact too
+    const double sig = hit.kind == Hit::PAIR ? rad[hit.i] + rad[hit.j] : 2.0 * rad[hit.i];
+    const double gtol = 1e-12 * sig;
+    double lo = 0.0, hi = tmax, t = std::min(guess, tmax), best = -1.0;
+    bool have_hi = false;
+    for (int it = 0; it < 60; it++) {
+      double g, dg;
+      gap(t, g, dg);
+      stats.refine += 1.0;
+      if (!(g == g)) return -1.0;
+      if (g >= 0.0) {
+        lo = std::max(lo, t);
+        best = t;
+        if (g <= gtol) return t;
+      } else {
+        hi = std::min(hi, t);
+        have_hi = true;
+      }
+      if (have_hi && hi - lo <= ttol) return best >= 0.0 ? best : lo;
+      // (aimed at the middle of the allowed window [0, gtol])
+      double tn = (dg != 0.0 && dg == dg) ? t - (g - 0.5 * gtol) / dg : -1.0;
+      if (!(tn > lo && tn < hi)) tn = have_hi ? 0.5 * (lo + hi) : std::min(tmax, 2.0 * t);
+      if (!have_hi && t >= tmax && g > 0.0) return guess;    // the flow grazes: the parabola's time
+      t = tn;
     }
-    stats.refine += rr.nevals;
-    stats.solves += rr.nevals;
-    if (rr.status != ROOT_FOUND) return guess;    // the parabola's time (the flow grazes)
-    return rr.t;
+    return best >= 0.0 ? best : guess;
+  }
+  // the kept trial of length t, if any
+  const Trial *tried(double t) const
+  {
+    for (const Trial &tr : trials)
+      if (tr.t == t) return &tr;
+    return nullptr;
   }
 
   void accept(std::vector<double> &y, const std::vector<double> &y1,
@@ -283,27 +353,42 @@ template <class Phi> class ClusterFlow {
     const int n = G.members(), m = 3 * n;
     std::vector<double> u(m, 0.0);
     double un = 0.0;
+    FlowKick fk;
+    fk.i = hit.i;
+    fk.j = hit.kind == Hit::PAIR ? hit.j : -1 - hit.j;
+    for (int d = 0; d < 3; d++) fk.dq[d] = 0.0;
     if (hit.kind == Hit::PAIR) {
       double dq[3], r = 0.0;
       for (int d = 0; d < 3; d++) {
-        dq[d] = y[3 * hit.i + d] - y[3 * hit.j + d];
+        dq[d] = y[3 * hit.i + d] - y[3 * hit.j + d] + pair_off(hit.i, hit.j)[d];
+        fk.dq[d] = dq[d];
         r += dq[d] * dq[d];
       }
       r = std::sqrt(r);
       for (int d = 0; d < 3; d++) {
         u[3 * hit.i + d] = dq[d] / r;
         u[3 * hit.j + d] = -dq[d] / r;
-        un += dq[d] / r * (y[m + 3 * hit.i + d] - y[m + 3 * hit.j + d]);
       }
     } else {
       const FlowWall &W = wall[hit.j];
       u[3 * hit.i + W.dim] = W.sign;
-      un = W.sign * y[m + 3 * hit.i + W.dim];
+      fk.dq[W.dim] = y[3 * hit.i + W.dim] - W.coord;
+    }
+    // approaching on the flow's own path: the normal part of dq/dt = A p
+    // (A = M^-1 + 2c M^-1 V'' M^-1), which alpha-hat reverses (u^T A p); the
+    // plain velocity's can differ in sign for a touching pair at large steps
+    {
+      std::vector<double> k(G.dim());
+      G.field(y.data(), k.data());
+      un = 0.0;
+      for (int q = 0; q < m; q++) un += u[q] * k[q];
     }
     if (!(un < 0.0)) return true;    // grazing or separating: no impulse
     double alpha = 0.0;
     if (!G.alpha_hat(y.data(), u.data(), alpha)) return false;
     for (int k = 0; k < m; k++) y[m + k] += alpha * G.inverse_mass(k / 3) * u[k];
+    for (int d = 0; d < 3; d++) fk.J[d] = alpha * u[3 * hit.i + d];
+    kick.push_back(fk);
     (hit.kind == Hit::PAIR ? stats.pair : stats.wall) += 1.0;
     return true;
   }

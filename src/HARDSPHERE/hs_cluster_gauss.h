@@ -36,8 +36,9 @@
    forward-mode automatic differentiation (Eigen's AutoDiffScalar with a
    fixed 18-vector: no heap); the a-dependence goes through da/dq =
    -M^-1 V'' by the chain rule. The radial derivatives come from the
-   caller's phi(kind, r, d): d[k] = phi^(k)(r), k = 0..4 (phi'''' for the
-   Jacobian of V'''[v, v]).
+   caller's phi(kind, r, order, d): d[k] = phi^(k)(r), k = 0..order (4 for
+   the Jacobian of V'''[v, v], 3 for the field, 2 for H~); each term's once
+   per evaluation.
 
    The modified impulse (alpha-hat, hs_modified.h) keeps H~ across a
    contact; contact times are found on the Gauss flow (contact_root()).
@@ -65,10 +66,12 @@ namespace HardSphere {
 // one radial term of a cluster: between members a and b, or (b < 0)
 // between member a and a static atom at xb; kind: the caller's key for phi
 // (partner: the caller's index of that static atom, >= 0 if it takes the
-// term's momentum, partner_forces())
+// term's momentum, partner_forces()). Between two members the term's
+// separation is q_a - q_b + off (off: a periodic image's shift, constant)
 struct ClusterTerm {
   int a = 0, b = -1;
   double xb[3] = {0.0, 0.0, 0.0};
+  double off[3] = {0.0, 0.0, 0.0};
   int kind = 0;
   int partner = -1;
 };
@@ -77,9 +80,18 @@ struct ClusterNewtonOptions {
   // converged when the largest change of a stage derivative, relative to
   // the largest stage derivative of its block (q' or v'), drops to tol, or
   // stops decreasing below stag_tol (round-off of the field reached)
-  double tol = 1.0e-14;
+  // (1e-12: with the start's Jacobian each iteration contracts by 1e-3 or
+  // more at the fluid's sub-steps, so the stages stop within ~1e-15)
+  double tol = 1.0e-12;
   double stag_tol = 1.0e-10;
   int maxit = 20;
+  // true: the exact Jacobian at every iterate (quadratic convergence);
+  // false: the exact Jacobian at the step's start, kept for its iterations
+  // and for every step from the same start (a contact time's trial
+  // lengths): each iteration then contracts by about h^2 |V'''| |v| / m,
+  // 1e-5 or less at the steps where Verlet is accurate, for one Jacobian
+  // per start instead of two per iteration
+  bool full = false;
 };
 
 struct ClusterNewtonStatus {
@@ -99,6 +111,11 @@ struct ClusterNewtonStatus {
 // Lubich & Wanner, II.1.3), of degree 2 here, so q(t) is a parabola that
 // ends at the step's end (the path on which contacts are predicted, as a
 // Verlet sub-step's)
+// every step()'s counts, summed (a flow's contact-time trials included)
+struct ClusterTally {
+  double solves = 0.0, iterations = 0.0, maxit = 0.0, fields = 0.0, jacobians = 0.0;
+};
+
 struct ClusterStepDetail {
   std::vector<double> Y1, Y2, vq, aq;
 };
@@ -118,6 +135,7 @@ template <class Phi> class ClusterGauss {
   }
 
   int dim() const { return 6 * n_; }
+  mutable ClusterTally tally;
   int members() const { return n_; }
   double coefficient() const { return c_; }
   double inverse_mass(int k) const { return im_[k]; }
@@ -129,7 +147,7 @@ template <class Phi> class ClusterGauss {
     double V = 0.0;
     std::vector<double> F(3 * n_, 0.0);
     Mat K = Mat::Zero(3 * n_, 3 * n_);
-    forces(q, V, F.data(), &K);
+    forces(q, V, F.data(), &K, 2);
     double T = 0.0, vKv = 0.0, g2 = 0.0;
     Eigen::Map<const Vec> vv(v, 3 * n_);
     vKv = vv.dot(K * vv);
@@ -147,9 +165,12 @@ template <class Phi> class ClusterGauss {
     const int m = 3 * n_;
     const double *q = y, *v = y + m;
     double V = 0.0;
-    std::vector<double> F(m, 0.0), a(m);
-    Mat K = Mat::Zero(m, m);
-    forces(q, V, F.data(), &K);
+    std::vector<double> &F = sF_, &a = sa_;
+    F.assign(m, 0.0);
+    a.resize(m);
+    Mat &K = sK_;
+    if (J) K.setZero(m, m);
+    forces(q, V, F.data(), J ? &K : nullptr, J ? 4 : 3);
     for (int i = 0; i < n_; i++)
       for (int d = 0; d < 3; d++) a[3 * i + d] = im_[i] * F[3 * i + d];
     for (int i = 0; i < n_; i++)
@@ -157,7 +178,7 @@ template <class Phi> class ClusterGauss {
         k[3 * i + d] = v[3 * i + d];
         k[m + 3 * i + d] = a[3 * i + d];
       }
-    Mat Da;    // da/dq = -M^-1 V''
+    Mat &Da = sDa_;    // da/dq = -M^-1 V''
     if (J) {
       J->setZero(2 * m, 2 * m);
       J->block(0, m, m, m).setIdentity();
@@ -165,13 +186,15 @@ template <class Phi> class ClusterGauss {
       for (int r = 0; r < m; r++) Da.row(r) *= im_[r / 3];
       J->block(m, 0, m, m) = Da;
     }
-    for (const ClusterTerm &t : terms_) {
+    for (size_t ti = 0; ti < terms_.size(); ti++) {
+      const ClusterTerm &t = terms_[ti];
+      const double *pt = pc_[ti].data();
       const bool two = t.b >= 0;
       // inputs: q_a, q_b, v_a, v_b, a_a, a_b (a static atom: q = xb, v = a = 0)
       double z[18];
       for (int d = 0; d < 3; d++) {
         z[d] = q[3 * t.a + d];
-        z[3 + d] = two ? q[3 * t.b + d] : t.xb[d];
+        z[3 + d] = two ? q[3 * t.b + d] - t.off[d] : t.xb[d];
         z[6 + d] = v[3 * t.a + d];
         z[9 + d] = two ? v[3 * t.b + d] : 0.0;
         z[12 + d] = a[3 * t.a + d];
@@ -181,13 +204,13 @@ template <class Phi> class ClusterGauss {
       // (b: minus), w = v_a - v_b, a_rel = a_a - a_b
       if (!J) {
         double o[6];
-        term_field<double>(t.kind, z, o);
+        term_field<double>(pt, z, o);
         add_term(t, o, k);
         continue;
       }
       AD za[18], o[6];
       for (int s = 0; s < 18; s++) za[s] = AD(z[s], 18, s);
-      term_field<AD>(t.kind, za, o);
+      term_field<AD>(pt, za, o);
       double ov[6];
       for (int r = 0; r < 6; r++) ov[r] = o[r].value();
       add_term(t, ov, k);
@@ -218,8 +241,9 @@ template <class Phi> class ClusterGauss {
     }
   }
 
-  // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by full
-  // Newton from the predictor K1 = K2 = f(y0)
+  // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by
+  // Newton (ClusterNewtonOptions::full) from the predictor K1 = K2 = f(y0)
+  // (full), else K_i = f0 + c_i h J0 f0
   ClusterNewtonStatus step(const double *y0, double h, double *y1,
                            const ClusterNewtonOptions &opt = ClusterNewtonOptions(),
                            ClusterStepDetail *detail = nullptr) const
@@ -228,29 +252,60 @@ template <class Phi> class ClusterGauss {
     const int N = dim(), m = 3 * n_;
     ClusterNewtonStatus st;
     Vec K1(N), K2(N);
-    field(y0, K1.data());
-    st.fields++;
-    K2 = K1;
+    Eigen::Map<const Vec> y(y0, N);
+    if (!opt.full) {
+      // the start's field and Jacobian, kept while the start is the same
+      if (!(start_ok_ && std::equal(y0, y0 + N, sy0_.data()))) {
+        sy0_ = y;
+        sf0_.resize(N);
+        field(y0, sf0_.data(), &sJ0_);
+        st.fields++;
+        st.jacobians++;
+        start_ok_ = true;
+      }
+      // the predictor K_i = f(y(c_i h)) to O(h^2): f0 + c_i h J0 f0
+      const Vec Jf = sJ0_ * sf0_;
+      K1 = sf0_ + (GL::c1 * h) * Jf;
+      K2 = sf0_ + (GL::c2 * h) * Jf;
+    } else {
+      field(y0, K1.data());
+      st.fields++;
+      K2 = K1;
+    }
     Vec Y1(N), Y2(N), f1(N), f2(N), R(2 * N), D(2 * N);
     Mat J1, J2, A(2 * N, 2 * N);
-    Eigen::Map<const Vec> y(y0, N);
+    Eigen::PartialPivLU<Mat> lu;
+    if (!opt.full) {
+      A.setIdentity();
+      A.block(0, 0, N, N) -= h * GL::a11 * sJ0_;
+      A.block(0, N, N, N) -= h * GL::a12 * sJ0_;
+      A.block(N, 0, N, N) -= h * GL::a21 * sJ0_;
+      A.block(N, N, N, N) -= h * GL::a22 * sJ0_;
+      lu.compute(A);
+    }
     double prev = std::numeric_limits<double>::infinity();
     for (int it = 0; it < opt.maxit; it++) {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
       Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
-      field(Y1.data(), f1.data(), &J1);
-      field(Y2.data(), f2.data(), &J2);
-      st.fields += 2;
-      st.jacobians += 2;
       // R = K - f(Y); dR/dK = I - h [[a11 J1, a12 J1], [a21 J2, a22 J2]]
+      if (opt.full) {
+        field(Y1.data(), f1.data(), &J1);
+        field(Y2.data(), f2.data(), &J2);
+        st.jacobians += 2;
+        A.setIdentity();
+        A.block(0, 0, N, N) -= h * GL::a11 * J1;
+        A.block(0, N, N, N) -= h * GL::a12 * J1;
+        A.block(N, 0, N, N) -= h * GL::a21 * J2;
+        A.block(N, N, N, N) -= h * GL::a22 * J2;
+        lu.compute(A);
+      } else {
+        field(Y1.data(), f1.data());
+        field(Y2.data(), f2.data());
+      }
+      st.fields += 2;
       R.head(N) = K1 - f1;
       R.tail(N) = K2 - f2;
-      A.setIdentity();
-      A.block(0, 0, N, N) -= h * GL::a11 * J1;
-      A.block(0, N, N, N) -= h * GL::a12 * J1;
-      A.block(N, 0, N, N) -= h * GL::a21 * J2;
-      A.block(N, N, N, N) -= h * GL::a22 * J2;
-      D = Eigen::PartialPivLU<Mat>(A).solve(R);
+      D = lu.solve(R);
       K1 -= D.head(N);
       K2 -= D.tail(N);
       st.iterations++;
@@ -273,6 +328,11 @@ template <class Phi> class ClusterGauss {
       prev = res;
     }
     Eigen::Map<Vec>(y1, N) = y + h * (GL::b1 * K1 + GL::b2 * K2);
+    tally.solves += 1.0;
+    tally.iterations += st.iterations;
+    tally.maxit = std::max(tally.maxit, (double) st.iterations);
+    tally.fields += st.fields;
+    tally.jacobians += st.jacobians;
     if (detail) {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
       Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
@@ -300,10 +360,12 @@ template <class Phi> class ClusterGauss {
     const double *q = y, *v = y + m;
     double V = 0.0;
     std::vector<double> F(m, 0.0), a(m);
-    forces(q, V, F.data(), nullptr);
+    forces(q, V, F.data(), nullptr, 3);
     for (int r = 0; r < m; r++) a[r] = im_[r / 3] * F[r];
-    for (const ClusterTerm &t : terms_) {
+    for (size_t ti = 0; ti < terms_.size(); ti++) {
+      const ClusterTerm &t = terms_[ti];
       if (t.b >= 0 || t.partner < 0) continue;
+      const double *p = pc_[ti].data();
       double z[18], o[6];
       for (int d = 0; d < 3; d++) {
         z[d] = q[3 * t.a + d];
@@ -313,12 +375,10 @@ template <class Phi> class ClusterGauss {
         z[12 + d] = a[3 * t.a + d];
         z[15 + d] = 0.0;
       }
-      term_field<double>(t.kind, z, o);
+      term_field<double>(p, z, o);
       double x[3];
       for (int d = 0; d < 3; d++) x[d] = z[d] - t.xb[d];
       const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-      double p[5];
-      phi_(t.kind, r, p);
       for (int d = 0; d < 3; d++) out[3 * t.partner + d] += p[1] * x[d] / r - o[3 + d];
     }
   }
@@ -332,7 +392,7 @@ template <class Phi> class ClusterGauss {
     double V = 0.0;
     std::vector<double> F(m, 0.0);
     Mat K = Mat::Zero(m, m);
-    forces(y, V, F.data(), &K);
+    forces(y, V, F.data(), &K, 2);
     Eigen::Map<const Vec> uu(u, m), vv(y + m, m);
     Vec w(m);
     for (int r = 0; r < m; r++) w[r] = im_[r / 3] * u[r];
@@ -342,16 +402,18 @@ template <class Phi> class ClusterGauss {
 
   // the first time t in (0, tmax] at which members i and j (j < 0: a static
   // atom at xj) come within sigma on the Gauss flow from y0, from the guess
-  // (e.g. the Verlet prediction); each evaluation is one step() from y0
+  // (e.g. the Verlet prediction); each evaluation is one step() from y0.
+  // off (members, null: none): their separation is q_i - q_j + off
   RootResult contact_time(const double *y0, int i, int j, const double *xj, double sigma,
-                          double guess, double tmax, double ttol, int maxeval = 40) const
+                          double guess, double tmax, double ttol, int maxeval = 40,
+                          const double *off = nullptr) const
   {
     std::vector<double> yt(dim());
     auto gap = [&](double t, double &g, double &dg) {
       step(y0, t, yt.data());
       double dq[3], dv[3];
       for (int d = 0; d < 3; d++) {
-        dq[d] = yt[3 * i + d] - (j >= 0 ? yt[3 * j + d] : xj[d]);
+        dq[d] = yt[3 * i + d] - (j >= 0 ? yt[3 * j + d] - (off ? off[d] : 0.0) : xj[d]);
         dv[d] = yt[3 * n_ + 3 * i + d] - (j >= 0 ? yt[3 * n_ + 3 * j + d] : 0.0);
       }
       const double r = std::sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2]);
@@ -368,12 +430,22 @@ template <class Phi> class ClusterGauss {
   int n_;
   double c_;
   std::vector<double> im_, fc_;
+  // step(): the last start's field and Jacobian (ClusterNewtonOptions::full)
+  mutable bool start_ok_ = false;
+  mutable Vec sy0_, sf0_;
+  mutable Mat sJ0_;
+  // field()'s scratch
+  mutable std::vector<double> sF_, sa_;
+  mutable Mat sK_, sDa_;
   std::vector<ClusterTerm> terms_;
   Phi phi_;
 
-  // V, F = -grad V (fc included) and V'' (K) at positions q
-  void forces(const double *q, double &V, double *F, Mat *K) const
+  // V, F = -grad V (fc included) and V'' (K) at positions q; each term's
+  // phi^(k), k <= order, kept in pc_ for term_field() at the same q
+  void forces(const double *q, double &V, double *F, Mat *K, int order) const
   {
+    pc_.resize(terms_.size());
+    size_t ti = 0;
     V = 0.0;
     for (int i = 0; i < 3 * n_; i++) {
       F[i] = fc_[i];
@@ -381,10 +453,11 @@ template <class Phi> class ClusterGauss {
     }
     for (const ClusterTerm &t : terms_) {
       double x[3];
-      for (int d = 0; d < 3; d++) x[d] = q[3 * t.a + d] - (t.b >= 0 ? q[3 * t.b + d] : t.xb[d]);
+      for (int d = 0; d < 3; d++)
+        x[d] = q[3 * t.a + d] - (t.b >= 0 ? q[3 * t.b + d] - t.off[d] : t.xb[d]);
       const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-      double p[5];
-      phi_(t.kind, r, p);
+      double *p = pc_[ti++].data();
+      phi_(t.kind, r, order, p);
       V += p[0];
       const double e[3] = {x[0] / r, x[1] / r, x[2] / r};
       for (int d = 0; d < 3; d++) {
@@ -406,19 +479,17 @@ template <class Phi> class ClusterGauss {
     }
   }
 
-  // phi^(k)(r) for k = 1..3 as S (an AD r carries phi^(k+1) dr)
-  void radial(int kind, double r, double out[3]) const
+  // phi^(k)(r) for k = 1..3 as S from the term's p (forces() at the same
+  // q); an AD r carries phi^(k+1) dr
+  static void radial(const double *p, double, double out[3])
   {
-    double p[5];
-    phi_(kind, r, p);
     for (int k = 0; k < 3; k++) out[k] = p[k + 1];
   }
-  void radial(int kind, const AD &r, AD out[3]) const
+  static void radial(const double *p, const AD &r, AD out[3])
   {
-    double p[5];
-    phi_(kind, r.value(), p);
     for (int k = 0; k < 3; k++) out[k] = AD(p[k + 1], p[k + 2] * r.derivatives());
   }
+  mutable std::vector<std::array<double, 5>> pc_;
 
   // one term's part of the field, before the inverse mass (member a's; b's is
   // its negative): o[0..2] = 2c V_t'' w, o[3..5] = -c (grad_x (w^T V_t'' w)
@@ -426,7 +497,7 @@ template <class Phi> class ClusterGauss {
   // s = e.w, V_t'' z = A (e.z) e + B z, A = phi'' - phi'/r, B = phi'/r:
   // w^T V_t'' w = A s^2 + B |w|^2, grad_x = A' s^2 e + 2 A s (w - s e)/r
   // + B' |w|^2 e, A' = phi''' - phi''/r + phi'/r^2, B' = phi''/r - phi'/r^2
-  template <class S> void term_field(int kind, const S *z, S *o) const
+  template <class S> void term_field(const double *pt, const S *z, S *o) const
   {
     using std::sqrt;
     S x[3], w[3], ar[3];
@@ -437,7 +508,7 @@ template <class Phi> class ClusterGauss {
     }
     const S r = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     S p[3];
-    radial(kind, r, p);
+    radial(pt, r, p);
     S e[3];
     for (int d = 0; d < 3; d++) e[d] = x[d] / r;
     const S A = p[1] - p[0] / r, B = p[0] / r;

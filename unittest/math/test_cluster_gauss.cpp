@@ -33,7 +33,7 @@ namespace {
 
 // kind 0: 4 (r^-12 - r^-6) (LJ, epsilon = sigma = 1); kind 1: spring
 // 20/2 (r - 1.2)^2; phi^(k), k = 0..4
-void phi(int kind, double r, double *d)
+void phi(int kind, double r, int, double *d)
 {
   if (kind == 0) {
     const double i = 1.0 / r, i2 = i * i, i6 = i2 * i2 * i2, i12 = i6 * i6;
@@ -51,7 +51,7 @@ void phi(int kind, double r, double *d)
     d[4] = 0.0;
   }
 }
-using PhiFn = void (*)(int, double, double *);
+using PhiFn = void (*)(int, double, int, double *);
 using Cluster = ClusterGauss<PhiFn>;
 
 // three members (masses 1, 2, 1.5) held together by springs, LJ between
@@ -104,7 +104,7 @@ struct RefH {
       for (int d = 0; d < 3; d++) x[d] = y[3 * t.a + d] - (t.b >= 0 ? y[3 * t.b + d] : t.xb[d]);
       const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
       double p[5];
-      phi(t.kind, r, p);
+      phi(t.kind, r, 4, p);
       V += p[0];
       double h[3][3];
       for (int a = 0; a < 3; a++)
@@ -241,8 +241,10 @@ TEST(ClusterGauss, FourthOrderAndModifiedEnergyKept)
     const double h = T / nst;
     std::vector<double> y = s.y0, y1(C.dim());
     double hmax = 0.0;
+    ClusterNewtonOptions full;
+    full.full = true;
     for (int st = 0; st < nst; st++) {
-      const ClusterNewtonStatus ns = C.step(y.data(), h, y1.data());
+      const ClusterNewtonStatus ns = C.step(y.data(), h, y1.data(), full);
       ASSERT_TRUE(ns.converged) << "h " << h << " step " << st << " residual " << ns.residual;
       iters += ns.iterations;
       steps++;
@@ -274,6 +276,7 @@ TEST(ClusterGauss, NewtonConvergesQuadratically)
   std::vector<double> y1(C.dim());
   ClusterNewtonOptions opt;
   opt.tol = 1e-15;
+  opt.full = true;
   const ClusterNewtonStatus ns = C.step(s.y0.data(), 0.05, y1.data(), opt);
   EXPECT_TRUE(ns.converged);
   std::printf("h 0.05: iterations %d, relative changes:", ns.iterations);
@@ -290,6 +293,33 @@ TEST(ClusterGauss, NewtonConvergesQuadratically)
     }
   }
   EXPECT_GE(checked, 1);
+}
+
+// the Jacobian of the step's start kept for its iterations (the default):
+// the same step as full Newton's to the tolerance, in a few iterations at
+// sub-steps of the fluid tests (h omega ~ 0.03), more at larger h
+TEST(ClusterGauss, StartJacobianConvergesToTheSameStep)
+{
+  Scene s;
+  const Cluster C = s.make(CDYN);
+  ClusterNewtonOptions full, frozen;
+  full.full = true;
+  for (double h : {0.05, 0.0125, 0.003}) {
+    std::vector<double> ya(C.dim()), yb(C.dim());
+    const ClusterNewtonStatus a = C.step(s.y0.data(), h, ya.data(), full);
+    const ClusterNewtonStatus b = C.step(s.y0.data(), h, yb.data(), frozen);
+    ASSERT_TRUE(a.converged && b.converged);
+    double d = 0.0;
+    for (int i = 0; i < C.dim(); i++) d = std::max(d, std::fabs(ya[i] - yb[i]));
+    std::printf("h %.4f: full Newton %d iterations (%d Jacobians), start Jacobian %d (%d); "
+                "largest difference %.1e\n",
+                h, a.iterations, a.jacobians, b.iterations, b.jacobians, d);
+    EXPECT_LE(d, 1e-13);
+    EXPECT_LE(b.jacobians, 1);
+    if (h < 0.005) EXPECT_LE(b.iterations, 4);
+    // a second step from the same start reuses its Jacobian (contact times)
+    EXPECT_EQ(C.step(s.y0.data(), 0.5 * h, yb.data(), frozen).jacobians, 0);
+  }
 }
 
 TEST(ClusterGauss, AlphaHatKeepsModifiedEnergyAndIsElasticWithoutIt)
