@@ -29,9 +29,14 @@ log() { echo "dropin-2025: $*"; }
 
 eval "$(bash "$ROOT/scripts/lammps-2025.sh" --source)"    # LAMMPS2025_SRC
 CACHE="$(dirname "$LAMMPS2025_SRC")"
+# the package's kernels use Eigen 3 (header only, Debian libeigen3-dev):
+# LAMMPS' own build adds its include path only for the packages it knows
+EIGEN_INC="$(pkg-config --cflags-only-I eigen3 2>/dev/null | sed 's/^-I//; s/ *$//')"
+[ -n "$EIGEN_INC" ] || EIGEN_INC=/usr/include/eigen3
+[ -f "$EIGEN_INC/Eigen/Dense" ] || { log "ERROR: no Eigen 3 headers in $EIGEN_INC (libeigen3-dev)"; exit 1; }
 OPTS=(-D CMAKE_BUILD_TYPE=Release -D BUILD_MPI=on -D BUILD_OMP=off -D BUILD_SHARED_LIBS=off
       -D WITH_JPEG=off -D WITH_PNG=off -D WITH_FFMPEG=off -D DOWNLOAD_POTENTIALS=off
-      -D PKG_MOLECULE=on)
+      -D PKG_MOLECULE=on -D "CMAKE_CXX_FLAGS=-isystem $EIGEN_INC")
 KEY="$( { basename "$LAMMPS2025_SRC"; printf '%s\n' "${OPTS[@]}"; c++ --version | head -n1; } \
         | sha256sum | cut -c1-12)"
 DROP="$CACHE/dropin-20250204-$KEY"

@@ -355,12 +355,14 @@ void FixHardSphere::choose_engine()
   if (support == HSMethod::ENGINE_GLOBAL_ONLY) {
     if (substep_mode == SUBSTEP_LOCAL)
       error->all(FLERR,
-                 "Fix {} substep local is not available yet: only hardsphere/cva, /pcva and "
-                 "/vci (and psa, local by construction) have the local engine; use substep "
+                 "Fix {} substep local is not available yet: only hardsphere/cva, /pcva, /mcva "
+                 "and /vci (and psa, local by construction) have the local engine; use substep "
                  "global",
                  style_name);
     return;
   }
+  // (mcva: its local form on `substep local` only, for now; doc "Local form")
+  if (substep_mode != SUBSTEP_LOCAL && !method->local_by_default()) return;
   if (!local_engine) local_engine = new HSLocalEngine(lmp, S, *method);
   std::string why = local_engine->limits();
   const std::string own = method->local_limits();

@@ -21,7 +21,45 @@
 
 #include "hs_types.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
+
+// one cluster's flow run by its method instead of CVA's sub-steps
+// (HSMethod::runs_cluster_flows(): mcva's local form, the Gauss flow of the
+// cluster's modified Hamiltonian, hs_cluster_flow.h). The engine fills the
+// input (its copies, rank-local, as the flow's own: atom->x and v hold the
+// members' state at the flow's start) and applies the output: the members'
+// end, their paths (the engine's checks of other clusters and atoms), the
+// partners' kicks, the impulses (counts, virial)
+struct HSClusterFlowJob {
+  // ---- in
+  double h = 0.0;                      // the flow's length
+  std::vector<int> members;            // the members' copies
+  std::vector<double> fc;              // [3 nm] constant force on each (cross terms, held)
+  // the cluster's terms, as HSLocalForces lists them (term_local(), ...):
+  // term t's copies tloc[toff[t] .. toff[t+1]), pairs first (npair), extra:
+  // a pair's special index, a bond's type (<= 0: broken)
+  const std::vector<int> *tloc = nullptr, *toff = nullptr, *textra = nullptr;
+  int npair = 0;
+  std::vector<int> statics;            // contact candidates that are not members (copies)
+  std::vector<int> partners;           // copies that take the terms' momentum
+  // ---- out
+  enum { DONE = 0, GROWS = 1 };
+  int result = DONE;
+  int hit_member = -1, hit_static = -1;    // GROWS: a member's copy touches a static one
+  std::vector<double> xend, vend;          // [3 nm] the members at the flow's end
+  std::vector<double> dvp;                 // [3 np] the partners' velocity changes
+  struct Seg {
+    double t0, t1, q[3], v[3], a[3];    // q(t) = q + (t - t0) v + (t - t0)^2/2 a, q absolute
+  };
+  std::vector<std::vector<Seg>> segs;      // per member, in time order
+  struct Kick {
+    int i, j;             // member copies; j < 0: wall -1 - j
+    double J[3], dq[3];   // momentum given to i (j: -J), contact normal (HSTypes::Impulse)
+  };
+  std::vector<Kick> kicks;
+};
 
 class HSFlowView {
  public:

@@ -2170,9 +2170,95 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       return s;
     };
   }
+  // a method's own flow (mcva): the members' end, paths, partner kicks and
+  // impulses from it; the end forces from V_C's terms as after CVA's last
+  // sub-step (a provisional second half keeps the start's, as above)
+  bool method_ran = false;
+  if (meth.runs_cluster_flows()) {
+    HSClusterFlowJob &job = scratch_job;
+    job.h = h;
+    job.members = M;
+    job.fc.resize(3 * nm);
+    for (int k = 0; k < nm; k++)
+      for (int d = 0; d < 3; d++) job.fc[3 * k + d] = fc[k][d];
+    locf->compute_rows(M.data(), nm, true);    // (the same lists: their terms, recorded)
+    ncompute_here += 1.0;
+    job.tloc = &locf->term_local();
+    job.toff = &locf->term_offsets();
+    job.textra = &locf->term_extra();
+    job.npair = locf->npair_last();
+    // the static spheres it may touch: the members' contact candidates
+    // that are no member (another cluster's: cross_check())
+    job.statics.clear();
+    for (int i : M) {
+      int ncr;
+      const int *cr = crow(i, ncr);
+      for (int e = 0; e < ncr; e++)
+        if (!is_member(cr[e]) &&
+            std::find(job.statics.begin(), job.statics.end(), cr[e]) == job.statics.end())
+          job.statics.push_back(cr[e]);
+    }
+    job.partners.clear();
+    std::vector<int> &pk = scratch_pk;    // the partners' index in T
+    pk.clear();
+    for (int k = 0; k < nt; k++) {
+      const int p = T[k];
+      if (is_member(p) || !(atom->mask[p] & F.groupbit)) continue;
+      job.partners.push_back(p);
+      pk.push_back(k);
+    }
+    meth.cluster_flow(job);
+    if (job.result == HSClusterFlowJob::GROWS) {
+      hits.push_back({tag[job.hit_member], tag[job.hit_static]});
+      r.a_done = false;
+      keep_counts();
+      for (size_t k = 0; k < env_saved.size(); k++) set_x(r.env[k], env_saved[k].data());
+      return false;
+    }
+    for (int k = 0; k < nm; k++) {
+      for (const HSClusterFlowJob::Seg &js : job.segs[k]) {
+        Seg sg;
+        sg.t0 = js.t0;
+        sg.t1 = js.t1;
+        for (int dd = 0; dd < 3; dd++) {
+          sg.q[dd] = js.q[dd] - x0[M[k]][dd];
+          sg.v[dd] = js.v[dd];
+          sg.a[dd] = js.a[dd];
+        }
+        segs[k].push_back(sg);
+      }
+      set_x(M[k], &job.xend[3 * k]);
+      set_v(M[k], &job.vend[3 * k]);
+    }
+    for (size_t q = 0; q < pk.size(); q++)
+      for (int dd = 0; dd < 3; dd++) dv[pk[q]][dd] += job.dvp[3 * q + dd];
+    for (const HSClusterFlowJob::Kick &kk : job.kicks) {
+      Impulse imp;
+      memset(&imp, 0, sizeof(imp));
+      imp.type = kk.j < 0 ? WALL_EVENT : PAIR_EVENT;
+      imp.itag = tag[kk.i];
+      imp.jtag = kk.j < 0 ? 0 : tag[kk.j];
+      imp.wall = kk.j < 0 ? -1 - kk.j : 0;
+      imp.apply = 1;
+      for (int dd = 0; dd < 3; dd++) {
+        imp.J[dd] = kk.J[dd];
+        imp.dq[dd] = kk.dq[dd];
+      }
+      F.add_impulse_virial(imp);
+      (kk.j < 0 ? F.ncoll_wall : F.ncoll_pair) += 1.0;
+    }
+    locf->restore(r.snap);
+    if (!provisional) {
+      locf->recompute();
+      ncompute_here += 1.0;
+      fl = locf->forces();
+      for (int k = 0; k < nt; k++) fk[k] = {fl[T[k]][0], fl[T[k]][1], fl[T[k]][2]};
+    }
+    method_ran = true;
+  }
   int stuck = 0;
   bigint nsub = 0;
-  while (true) {
+  while (!method_ran) {
     const double tau = h - t;
     const Next b = search(tau);
     const bool hit = b.t <= tau;

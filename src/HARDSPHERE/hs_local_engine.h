@@ -118,6 +118,7 @@
 #include "hs_cluster.h"
 #include "hs_contact.h"
 #include "hs_flatmap.h"
+#include "hs_flow_view.h"
 #include "hs_local_forces.h"
 #include "hs_mpi.h"
 #include "hs_stamp.h"
@@ -514,6 +515,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> envbest, scratch_slots;
   uint32_t envepoch = 0;
   std::vector<double> scratch_im;
+  HSClusterFlowJob scratch_job;    // flow(): a method's own flow (HSMethod::runs_cluster_flows())
+  std::vector<int> scratch_pk;
   bool settle(std::vector<Hit> &hits);
   // cluster labels (the key's dense id) on every local copy of the members
   // (HSLocalForces' cross terms)

@@ -579,13 +579,13 @@ bool HSLocalForces::excluded(int i, int j) const
   return false;
 }
 
-void HSLocalForces::compute_rows(const int *c, int nc)
+void HSLocalForces::compute_rows(const int *c, int nc, bool record_terms)
 {
   const std::string why = rows_unsupported();
   if (!why.empty())
     error->one(FLERR, "{}: rank-local interaction rows are not exact with {}", owner_, why);
   rows_ = true;
-  evaluate(c, nc, false);
+  evaluate(c, nc, record_terms);
 }
 
 void HSLocalForces::compute(const int *c, int nc, bool record_terms)

@@ -170,7 +170,8 @@ class HSLocalForces : protected Pointers {
   // and is kept until the next build. Call after every list build, before
   // compute_rows(); the array must stay unchanged until the next build.
   void set_reference(double **xb);
-  void compute_rows(const int *c, int nc);
+  // record_terms: term_local() etc. list the terms evaluated (each once)
+  void compute_rows(const int *c, int nc, bool record_terms = false);
   // contact neighbours from the rows' own scan (the local engine's contact
   // candidates, HSLocalEngine::crow(), asked for right after a member's
   // row): while set, building the row of a also lists every copy j of an

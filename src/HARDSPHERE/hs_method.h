@@ -38,6 +38,7 @@ namespace LAMMPS_NS {
 class HSSystem;
 class HSStepView;
 class HSFlowView;
+struct HSClusterFlowJob;
 
 class HSMethod : protected Pointers, public HSTypes {
  public:
@@ -47,6 +48,9 @@ class HSMethod : protected Pointers, public HSTypes {
   // which step engines can drive it
   enum { ENGINE_NONE = 0, ENGINE_GLOBAL_ONLY = 1, ENGINE_BOTH = 2 };
   virtual int engines_supported() const { return ENGINE_BOTH; }
+  // with ENGINE_BOTH: whether the local engine is its default where it
+  // applies (else only on `substep local`)
+  virtual bool local_by_default() const { return true; }
   // its own reasons it cannot run cluster by cluster with this set-up ("" if none)
   virtual std::string local_limits() { return ""; }
   // 1 if it needs derivatives of V (HSPotential's paths set up in init)
@@ -98,6 +102,11 @@ class HSMethod : protected Pointers, public HSTypes {
   // (not redone by a growth round) at the step's end, on the flow's rank
   virtual void take_flow_counts(std::vector<double> &out) { out.clear(); }
   virtual void add_flow_counts(const std::vector<double> &) {}
+  // a method whose cluster flows are its own (mcva: the Gauss flow of the
+  // cluster's modified Hamiltonian) instead of CVA's sub-steps: the engine
+  // hands it each flow (hs_flow_view.h, HSClusterFlowJob; rank-local)
+  virtual bool runs_cluster_flows() const { return false; }
+  virtual void cluster_flow(HSClusterFlowJob &) {}
 
   // --- its own counters: output entries after the fix's, restart
   virtual int nvector() const { return 0; }

@@ -5,17 +5,23 @@
 
 #include "hs_method_mcva.h"
 
+#include "hs_cluster_flow.h"
+#include "hs_flow_view.h"
 #include "hs_gauss.h"
+#include "hs_local_modified.h"
 #include "hs_modified.h"
 #include "hs_potential.h"
+#include "hs_projection.h"
 #include "hs_system.h"
 
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix.h"
 #include "force.h"
 #include "memory.h"
+#include "pair.h"
 #include "update.h"
 #include "utils.h"
 
@@ -48,6 +54,7 @@ HSMethodMCVA::HSMethodMCVA(LAMMPS *lmp, HSSystem &sys) : HSMethod(lmp, sys) {}
 
 HSMethodMCVA::~HSMethodMCVA()
 {
+  delete lmod;
   memory->destroy(fv);
   memory->destroy(fa);
   memory->destroy(fhv);
@@ -787,4 +794,274 @@ std::vector<double *> HSMethodMCVA::counters()
   // entries 12 and 13 (ncross, nlin) are not stored: restart files keep the
   // layout of the fix before them (the fix reads as many as it expects)
   return {&gauss_iters, &gauss_substeps, &gauss_maxit, &gauss_solves, &nmissed, &nreleased};
+}
+
+/* ----------------------------------------------------------------------
+   local form (substep local, issue 21; doc "Local form"): each cluster's
+   flow is the Gauss flow of the cluster's modified Hamiltonian H~_1 (its
+   members move; partners and other atoms are static), contact to contact
+   with alpha-hat impulses (hs_cluster_flow.h); after the step the colliding
+   spheres' velocities are projected so that the whole system's H~ keeps
+   its value to fourth order (pcva's ledger, hs_local_modified.h)
+------------------------------------------------------------------------- */
+
+namespace {
+// phi^(k)(r), k = 0..4, of term `kind` of the cluster (its index in the
+// engine's term lists): LAMMPS' styles through the derivative layer
+struct TermPhi {
+  HSPotential *pot;
+  const int *tloc, *toff, *textra;
+  int npair;
+  void operator()(int t, double r, int order, double *d) const
+  {
+    const int i = tloc[toff[t]], j = tloc[toff[t] + 1];
+    if (t < npair) pot->pair_term4(i, j, textra[t], r * r, order, d);
+    else pot->bond_term4(textra[t], i, j, r * r, order, d);
+  }
+};
+}    // namespace
+
+std::string HSMethodMCVA::local_limits()
+{
+  std::string why;
+  auto add = [&why](const std::string &s) { why += (why.empty() ? "" : "; ") + s; };
+  const std::string pair = S.pot->unsingled_pair();
+  if (!pair.empty())
+    add(fmt::format("{} (a pair style without single(): the local Gauss flow needs each of the "
+                    "colliding spheres' pair terms and their derivatives)",
+                    pair));
+  for (const char *kind : {"angle", "dihedral", "improper"}) {
+    const bool on = (kind[0] == 'a' && force->angle) || (kind[0] == 'd' && force->dihedral) ||
+        (kind[0] == 'i' && force->improper);
+    if (on) add(fmt::format("{} styles (the local Gauss flow takes radial terms only)", kind));
+  }
+  if (force->bond && !S.pot->bond_by_single())
+    add(fmt::format("bond style {} (no single(): the local Gauss flow needs each bond's "
+                    "derivatives)",
+                    force->bond_style));
+  // the projection's needs, as pcva's (HSMethodPCVA::local_limits())
+  held_work = S.pot->held_energy_terms();
+  const std::string order =
+      (S.nheld && !held_work.empty()) ? S.pot->capture_order(S.host) : std::string();
+  if (!order.empty())
+    add(fmt::format("{} beside the held thermostat forces of {} when {} (the local "
+                    "projection needs LAMMPS' force between the two, which fix {} copies in "
+                    "its post_force stage: define the thermostat after fix {} and the force "
+                    "fixes before it)",
+                    held_work, S.pot->held_names(), order, S.host->id, S.host->id));
+  return why;
+}
+
+void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
+{
+  double **x = atom->x, **v = atom->v;
+  const int nm = (int) job.members.size();
+  const double ftm2v = force->ftm2v, dt = update->dt;
+  const std::vector<int> &tl = *job.tloc, &to = *job.toff, &te = *job.textra;
+  const int nterm = (int) to.size() - 1;
+  double **cutsq = force->pair ? force->pair->cutsq : nullptr;
+  const int *type = atom->type;
+  std::vector<double> im(nm), rad(nm);
+  for (int k = 0; k < nm; k++) {
+    im[k] = ftm2v / S.mass_of(job.members[k]);
+    rad[k] = S.radius_of(job.members[k]);
+  }
+  // a copy's member slot, by atom ID (a term or a contact may hold another
+  // image of a member than its copy in job.members: periodic images)
+  const tagint *tag = atom->tag;
+  auto slot = [&](int c) {
+    for (int k = 0; k < nm; k++)
+      if (tag[job.members[k]] == tag[c]) return k;
+    return -1;
+  };
+  // (by ID too: the engine's partners are the copies its sums fold the
+  // terms' images into)
+  auto partner = [&](int c) {
+    for (size_t p = 0; p < job.partners.size(); p++)
+      if (tag[job.partners[p]] == tag[c]) return (int) p;
+    return -1;
+  };
+  // the terms inside their cutoff at the flow's start, continued past it
+  // through the flow (the frozen set of the global form, section
+  // "Pair styles cut off without smoothing")
+  std::vector<HardSphere::ClusterTerm> terms;
+  S.pot->begin_terms();
+  for (int t = 0; t < nterm; t++) {
+    if (to[t + 1] - to[t] != 2)
+      error->one(FLERR, "Fix {} substep local: internal error: a term of {} atoms in a cluster",
+                 S.style_name, to[t + 1] - to[t]);
+    const int i = tl[to[t]], j = tl[to[t] + 1];
+    if (t >= job.npair && te[t] <= 0) continue;    // a broken bond
+    if (t < job.npair) {
+      double rsq = 0.0;
+      for (int d = 0; d < 3; d++) rsq += (x[i][d] - x[j][d]) * (x[i][d] - x[j][d]);
+      if (rsq >= cutsq[type[i]][type[j]]) continue;
+    }
+    HardSphere::ClusterTerm ct;
+    ct.kind = t;
+    int si = slot(i), sj = slot(j), ci = i, cj = j;
+    if (si < 0 && sj < 0) continue;
+    if (si < 0) {    // the member first (phi depends on |r| only)
+      std::swap(si, sj);
+      std::swap(ci, cj);
+    }
+    ct.a = si;
+    ct.b = sj;
+    // the copies' shifts from the members' copies in job.members
+    double offi[3], offj[3] = {0.0, 0.0, 0.0};
+    for (int d = 0; d < 3; d++) offi[d] = x[ci][d] - x[job.members[si]][d];
+    if (sj >= 0) {
+      for (int d = 0; d < 3; d++) {
+        offj[d] = x[cj][d] - x[job.members[sj]][d];
+        ct.off[d] = offi[d] - offj[d];
+      }
+    } else {
+      for (int d = 0; d < 3; d++) ct.xb[d] = x[cj][d] - offi[d];
+      ct.partner = partner(cj);
+    }
+    terms.push_back(ct);
+  }
+  const TermPhi phi{S.pot, tl.data(), to.data(), te.data(), job.npair};
+  const HardSphere::ClusterGauss<TermPhi> G(nm, im.data(), job.fc.data(), dt * dt / 12.0, terms,
+                                            phi);
+  std::vector<HardSphere::FlowStatic> statics(job.statics.size());
+  for (size_t s = 0; s < job.statics.size(); s++) {
+    for (int d = 0; d < 3; d++) statics[s].x[d] = x[job.statics[s]][d];
+    statics[s].radius = S.radius_of(job.statics[s]);
+  }
+  std::vector<HardSphere::FlowWall> walls(S.walls.size());
+  for (size_t w = 0; w < S.walls.size(); w++) {
+    walls[w].dim = S.walls[w].dim;
+    walls[w].coord = S.walls[w].coord;
+    walls[w].sign = S.walls[w].side < 0 ? 1.0 : -1.0;
+  }
+  HardSphere::ClusterFlow<TermPhi> flow(G, rad, statics, walls, (int) job.partners.size(),
+                                        TOUCH_TOL);
+  // the members' nearest images of each other at the flow's start
+  for (int a = 0; a < nm; a++)
+    for (int b = a + 1; b < nm; b++) {
+      double d[3], dm[3], off[3];
+      for (int dd = 0; dd < 3; dd++) d[dd] = dm[dd] = x[job.members[a]][dd] - x[job.members[b]][dd];
+      domain->minimum_image(dm);
+      for (int dd = 0; dd < 3; dd++) off[dd] = dm[dd] - d[dd];
+      flow.set_pair_offset(a, b, off);
+    }
+  std::vector<double> y(6 * nm), pmom;
+  for (int k = 0; k < nm; k++)
+    for (int d = 0; d < 3; d++) {
+      y[3 * k + d] = x[job.members[k]][d];
+      y[3 * nm + 3 * k + d] = v[job.members[k]][d];
+    }
+  const auto end = flow.run(job.h, y, pmom);
+  // the flow's counts (entries 1-4: Newton iterations, sub-steps, most
+  // iterations of a solve, solves)
+  flow_counts[0] += G.tally.iterations;
+  flow_counts[1] += flow.stats.substeps;
+  flow_counts[2] = MAX(flow_counts[2], G.tally.maxit);
+  flow_counts[3] += G.tally.solves;
+  using Flow = HardSphere::ClusterFlow<TermPhi>;
+  if (end == Flow::STATIC_HIT) {
+    job.result = HSClusterFlowJob::GROWS;
+    job.hit_member = job.members[flow.hit_member];
+    job.hit_static = job.statics[flow.hit_static];
+    return;
+  }
+  if (end == Flow::FAILED)
+    error->one(FLERR,
+               "Fix {} substep local: on step {} the Gauss stage equations of the cluster of "
+               "atom {} did not converge (or its contacts do not end): the timestep {} is too "
+               "large for the curvature of the potential",
+               S.style_name, update->ntimestep, tag[job.members[0]], dt);
+  if (end == Flow::NONCONVEX)
+    error->one(FLERR,
+               "Fix {} substep local: on step {} the modified Hamiltonian is not convex in the "
+               "momenta along a contact normal of atom {}: the timestep {} is too large for the "
+               "curvature of the potential",
+               S.style_name, update->ntimestep, tag[job.members[flow.hit_member]], dt);
+  if (end == Flow::OVERLAP)
+    error->one(FLERR,
+               "Fix {} substep local: on step {} a sphere of the cluster of atom {} overlaps "
+               "another or a wall: a collision was missed",
+               S.style_name, update->ntimestep, tag[job.members[0]]);
+  job.result = HSClusterFlowJob::DONE;
+  job.xend.assign(y.begin(), y.begin() + 3 * nm);
+  job.vend.assign(y.begin() + 3 * nm, y.end());
+  job.dvp.resize(3 * job.partners.size());
+  for (size_t p = 0; p < job.partners.size(); p++) {
+    const double s = ftm2v / S.mass_of(job.partners[p]);
+    for (int d = 0; d < 3; d++) job.dvp[3 * p + d] = s * pmom[3 * p + d];
+  }
+  job.segs.assign(nm, {});
+  for (int k = 0; k < nm; k++)
+    for (const HardSphere::FlowSeg &fs : flow.segments()[k]) {
+      HSClusterFlowJob::Seg js;
+      js.t0 = fs.t0;
+      js.t1 = fs.t1;
+      for (int d = 0; d < 3; d++) {
+        js.q[d] = fs.q[d];
+        js.v[d] = fs.v[d];
+        js.a[d] = fs.a[d];
+      }
+      job.segs[k].push_back(js);
+    }
+  job.kicks.clear();
+  for (const HardSphere::FlowKick &fk : flow.kicks()) {
+    HSClusterFlowJob::Kick kk;
+    kk.i = job.members[fk.i];
+    kk.j = fk.j >= 0 ? job.members[fk.j] : fk.j;
+    // v += J / m: J = m im alpha u = ftm2v alpha u
+    for (int d = 0; d < 3; d++) {
+      kk.J[d] = ftm2v * fk.J[d];
+      kk.dq[d] = fk.dq[d];
+    }
+    job.kicks.push_back(kk);
+  }
+}
+
+void HSMethodMCVA::take_flow_counts(std::vector<double> &out)
+{
+  out.assign(flow_counts, flow_counts + 4);
+  for (double &c : flow_counts) c = 0.0;
+}
+
+void HSMethodMCVA::add_flow_counts(const std::vector<double> &c)
+{
+  for (int k : {0, 1, 3}) rank_counts[k] += c[k];
+  rank_counts[2] = MAX(rank_counts[2], c[2]);
+}
+
+void HSMethodMCVA::cluster_step_begun(HSStepView &view)
+{
+  if (!lmod) lmod = new HSLocalModified(lmp, &S, S.pot);
+  lmod->set_held_work(!held_work.empty());
+  lmod->begin(view);
+  count0 = S.atoms_count;
+  idsum0 = S.atoms_idsum;
+}
+
+void HSMethodMCVA::cluster_step_done(HSStepView &view)
+{
+  double sum[3], mx;
+  const double mine[3] = {rank_counts[0], rank_counts[1], rank_counts[3]};
+  MPI_Allreduce(mine, sum, 3, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&rank_counts[2], &mx, 1, MPI_DOUBLE, MPI_MAX, world);
+  gauss_iters += sum[0];
+  gauss_substeps += sum[1];
+  gauss_solves += sum[2];
+  gauss_maxit = MAX(gauss_maxit, mx);
+  for (double &c : rank_counts) c = 0.0;
+  // atoms created or deleted within the step: H~ is another system's
+  if (S.atoms_count != count0 || S.atoms_idsum != idsum0) {
+    nskip += 1.0;
+    return;
+  }
+  double A, B, C0, beta;
+  lmod->end(view, A, B, C0);
+  const HardSphere::ScaleStatus st = HardSphere::pcva_local_beta(A, B, C0, beta);
+  if (st != HardSphere::SCALE_OK) {
+    nskip += 1.0;
+    return;
+  }
+  lmod->scale(view, beta);
+  nproj += 1.0;
 }

@@ -21,12 +21,19 @@
 
 namespace LAMMPS_NS {
 
+class HSLocalModified;
+
 class HSMethodMCVA : public HSMethod {
  public:
   HSMethodMCVA(class LAMMPS *, HSSystem &);
   ~HSMethodMCVA() override;
 
-  int engines_supported() const override { return ENGINE_GLOBAL_ONLY; }
+  int engines_supported() const override { return ENGINE_BOTH; }
+  // its local form (Gauss cluster flows and pcva's ledger projection) runs
+  // on `substep local`; the default stays the paper's global form until
+  // every mcva test covers the local one (doc "Local form")
+  bool local_by_default() const override { return false; }
+  std::string local_limits() override;
   int needs_derivatives() const override { return 1; }
   void init() override;
   int modify_param(int, char **) override;
@@ -36,6 +43,15 @@ class HSMethodMCVA : public HSMethod {
   bool advance_to_contact(double &tau, double tleft, const Impulse &) override;
   void begin_collisional_step() override;
   void modify_impulse(Impulse &) override;
+
+  // local form (hs_cluster_flow.h; the counters of the flows summed over
+  // the ranks at the end of each step taken by clusters)
+  bool runs_cluster_flows() const override { return true; }
+  void cluster_flow(HSClusterFlowJob &) override;
+  void take_flow_counts(std::vector<double> &out) override;
+  void add_flow_counts(const std::vector<double> &) override;
+  void cluster_step_begun(HSStepView &) override;
+  void cluster_step_done(HSStepView &) override;
 
   int nvector() const override { return 8; }
   double vector(int) override;
@@ -51,6 +67,15 @@ class HSMethodMCVA : public HSMethod {
   double nreleased = 0.0;  // touching contacts the Gauss flow separates: no impulse
   double ncross = 0.0;     // pairs that crossed their cutoff within a Gauss sub-step
   double nlin = 0.0;       // products with the assembled G = M^-1 V'' (Newton)
+  // local form: the current flow's counts, this rank's final flows' since
+  // the last sum; pcva's ledger projection (hs_local_modified.h) and its
+  // counts (projections done, skipped)
+  double flow_counts[4] = {0.0, 0.0, 0.0, 0.0}, rank_counts[4] = {0.0, 0.0, 0.0, 0.0};
+  HSLocalModified *lmod = nullptr;
+  std::string held_work;
+  bigint count0 = -1;
+  unsigned long long idsum0 = 0;
+  double nproj = 0.0, nskip = 0.0;
 
   // stage equations: simplified Newton (1, default) or fixed point (0);
   // fix_modify ID stages newton|fixed

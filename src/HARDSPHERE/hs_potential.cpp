@@ -1453,6 +1453,18 @@ void HSPotential::bond_term(int btype, int i, int j, double rsq, double phi[3])
   for (int k = 0; k < 3; k++) phi[k] = p[k];
 }
 
+void HSPotential::pair_term4(int i, int j, int sb, double rsq, int order, double phi[5])
+{
+  const int *type = atom->type;
+  impl->pair_phi(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb],
+                 order, phi);
+}
+
+void HSPotential::bond_term4(int btype, int i, int j, double rsq, int order, double phi[5])
+{
+  impl->bond_phi(btype, i, j, rsq, order, phi);
+}
+
 bool HSPotential::lj_inline() const
 {
   return impl->lj_inline != 0;

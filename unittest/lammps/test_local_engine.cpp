@@ -385,8 +385,9 @@ TEST(LocalEngine, Errors)
                {"ghost lazy 0", "must be >= 1"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 ghost lazy\n",
                {"ghost lazy needs a number of steps"});
-  expect_error(base + "fix x all hardsphere/mcva diameter 1.0 substep local\nrun 1\n",
-               {"substep local is not available yet", "substep global"});
+  // (mcva has a local form since issue 21: on substep local only)
+  expect_runs(base + "fix x all hardsphere/mcva diameter 1.0 substep local\nrun 1\n",
+              {"substep local (collisions sub-stepped per cluster)"});
   // (a fix that replaces or averages forces cannot be held as half kicks)
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"
                       "fix s all aveforce NULL NULL NULL\nrun 1\n",

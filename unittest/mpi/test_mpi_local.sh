@@ -1186,4 +1186,20 @@ for m in cva pcva vci; do
   fi
 done
 
+# mcva's local form (substep local, issue 21): each cluster's Gauss flow
+# runs on the rank that runs the cluster, on its copies (periodic images
+# of the members by their nearest copies), and the projection is pcva's:
+# the same steps on 1, 2 and 4 ranks, the Gauss sub-steps counted alike
+LABELS=("etotal" "ke" "collisions" "pair" "wall" "coll.steps" "sub-steps" "clusters" "rounds" "~positions")
+for s in fluid500:500 hot:hot; do
+  sed 's/hardsphere\/cva diameter 1.0/hardsphere\/mcva diameter 1.0 substep local/; s/f_hs\[6\]) $(f_hs\[9\])/f_hs[7]) $(f_hs[14]) $(f_hs[17])/' \
+    "in.local_${s%%:*}" > "in.local_mcva${s##*:}"
+  grep -q "hardsphere/mcva diameter 1.0 substep local" "in.local_mcva${s##*:}" \
+    || { echo "FAIL: in.local_mcva${s##*:} has no mcva fix"; fail=1; }
+done
+echo "mcva local: fluid, 500 atoms, 100 steps:"
+check_system mcva500 in.local_mcva500 "2 4" -var nsteps 100
+echo "mcva local: 500 atoms at T 3 with skin 0.2 (atoms change rank within steps), 100 steps:"
+check_system mcvahot in.local_mcvahot "2 4" -var nsteps 100
+
 mpi_finish
