@@ -295,8 +295,9 @@ TEST(ClusterGauss, NewtonConvergesQuadratically)
   EXPECT_GE(checked, 1);
 }
 
-// the Jacobian of the step's start kept for its iterations (the default):
-// the same step as full Newton's to the tolerance, in a few iterations at
+// the Jacobian of the step's start kept for its iterations (the default),
+// stopped by the contraction's estimate of the error left: the same step
+// as full Newton's to the tolerance, in a few iterations at
 // sub-steps of the fluid tests (h omega ~ 0.03), more at larger h
 TEST(ClusterGauss, StartJacobianConvergesToTheSameStep)
 {
@@ -314,9 +315,11 @@ TEST(ClusterGauss, StartJacobianConvergesToTheSameStep)
     std::printf("h %.4f: full Newton %d iterations (%d Jacobians), start Jacobian %d (%d); "
                 "largest difference %.1e\n",
                 h, a.iterations, a.jacobians, b.iterations, b.jacobians, d);
-    EXPECT_LE(d, 1e-13);
+    // (both stop at the stages' relative tolerance, 1e-12 of K ~ 30 here,
+    // times h)
+    EXPECT_LE(d, 1e-12 * 30.0 * h);
     EXPECT_LE(b.jacobians, 1);
-    if (h < 0.005) EXPECT_LE(b.iterations, 4);
+    if (h < 0.005) EXPECT_LE(b.iterations, 3);
     // a second step from the same start reuses its Jacobian (contact times)
     EXPECT_EQ(C.step(s.y0.data(), 0.5 * h, yb.data(), frozen).jacobians, 0);
   }
