@@ -520,18 +520,22 @@ template <class Phi> class ClusterGauss {
     const S r = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
     S p[3];
     radial(pt, r, p);
+    // (one division: 1/r, the rest products)
+    const S ir = 1.0 / r;
     S e[3];
-    for (int d = 0; d < 3; d++) e[d] = x[d] / r;
-    const S A = p[1] - p[0] / r, B = p[0] / r;
-    const S Ap = p[2] - p[1] / r + p[0] / (r * r), Bp = p[1] / r - p[0] / (r * r);
+    for (int d = 0; d < 3; d++) e[d] = x[d] * ir;
+    const S B = p[0] * ir, A = p[1] - B;
+    const S Bp = (p[1] - B) * ir, Ap = p[2] - Bp;
     const S s = e[0] * w[0] + e[1] * w[1] + e[2] * w[2];
     const S ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
     const S sa = e[0] * ar[0] + e[1] * ar[1] + e[2] * ar[2];
+    const S c2 = 2.0 * c_, cAs2 = 2.0 * A * s * ir;
+    const S ce = Ap * s * s + Bp * ww - cAs2 * s;    // grad's e part: (A' s^2 + B' w^2 - 2 A s^2 / r)
     for (int d = 0; d < 3; d++) {
       const S Hw = A * s * e[d] + B * w[d];
       const S Ha = A * sa * e[d] + B * ar[d];
-      const S grad = Ap * s * s * e[d] + 2.0 * A * s * (w[d] - s * e[d]) / r + Bp * ww * e[d];
-      o[d] = 2.0 * c_ * Hw;
+      const S grad = ce * e[d] + cAs2 * w[d];
+      o[d] = c2 * Hw;
       o[3 + d] = -c_ * (grad + Ha);
     }
   }

@@ -27,6 +27,10 @@
 // time of the kinetic energy); a check is meaningful only with a standard
 // error well below the 1 % tolerance, which is asserted too.
 //
+// mcva's local form (mcva_local: substep local) gets the langevin cases'
+// 1 % check like the other methods; mcva's global form the shorter runs
+// below.
+//
 // Kurtosis kappa = <v^4>/<v^2>^2 of the velocity components (x, y and z
 // pooled, by isotropy). A Maxwellian has 3. Bounds that statistical mechanics
 // gives for these thermostats, widened by four error bars:
@@ -82,6 +86,13 @@ Blocks read_blocks(const std::string &path)
 
 // the fluid with fix hardsphere/<method> and a thermostat; returns the block
 // means of T, <v^2>, <v^4> over nrun steps after equil of equilibration
+// the fix's style and keywords of a case's method: mcva_local is mcva's
+// local form (substep local; doc/fix_hardsphere_mcva.rst, "Local form")
+std::string fix_style(const std::string &method)
+{
+  return method == "mcva_local" ? std::string("mcva substep local") : method;
+}
+
 Blocks run_fluid(const std::string &method, const std::string &thermo, double damp, int nrun,
                  int seed, int equil = 1000, std::string *log = nullptr, int nblocks = 20)
 {
@@ -119,7 +130,7 @@ neigh_modify every 1 delay 0 check yes
 comm_modify cutoff 3.0
 velocity all create )LMP" + T + " " + s + R"LMP( dist gaussian
 timestep 0.005
-)LMP" + pre + "fix int all hardsphere/" + method + R"LMP( diameter 1.05
+)LMP" + pre + "fix int all hardsphere/" + fix_style(method) + R"LMP( diameter 1.05
 )LMP" + th + R"LMP(
 thermo 1000
 run )LMP" + std::to_string(equil) + R"LMP(
@@ -259,6 +270,13 @@ INSTANTIATE_TEST_SUITE_P(MCVA, Thermostat,
                                             ::testing::Values("langevin", "langevin_zero",
                                                               "langevin_viscous", "berendsen",
                                                               "rescale")),
+                         case_name);
+// mcva's local form (issue 21): the three langevin cases with the 1 %
+// check of the other methods (18000 steps, 100 blocks; ~6 ms per step)
+INSTANTIATE_TEST_SUITE_P(MCVALocal, Thermostat,
+                         ::testing::Combine(::testing::Values("mcva_local"),
+                                            ::testing::Values("langevin", "langevin_zero",
+                                                              "langevin_viscous")),
                          case_name);
 
 // held smooth forces beside a thermostat (doc fix_hardsphere, "Held smooth
