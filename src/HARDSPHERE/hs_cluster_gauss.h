@@ -275,29 +275,26 @@ template <class Phi> class ClusterGauss {
     Vec Y1(N), Y2(N), f1(N), f2(N), R(2 * N), D(2 * N);
     Mat J1, J2, A(2 * N, 2 * N);
     Eigen::PartialPivLU<Mat> lu;
-    if (!opt.full) {
+    // dR/dK = I - h [[a11 Ja, a12 Ja], [a21 Jb, a22 Jb]], factorised
+    auto factor = [&](const Mat &Ja, const Mat &Jb) {
       A.setIdentity();
-      A.block(0, 0, N, N) -= h * GL::a11 * sJ0_;
-      A.block(0, N, N, N) -= h * GL::a12 * sJ0_;
-      A.block(N, 0, N, N) -= h * GL::a21 * sJ0_;
-      A.block(N, N, N, N) -= h * GL::a22 * sJ0_;
+      A.block(0, 0, N, N) -= h * GL::a11 * Ja;
+      A.block(0, N, N, N) -= h * GL::a12 * Ja;
+      A.block(N, 0, N, N) -= h * GL::a21 * Jb;
+      A.block(N, N, N, N) -= h * GL::a22 * Jb;
       lu.compute(A);
-    }
+    };
+    if (!opt.full) factor(sJ0_, sJ0_);
     double prev = std::numeric_limits<double>::infinity();
     for (int it = 0; it < opt.maxit; it++) {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
       Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
-      // R = K - f(Y); dR/dK = I - h [[a11 J1, a12 J1], [a21 J2, a22 J2]]
+      // R = K - f(Y)
       if (opt.full) {
         field(Y1.data(), f1.data(), &J1);
         field(Y2.data(), f2.data(), &J2);
         st.jacobians += 2;
-        A.setIdentity();
-        A.block(0, 0, N, N) -= h * GL::a11 * J1;
-        A.block(0, N, N, N) -= h * GL::a12 * J1;
-        A.block(N, 0, N, N) -= h * GL::a21 * J2;
-        A.block(N, N, N, N) -= h * GL::a22 * J2;
-        lu.compute(A);
+        factor(J1, J2);
       } else {
         field(Y1.data(), f1.data());
         field(Y2.data(), f2.data());

@@ -11,6 +11,7 @@
 
 #include "atom.h"
 #include "error.h"
+#include "fix.h"
 #include "force.h"
 
 using namespace LAMMPS_NS;
@@ -81,4 +82,27 @@ bool HSMethod::advance_to_contact(double &tau, double, const Impulse &)
     S.comm_vel_acc();    // ghosts' velocities at contact, for the impulse
   }
   return true;
+}
+
+/* ----------------------------------------------------------------------
+   kspace and energy fixes: held smooth forces of the local engine, whose
+   work on the members the local projection counts (HSLocalModified::
+   set_held_work()). Beside a thermostat's held forces the fix's copy of
+   LAMMPS' force between the two (FixHardSphere's capture rule) tells them
+   apart: the thermostat's stay half kicks outside the conservative map.
+   Without the copy both would ride inside the flows, where the
+   thermostat's work cannot be told from theirs
+------------------------------------------------------------------------- */
+
+std::string HSMethod::projection_limits(std::string &held_work) const
+{
+  held_work = S.pot->held_energy_terms();
+  const std::string order =
+      (S.nheld && !held_work.empty()) ? S.pot->capture_order(S.host) : std::string();
+  if (order.empty()) return "";
+  return fmt::format("{} beside the held thermostat forces of {} when {} (the local "
+                     "projection needs LAMMPS' force between the two, which fix {} copies in "
+                     "its post_force stage: define the thermostat after fix {} and the force "
+                     "fixes before it)",
+                     held_work, S.pot->held_names(), order, S.host->id, S.host->id);
 }

@@ -120,6 +120,10 @@ class HSMethod : protected Pointers, public HSTypes {
   // whose energy is not in the potential energy (its force would change the
   // kept energy, and the method would undo that change)
   void require_fix_energies(const char *what) const;
+  // the local projection's own limit (pcva's and mcva's local forms,
+  // hs_local_modified.h): "" or why the input's fix order rules it out;
+  // held_work: the held energy terms whose work it counts ("" if none)
+  std::string projection_limits(std::string &held_work) const;
 };
 
 }    // namespace LAMMPS_NS

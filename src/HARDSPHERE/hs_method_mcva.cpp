@@ -839,16 +839,9 @@ std::string HSMethodMCVA::local_limits()
     add(fmt::format("bond style {} (no single(): the local Gauss flow needs each bond's "
                     "derivatives)",
                     force->bond_style));
-  // the projection's needs, as pcva's (HSMethodPCVA::local_limits())
-  held_work = S.pot->held_energy_terms();
-  const std::string order =
-      (S.nheld && !held_work.empty()) ? S.pot->capture_order(S.host) : std::string();
-  if (!order.empty())
-    add(fmt::format("{} beside the held thermostat forces of {} when {} (the local "
-                    "projection needs LAMMPS' force between the two, which fix {} copies in "
-                    "its post_force stage: define the thermostat after fix {} and the force "
-                    "fixes before it)",
-                    held_work, S.pot->held_names(), order, S.host->id, S.host->id));
+  // the projection's needs (pcva's)
+  const std::string proj = projection_limits(held_work);
+  if (!proj.empty()) add(proj);
   return why;
 }
 

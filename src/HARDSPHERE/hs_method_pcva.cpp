@@ -157,22 +157,8 @@ std::string HSMethodPCVA::local_limits()
     add(fmt::format("{} (a pair style without single(): the local projection needs the "
                     "energy of each of the colliding spheres' pair terms)",
                     pair));
-  // kspace and energy fixes: held smooth forces of the engine, whose work
-  // on the members the ledger counts (HSLocalModified::set_held_work()).
-  // Beside a thermostat's held forces the fix's copy of LAMMPS' force
-  // between the two (FixHardSphere::capture_rule()) tells them apart: the
-  // thermostat's stay half kicks outside the conservative map. Without the
-  // copy both would ride inside the flows, where the thermostat's work
-  // cannot be told from theirs
-  held_work = S.pot->held_energy_terms();
-  const std::string order =
-      (S.nheld && !held_work.empty()) ? S.pot->capture_order(S.host) : std::string();
-  if (!order.empty())
-    add(fmt::format("{} beside the held thermostat forces of {} when {} (the local "
-                    "projection needs LAMMPS' force between the two, which fix {} copies in "
-                    "its post_force stage: define the thermostat after fix {} and the force "
-                    "fixes before it)",
-                    held_work, S.pot->held_names(), order, S.host->id, S.host->id));
+  const std::string proj = projection_limits(held_work);
+  if (!proj.empty()) add(proj);
   return why;
 }
 
