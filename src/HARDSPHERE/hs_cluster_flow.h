@@ -180,6 +180,14 @@ template <class Phi> class ClusterFlow {
   const double *pair_off(int i, int j) const { return &poff[3 * (i * (int) rad.size() + j)]; }
   std::vector<std::vector<FlowSeg>> segs;
   std::vector<FlowKick> kick;
+  // the Gauss solves' options: the Jacobian of the flow's start kept for
+  // all its sub-steps (ClusterNewtonOptions::keep)
+  static ClusterNewtonOptions newton_opt()
+  {
+    ClusterNewtonOptions o;
+    o.keep = true;
+    return o;
+  }
 
   struct Hit {
     enum { NONE = 0, PAIR = 1, WALL = 2, STATIC = 3 };
@@ -191,7 +199,7 @@ template <class Phi> class ClusterFlow {
   bool solve(const std::vector<double> &y, double tau, std::vector<double> &y1,
              ClusterStepDetail &det)
   {
-    return G.step(y.data(), tau, y1.data(), ClusterNewtonOptions(), &det).converged;
+    return G.step(y.data(), tau, y1.data(), newton_opt(), &det).converged;
   }
 
   // the earliest contact on the step's parabola within (0, tmax]
@@ -263,7 +271,7 @@ template <class Phi> class ClusterFlow {
       if (trials.size() >= 3) trials.erase(trials.begin());
       trials.push_back({tt, std::vector<double>(N), ClusterStepDetail()});
       Trial &tr = trials.back();
-      G.step(y.data(), tt, tr.y1.data(), ClusterNewtonOptions(), &tr.det);
+      G.step(y.data(), tt, tr.y1.data(), newton_opt(), &tr.det);
       const std::vector<double> &yt = tr.y1;
       if (hit.kind == Hit::PAIR) {
         const double *off = pair_off(hit.i, hit.j);

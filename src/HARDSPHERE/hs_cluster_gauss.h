@@ -24,12 +24,14 @@
 
    (the field of HSMethodMCVA::field(), restricted to the cluster).
 
-   Why full Newton here and simplified Newton (hs_newton.h) in the global
-   form: a cluster has 2-8 members, so its 12n stage equations are small
-   and dense and a partial-pivot LU (Eigen) is cheap; the exact Jacobian
-   makes the iteration converge quadratically (2-3 iterations from the
-   predictor) where the simplified one contracts by h^2 |V'''| |v| per
-   iteration, and it is the same for any dt where Verlet is stable.
+   Why Newton on the exact Jacobian here and simplified Newton
+   (hs_newton.h, G = M^-1 V'' only) in the global form: a cluster has 2-8
+   members, so its 12n stage equations are small and dense and a
+   partial-pivot LU (Eigen) is cheap. With the Jacobian at every iterate
+   (ClusterNewtonOptions::full) the iteration converges quadratically;
+   the engine keeps the exact Jacobian of the flow's start instead (one
+   automatic differentiation per flow), which at the fluid's sub-steps
+   still stops in 2.6-2.9 iterations (the contraction's estimate, step()).
 
    The Jacobian is exact: each term's contribution to the field is a
    function of its two spheres' q, v and a (18 numbers), differentiated by
@@ -92,6 +94,12 @@ struct ClusterNewtonOptions {
   // 1e-5 or less at the steps where Verlet is accurate, for one Jacobian
   // per start instead of two per iteration
   bool full = false;
+  // with !full: keep the Jacobian of the first start this kernel saw for
+  // every later start (the sub-steps of one cluster flow, h <= dt/2 apart:
+  // J moves by O(h) in q, and by O(dt^2) in v, as its v-dependent parts
+  // carry c = dt^2/12), its field evaluated at each; the iteration then
+  // contracts by about h^2 |V'''| |dq| / m more, for one Jacobian per flow
+  bool keep = false;
 };
 
 struct ClusterNewtonStatus {
@@ -258,9 +266,12 @@ template <class Phi> class ClusterGauss {
       if (!(start_ok_ && std::equal(y0, y0 + N, sy0_.data()))) {
         sy0_ = y;
         sf0_.resize(N);
-        field(y0, sf0_.data(), &sJ0_);
+        // (opt.keep: the Jacobian of this object's first start serves the
+        // later ones, its field is evaluated anew)
+        const bool fresh = !(opt.keep && start_ok_);
+        field(y0, sf0_.data(), fresh ? &sJ0_ : nullptr);
         st.fields++;
-        st.jacobians++;
+        if (fresh) st.jacobians++;
         start_ok_ = true;
       }
       // the predictor K_i = f(y(c_i h)) to O(h^2): f0 + c_i h J0 f0
