@@ -109,7 +109,7 @@ template <class Phi> class ClusterFlow {
     segs.assign(n, {});
     kick.clear();
     pmom.resize(3 * np, 0.0);
-    std::vector<double> y1(N), pf(3 * np);
+    std::vector<double> y1(N);
     ClusterStepDetail det;
     double t = 0.0;
     int nsub = 0;
@@ -119,7 +119,7 @@ template <class Phi> class ClusterFlow {
       Hit hit = earliest(y, det, tau);
       if (hit.overlap) return OVERLAP;
       if (hit.kind == Hit::NONE) {
-        accept(y, y1, det, t, tau, pf, pmom);
+        accept(y, y1, det, t, tau, pmom);
         return DONE;
       }
       if (hit.kind == Hit::STATIC) {
@@ -152,7 +152,7 @@ template <class Phi> class ClusterFlow {
         hit = h2;
         ts = h2.t;
       }
-      if (ts > 0.0) accept(y, y1, det, t, ts, pf, pmom);
+      if (ts > 0.0) accept(y, y1, det, t, ts, pmom);
       t += ts;
       if (!impulse(y, hit)) {
         hit_member = hit.i;
@@ -329,8 +329,7 @@ template <class Phi> class ClusterFlow {
   }
 
   void accept(std::vector<double> &y, const std::vector<double> &y1,
-              const ClusterStepDetail &det, double t, double tau, std::vector<double> &pf,
-              std::vector<double> &pmom)
+              const ClusterStepDetail &det, double t, double tau, std::vector<double> &pmom)
   {
     const int n = G.members();
     for (int i = 0; i < n; i++) {
@@ -344,12 +343,9 @@ template <class Phi> class ClusterFlow {
       }
       segs[i].push_back(s);
     }
-    if (np > 0) {
-      std::fill(pf.begin(), pf.end(), 0.0);
-      G.partner_forces(det.Y1.data(), pf.data());
-      G.partner_forces(det.Y2.data(), pf.data());
-      for (int k = 0; k < 3 * np; k++) pmom[k] += 0.5 * tau * pf[k];
-    }
+    // (the stage passes' partner forces: no pass of their own)
+    for (int k = 0; k < 3 * np && k < (int) det.pf1.size(); k++)
+      pmom[k] += 0.5 * tau * (det.pf1[k] + det.pf2[k]);
     y = y1;
     stats.substeps += 1.0;
   }

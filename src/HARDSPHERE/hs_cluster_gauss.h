@@ -126,6 +126,10 @@ struct ClusterTally {
 
 struct ClusterStepDetail {
   std::vector<double> Y1, Y2, vq, aq;
+  // the partners' forces (ClusterTerm::partner) at the stages of the last
+  // Newton iteration: the partners' momentum over the step is h (pf1 +
+  // pf2) / 2, the same quadrature as the members' to the stages' tolerance
+  std::vector<double> pf1, pf2;
 };
 
 template <class Phi> class ClusterGauss {
@@ -140,6 +144,7 @@ template <class Phi> class ClusterGauss {
       n_(n), c_(c), im_(im, im + n), fc_(3 * n, 0.0), terms_(std::move(terms)), phi_(phi)
   {
     if (fc) std::copy(fc, fc + 3 * n, fc_.begin());
+    for (const ClusterTerm &t : terms_) np_ = std::max(np_, t.partner + 1);
   }
 
   int dim() const { return 6 * n_; }
@@ -168,7 +173,9 @@ template <class Phi> class ClusterGauss {
   }
 
   // the field (dq/dt, dv/dt) at y into k[6n]; J (if not null): its Jacobian
-  void field(const double *y, double *k, Mat *J = nullptr) const
+  // pf (if not null, 3 x the partners' count): each static term's force
+  // on its partner added (partner_forces()'s, in the same pass)
+  void field(const double *y, double *k, Mat *J = nullptr, double *pf = nullptr) const
   {
     const int m = 3 * n_;
     const double *q = y, *v = y + m;
@@ -214,6 +221,7 @@ template <class Phi> class ClusterGauss {
         double o[6];
         term_field<double>(pt, z, o);
         add_term(t, o, k);
+        if (pf && !two && t.partner >= 0) add_partner(t, pt, z, o, pf);
         continue;
       }
       AD za[18], o[6];
@@ -222,6 +230,7 @@ template <class Phi> class ClusterGauss {
       double ov[6];
       for (int r = 0; r < 6; r++) ov[r] = o[r].value();
       add_term(t, ov, k);
+      if (pf && !two && t.partner >= 0) add_partner(t, pt, z, ov, pf);
       // chain rule into J: a row block (outputs of member a, and -those of b)
       // by the inputs' columns; a's columns through Da
       for (int side = 0; side < (two ? 2 : 1); side++) {
@@ -301,14 +310,22 @@ template <class Phi> class ClusterGauss {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
       Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
       // R = K - f(Y)
+      // (detail: the partners' forces at the stages, from the same passes)
+      double *p1 = nullptr, *p2 = nullptr;
+      if (detail && np_ > 0) {
+        detail->pf1.assign(3 * np_, 0.0);
+        detail->pf2.assign(3 * np_, 0.0);
+        p1 = detail->pf1.data();
+        p2 = detail->pf2.data();
+      }
       if (opt.full) {
-        field(Y1.data(), f1.data(), &J1);
-        field(Y2.data(), f2.data(), &J2);
+        field(Y1.data(), f1.data(), &J1, p1);
+        field(Y2.data(), f2.data(), &J2, p2);
         st.jacobians += 2;
         factor(J1, J2);
       } else {
-        field(Y1.data(), f1.data());
-        field(Y2.data(), f2.data());
+        field(Y1.data(), f1.data(), nullptr, p1);
+        field(Y2.data(), f2.data(), nullptr, p2);
       }
       st.fields += 2;
       R.head(N) = K1 - f1;
@@ -395,10 +412,7 @@ template <class Phi> class ClusterGauss {
         z[15 + d] = 0.0;
       }
       term_field<double>(p, z, o);
-      double x[3];
-      for (int d = 0; d < 3; d++) x[d] = z[d] - t.xb[d];
-      const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-      for (int d = 0; d < 3; d++) out[3 * t.partner + d] += p[1] * x[d] / r - o[3 + d];
+      add_partner(t, p, z, o, out);
     }
   }
 
@@ -447,6 +461,7 @@ template <class Phi> class ClusterGauss {
   using AD = Eigen::AutoDiffScalar<Der>;
 
   int n_;
+  int np_ = 0;    // partners (the largest ClusterTerm::partner + 1)
   double c_;
   std::vector<double> im_, fc_;
   // step(): the last start's field and Jacobian (ClusterNewtonOptions::full)
@@ -546,6 +561,17 @@ template <class Phi> class ClusterGauss {
       o[d] = c2 * Hw;
       o[3 + d] = -c_ * (grad + Ha);
     }
+  }
+
+  // a static term's force on its partner: minus its part of the member's
+  // dp/dt (phi' e less the modified part o[3..5]); z: the term's inputs
+  static void add_partner(const ClusterTerm &t, const double *p, const double *z, const double *o,
+                          double *pf)
+  {
+    double x[3];
+    for (int d = 0; d < 3; d++) x[d] = z[d] - z[3 + d];
+    const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    for (int d = 0; d < 3; d++) pf[3 * t.partner + d] += p[1] * x[d] / r - o[3 + d];
   }
 
   void add_term(const ClusterTerm &t, const double *o, double *k) const
