@@ -13,13 +13,14 @@
      hs_contact.h), among members, against static spheres (the caller's
      contact candidates: a hit ends the flow, the cluster grows) and walls;
    - the earliest member-member or wall contact's time is refined on the
-     flow (ClusterGauss::contact_time(): a Gauss step of each trial length,
-     as the global form's contact_root()); the step to it is checked again
+     flow (a Gauss step of each trial length, kept for the step to it,
+     by safeguarded Newton on the gap); the step to it is checked again
      on its own parabola (a contact it reaches first is taken instead);
    - the partners' momentum over a sub-step is its Gauss quadrature, tau
-     (F(Y1) + F(Y2))/2 of ClusterGauss::partner_forces(): the members'
-     momentum change over the step is the same quadrature of their dp/dt,
-     so momentum is conserved to round-off;
+     (F(Y1) + F(Y2))/2 of the partner forces of the last Newton
+     iteration's stage passes (ClusterStepDetail::pf1, pf2): the members'
+     momentum change over the step is the same quadrature of their dp/dt
+     (to the stages' tolerance), so momentum is conserved to round-off;
    - the sub-steps' parabolas are kept (segments(): q0, v, a, on [t0, t1]),
      the paths the engine checks other clusters and atoms against.
 
