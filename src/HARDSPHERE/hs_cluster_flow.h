@@ -276,16 +276,18 @@ template <class Phi> class ClusterFlow {
       const std::vector<double> &yt = tr.y1;
       if (hit.kind == Hit::PAIR) {
         const double *off = pair_off(hit.i, hit.j);
-        double dq[3], dv[3], r = 0.0, rv = 0.0;
+        // |dq|^2 - sigma^2: half the round-off of |dq| - sigma relative to
+        // its slope (a grazing contact's time is set by it)
+        double dq[3], dv[3], r2 = 0.0, rv = 0.0;
         for (int d = 0; d < 3; d++) {
           dq[d] = yt[3 * hit.i + d] - yt[3 * hit.j + d] + off[d];
           dv[d] = yt[3 * n + 3 * hit.i + d] - yt[3 * n + 3 * hit.j + d];
-          r += dq[d] * dq[d];
+          r2 += dq[d] * dq[d];
           rv += dq[d] * dv[d];
         }
-        r = std::sqrt(r);
-        g = r - (rad[hit.i] + rad[hit.j]);
-        dg = rv / r;
+        const double s = rad[hit.i] + rad[hit.j];
+        g = r2 - s * s;
+        dg = 2.0 * rv;
       } else {
         const FlowWall &W = wall[hit.j];
         g = W.sign * (yt[3 * hit.i + W.dim] - W.coord) - rad[hit.i];
@@ -293,10 +295,17 @@ template <class Phi> class ClusterFlow {
       }
     };
     // safeguarded Newton on the gap from the parabola's time (its error is
-    // the step's O(h^3)), stopped at a gap within gtol on the allowed side:
-    // a time bracket of width ttol would need a point past the contact too
-    const double sig = hit.kind == Hit::PAIR ? rad[hit.i] + rad[hit.j] : 2.0 * rad[hit.i];
-    const double gtol = 1e-12 * sig;
+    // the step's O(h^3)), stopped at a gap within gtol on the allowed side
+    // (a time bracket of width ttol would need a point past the contact
+    // too) that is also within ttol of the contact in time, g <= |g'| ttol:
+    // a grazing contact's normal speed |g'| is small, and a gap of 1e-12
+    // would put its time off by 1e-12 / |g'| (the impulse's direction with
+    // it; StressGrazing). Where round-off in g keeps Newton from that
+    // window, the bracket closes to ttol
+    // (a pair's g is |dq|^2 - sigma^2: its gap of 1e-12 sigma is 2e-12 sigma^2)
+    const double gtol0 = hit.kind == Hit::PAIR
+        ? 2e-12 * (rad[hit.i] + rad[hit.j]) * (rad[hit.i] + rad[hit.j])
+        : 2e-12 * rad[hit.i];
     double lo = 0.0, hi = tmax, t = std::min(guess, tmax), best = -1.0;
     bool have_hi = false;
     for (int it = 0; it < 60; it++) {
@@ -304,6 +313,7 @@ template <class Phi> class ClusterFlow {
       gap(t, g, dg);
       stats.refine += 1.0;
       if (!(g == g)) return -1.0;
+      const double gtol = std::min(gtol0, std::fabs(dg) * ttol);
       if (g >= 0.0) {
         lo = std::max(lo, t);
         best = t;
