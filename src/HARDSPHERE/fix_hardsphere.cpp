@@ -306,6 +306,7 @@ void FixHardSphere::init()
   check_fixes_beside();
   check_peratom_virial();
   choose_engine();
+  if (method) method->engine_chosen(engine && engine == local_engine);
   // the global engine and mcva's stages evaluate every fix's forces at
   // sub-steps, a constraint fix's too
   if (!constraint_beside.empty() && engine && engine == local_engine &&
@@ -321,7 +322,7 @@ void FixHardSphere::init()
                "Fix {} cannot run beside {} with substep global: the global engine evaluates "
                "the forces of every fix at each contact, and that fix's constraint forces "
                "are computed for one velocity-Verlet step of dt. Its group shares no atom "
-               "with this fix's, so substep local (the default of cva, pcva and vci) or "
+               "with this fix's, so substep local (the default of cva, pcva, mcva and vci) or "
                "hardsphere/psa can run beside it",
                style_name, constraint_beside);
   capture_rule();
@@ -361,8 +362,6 @@ void FixHardSphere::choose_engine()
                  style_name);
     return;
   }
-  // (mcva: its local form on `substep local` only, for now; doc "Local form")
-  if (substep_mode != SUBSTEP_LOCAL && !method->local_by_default()) return;
   if (!local_engine) local_engine = new HSLocalEngine(lmp, S, *method);
   std::string why = local_engine->limits();
   const std::string own = method->local_limits();

@@ -48,9 +48,8 @@ class HSMethod : protected Pointers, public HSTypes {
   // which step engines can drive it
   enum { ENGINE_NONE = 0, ENGINE_GLOBAL_ONLY = 1, ENGINE_BOTH = 2 };
   virtual int engines_supported() const { return ENGINE_BOTH; }
-  // with ENGINE_BOTH: whether the local engine is its default where it
-  // applies (else only on `substep local`)
-  virtual bool local_by_default() const { return true; }
+  // which engine the fix chose (before init(): a method may say which form runs)
+  virtual void engine_chosen(bool /*local*/) {}
   // its own reasons it cannot run cluster by cluster with this set-up ("" if none)
   virtual std::string local_limits() { return ""; }
   // 1 if it needs derivatives of V (HSPotential's paths set up in init)

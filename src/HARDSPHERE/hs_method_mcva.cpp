@@ -81,7 +81,10 @@ void HSMethodMCVA::init()
   warned_drop = 0;
   if (comm->me == 0) {
     std::string how;
-    if (!newton)
+    if (local_form)
+      how = "Newton with the exact Jacobian of each cluster's stage equations (Eigen LU; "
+            "substep local)";
+    else if (!newton)
       how = "fixed-point iteration (fix_modify stages fixed)";
     else if (comm->nprocs > 1)
       how = fmt::format("simplified Newton without V'' in the Jacobian on {} MPI ranks (no "
@@ -839,6 +842,9 @@ std::string HSMethodMCVA::local_limits()
     add(fmt::format("bond style {} (no single(): the local Gauss flow needs each bond's "
                     "derivatives)",
                     force->bond_style));
+  if (!newton)
+    add("fix_modify stages fixed (the local Gauss flow solves each cluster's stage equations "
+        "by Newton only)");
   // the projection's needs (pcva's)
   const std::string proj = projection_limits(held_work);
   if (!proj.empty()) add(proj);
@@ -965,12 +971,19 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
                "atom {} did not converge (or its contacts do not end): the timestep {} is too "
                "large for the curvature of the potential",
                S.style_name, update->ntimestep, tag[job.members[0]], dt);
-  if (end == Flow::NONCONVEX)
+  if (end == Flow::NONCONVEX) {
+    // the contact: two members, or a member and wall -1 - hit_static
+    const std::string with = flow.hit_static >= 0
+        ? fmt::format("atoms {} and {}", tag[job.members[flow.hit_member]],
+                      tag[job.members[flow.hit_static]])
+        : fmt::format("atom {} and wall {}", tag[job.members[flow.hit_member]],
+                      -1 - flow.hit_static);
     error->one(FLERR,
                "Fix {} substep local: on step {} the modified Hamiltonian is not convex in the "
-               "momenta along a contact normal of atom {}: the timestep {} is too large for the "
+               "momenta along the contact normal of {}: the timestep {} is too large for the "
                "curvature of the potential",
-               S.style_name, update->ntimestep, tag[job.members[flow.hit_member]], dt);
+               S.style_name, update->ntimestep, with, dt);
+  }
   if (end == Flow::OVERLAP)
     error->one(FLERR,
                "Fix {} substep local: on step {} a sphere of the cluster of atom {} overlaps "

@@ -29,11 +29,11 @@ class HSMethodMCVA : public HSMethod {
   ~HSMethodMCVA() override;
 
   int engines_supported() const override { return ENGINE_BOTH; }
-  // its local form (Gauss cluster flows and pcva's ledger projection) runs
-  // on `substep local`; the default stays the paper's global form until
-  // every mcva test covers the local one (doc "Local form")
-  bool local_by_default() const override { return false; }
+  // its local form (Gauss cluster flows and pcva's ledger projection) is
+  // the default, as for cva and pcva (doc "Local form")
   std::string local_limits() override;
+  // the log line of init() names the form that runs
+  void engine_chosen(bool local) override { local_form = local; }
   int needs_derivatives() const override { return 1; }
   void init() override;
   int modify_param(int, char **) override;
@@ -59,6 +59,7 @@ class HSMethodMCVA : public HSMethod {
 
  private:
 
+  bool local_form = false;    // the local engine runs it (engine_chosen)
   int gauss_step = 0;    // 1 while the current step has had a predicted contact
   int cancel = 0;        // 1: the Verlet-predicted contact is replaced by an earlier one
   // counters (global, identical on all ranks)

@@ -156,11 +156,15 @@ namespace {
 double fixes_run(const std::string &method, double dt)
 {
   const int n = (int) std::lround(2.0 / dt);
-  // cva and vci take the local engine (the fixes' forces held, riding in
-  // the members' flows), pcva and mcva the global one: the output entry
-  // that counts steps fallen back to substep global (cva f_int[10], vci
-  // f_int[16]), "" where there is none
-  const std::string fellback = method == "cva" ? "10" : method == "vci" ? "16" : "";
+  // cva, vci and mcva take the local engine (the fixes' forces held,
+  // riding in the members' flows; mcva's projection counts their work as
+  // pcva's does): the output entry that counts steps fallen back to
+  // substep global (cva f_int[10], vci f_int[16], mcva f_int[18]), "" where
+  // it is not checked
+  const std::string fellback = method == "cva"    ? "10"
+                               : method == "vci"  ? "16"
+                               : method == "mcva" ? "18"
+                                                  : "";
   const std::string in = R"LMP(
 units lj
 atom_style charge
@@ -387,7 +391,7 @@ print "BOND $(c_bmin:%.12g) $(c_bmax:%.12g)"
 // solvent beside hard spheres): substep local evaluates no fix inside a
 // collisional step, so the constraints hold to shake's tolerance and the
 // energy error is second order in dt, as for each part alone. The global
-// engine (and mcva, global only) evaluates every fix at each contact: an
+// engine (substep global, any method) evaluates every fix at each contact: an
 // error naming substep local; shake on the spheres themselves stays refused.
 // (The LAMMPS 4Feb2025 build of the tests has no RIGID package)
 TEST(RuleErrors, ShakeOnAnotherGroup)
@@ -425,7 +429,11 @@ TEST(RuleErrors, ShakeOnAnotherGroup)
   expect_error(shake_beside("fix hs spheres hardsphere/cva diameter 1.0 overflow global", 0.002,
                             50),
                {"hardsphere/cva cannot run beside fix sh shake with overflow global"});
-  expect_error(shake_beside("fix hs spheres hardsphere/mcva diameter 1.0", 0.002, 50),
+  // mcva's local form (its default) runs beside it; its global form does not
+  expect_runs(shake_beside("fix hs spheres hardsphere/mcva diameter 1.0", 0.002, 50),
+              {"substep local (collisions"}, {"falls back"});
+  expect_error(shake_beside("fix hs spheres hardsphere/mcva diameter 1.0 substep global", 0.002,
+                            50),
                {"hardsphere/mcva cannot run beside fix sh shake with substep global"});
   expect_error(shake_beside("fix hs spheres hardsphere/cva diameter 1.0", 0.002, 50, "all"),
                {"cannot run beside fix sh shake on atoms of its group", "velocity-Verlet"});

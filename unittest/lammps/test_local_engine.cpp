@@ -385,9 +385,11 @@ TEST(LocalEngine, Errors)
                {"ghost lazy 0", "must be >= 1"});
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 ghost lazy\n",
                {"ghost lazy needs a number of steps"});
-  // (mcva has a local form since issue 21: on substep local only)
+  // (mcva has a local form since issue 21, its default since 2 Dec 2026)
   expect_runs(base + "fix x all hardsphere/mcva diameter 1.0 substep local\nrun 1\n",
               {"substep local (collisions sub-stepped per cluster)"});
+  expect_runs(base + "fix x all hardsphere/mcva diameter 1.0\nrun 1\n",
+              {"substep local (collisions sub-stepped per cluster)"}, {"falls back"});
   // (a fix that replaces or averages forces cannot be held as half kicks)
   expect_error(base + "fix x all hardsphere/cva diameter 1.0 substep local\n"
                       "fix s all aveforce NULL NULL NULL\nrun 1\n",

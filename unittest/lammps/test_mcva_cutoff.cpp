@@ -159,8 +159,11 @@ static void fluid_run(const char *stages)
     input.insert(at + 1, std::string("fix_modify int stages ") + stages + "\n");
     input += "print \"CUTOFF $(f_int[1]) $(f_int[8]) $(f_int[12]) $(f_int[6]) $(f_int[9]) "
              "$(f_int[5]) $(f_int[7])\"\n";
-    RunResult r = run_lmp(input, {"-var", "method", "mcva", "-var", "thermo", "langevin", "-var",
-                                  "cells", "3", "-var", "equil", "250", "-var", "nrun", "100"});
+    // the frozen cutoff set is the global form's (its stages evaluate the
+    // whole system): substep global (-var engine global)
+    RunResult r = run_lmp(input, {"-var", "method", "mcva", "-var", "engine", "global", "-var",
+                                  "thermo", "langevin", "-var", "cells", "3", "-var", "equil",
+                                  "250", "-var", "nrun", "100"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::smatch m;
     const std::regex re(R"((?:^|\n)CUTOFF (\S+) (\S+) (\S+) (\S+) (\S+) (\S+) (\S+))");

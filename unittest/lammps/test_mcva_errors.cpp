@@ -2,7 +2,9 @@
 // (LAMMPS here exits on errors: each case runs in its own lmp process).
 // The keywords and set-up checks are the base class's (tested for every
 // method, with its style name, in test_shared_errors.cpp); here the
-// method's own failures.
+// method's own failures, of its global form (substep global: the Gauss
+// stages of the whole system) and of its local form (the default: each
+// cluster's Gauss flow, Newton with the exact Jacobian).
 
 #include "hs_errors.h"
 
@@ -25,7 +27,7 @@ std::string two_atoms(const std::string &fix)
 // integrated); sphere 3 comes in along x and touches sphere 2 after t0
 std::string anchored_pair(const std::string &bond_coeff, const std::string &x3,
                           const std::string &anchor_y, const std::string &dt,
-                          const std::string &skin)
+                          const std::string &skin, const std::string &substep = " substep global")
 {
   return "units lj\natom_style bond\natom_modify map array\nboundary f f f\n"
          "region box block -10 10 -10 10 -10 10\n"
@@ -35,7 +37,8 @@ std::string anchored_pair(const std::string &bond_coeff, const std::string &x3,
          "bond_coeff 1 " + bond_coeff + "\ncreate_bonds single/bond 1 1 2\n"
          "group mobile type 2\ngroup j id 3\nvelocity j set -1 0 0\n"
          "neighbor " + skin + " bin\ncomm_modify cutoff 5.0\n"
-         "fix hs mobile hardsphere/mcva diameter 1.0\ntimestep " + dt + "\nrun 2\n";
+         "fix hs mobile hardsphere/mcva diameter 1.0" + substep + "\ntimestep " + dt +
+      "\nrun 2\n";
 }
 
 }    // namespace
@@ -47,6 +50,8 @@ TEST(MCVAErrors, ValidBaselineRuns)
   // differ only in the timestep or the bond)
   expect_runs(anchored_pair("1250 1.0", "1.05", "-1", "0.01", "1.0"));
   expect_runs(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.1", "2.0"));
+  expect_runs(anchored_pair("1250 1.0", "1.05", "-1", "0.01", "1.0", ""),
+              {"substep local (collisions"});
 }
 
 TEST(MCVAErrors, GaussStagesDoNotConverge)
@@ -70,6 +75,19 @@ TEST(MCVAErrors, ModifiedHamiltonianNotConvexAlongNormal)
   expect_error(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.4", "2.0"),
                {"not convex in the momenta", "atoms 2 and 3", "u^T A u = -0.1333",
                 "timestep 0.4"});
+  // the local form checks the same at the contact of its cluster flow
+  expect_error(anchored_pair("10.0 0.5", "1.0001", "-0.1", "0.4", "2.0", ""),
+               {"substep local", "not convex in the momenta", "atoms 2 and 3", "timestep 0.4"});
+}
+
+TEST(MCVAErrors, LocalFormConvergesWhereSimplifiedNewtonDoesNot)
+{
+  // the case of GaussStagesDoNotConverge in the local form: its Newton
+  // iteration has the exact Jacobian of the cluster's stage equations, the
+  // dt^2/6 M^-1 V'' v factor included, so it converges at h omega = 2.5
+  // (and the impulse conserves the cluster's H~; not checked here)
+  expect_runs(anchored_pair("1250 1.0", "1.05", "-1", "0.1", "1.0", ""),
+              {"substep local (collisions"}, {"ERROR"});
 }
 
 TEST(MCVAErrors, FieldNotFinite)
@@ -84,7 +102,9 @@ TEST(MCVAErrors, FieldNotFinite)
                "variable fx atom 0.0*((0.0001-(x+5.0)^2)^0.5)\n"
                "fix nan a addforce v_fx 0.0 0.0\nfix_modify nan energy yes\n"
                "neighbor 0.5 bin\ncomm_modify cutoff 3.0\n"
-               "fix hs all hardsphere/mcva diameter 1.0\ntimestep 0.1\nrun 2\n",
+               "fix hs all hardsphere/mcva diameter 1.0 substep global\ntimestep 0.1\nrun 2\n",
                {"vector field of the modified Hamiltonian is not finite", "step 1",
                 "iteration 1"});
+  // (the local form holds fix addforce's force through the step, as the
+  // other methods' local forms do: LAMMPS' own NaN, as under fix nve)
 }

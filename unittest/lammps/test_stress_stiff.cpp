@@ -10,7 +10,9 @@
 // the step are real, lambda + 1/lambda = 2 - hw^2, and the amplitude grows
 // by |lambda| per step (1.56 at hw = 2.05), until the fix stops with its
 // documented error (a sphere moved farther than the neighbour skin in a step;
-// mcva: its Gauss stage iteration does not converge).
+// mcva's global form: its Gauss stage iteration, simplified Newton, does not
+// converge; its local form's Newton has the exact Jacobian and converges, so
+// it stops on the skin as the others do).
 // With contacts (amp 0.2: the cores touch at r = 0.9 every period) there is
 // no closed form; cva, pcva and mcva are second order in H, with an error
 // close to Verlet's own c H0; psa at least first order (section 2.1).
@@ -48,9 +50,11 @@ create_box 1 box bond/types 1 extra/bond/per/atom 1 extra/special/per/atom 2
   s += "create_bonds single/bond 1 1 2\n";
   s += "neighbor " + fmtd(skin) + " bin\ncomm_modify cutoff " + fmtd(2 * skin + 2) + "\n";
   // "cva": the paper's algorithm (substep global); "cva-local": the local
-  // engine, whose collisional steps are two CVA half steps of the pair
+  // engine, whose collisional steps are two CVA half steps of the pair;
+  // "mcva": its default, the local form; "mcva-global": the paper's
   const std::string style = method == "cva-local" ? "cva substep local"
       : method == "cva"                           ? "cva substep global"
+      : method == "mcva-global"                   ? "mcva substep global"
                                                   : method;
   s += "fix hs all hardsphere/" + style + " diameter 0.9\n";
   s += "timestep " + fmtd(hw / OMEGA) + "\n";
@@ -106,9 +110,10 @@ TEST_P(StressStiff, AboveVerletLimitDocumentedError)
   // 0.3 after ~6 steps; the run must stop with the skin error, not NaN or hang
   RunResult r = run_lmp(dimer_input(m, 0.05, 2.05, 0.3) + "run 100\n");
   EXPECT_NE(r.exit_code, 0) << m;
-  // mcva stops earlier, in its Gauss stage solve (documented: "the timestep
-  // is too large for the stiffest motion")
-  const char *msg = (m == "mcva") ? "Gauss stage equations did not converge" : "more than the skin";
+  // mcva's global form stops earlier, in its Gauss stage solve (documented:
+  // "the timestep is too large for the stiffest motion")
+  const char *msg =
+      (m == "mcva-global") ? "Gauss stage equations did not converge" : "more than the skin";
   EXPECT_NE(r.output.find(msg), std::string::npos) << m << "\n" << r.output;
   EXPECT_EQ(r.output.find("nan"), std::string::npos) << m;
 }
@@ -125,7 +130,7 @@ TEST_P(StressStiff, WithContactsEnergyOrder)
     EXPECT_EQ(r.ncoll, 24.0) << m << " hw " << hw;
     d[k++] = std::max(r.emax - 1.0, 1.0 - r.emin);
     const double c = 0.25 * hw * hw;
-    if (m == "cva" || m == "pcva" || m == "mcva") {
+    if (m == "cva" || m == "pcva" || m == "mcva" || m == "mcva-global") {
       // Verlet's own oscillation dominates (measured 1.002 c)
       EXPECT_LE(d[k - 1], 1.1 * c) << m << " hw " << hw;
       EXPECT_GE(d[k - 1], 0.9 * c) << m << " hw " << hw;
@@ -155,4 +160,5 @@ TEST_P(StressStiff, WithContactsEnergyOrder)
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, StressStiff,
-                         ::testing::Values("psa", "cva", "cva-local", "pcva", "mcva", "vci"));
+                         ::testing::Values("psa", "cva", "cva-local", "pcva", "mcva",
+                                           "mcva-global", "vci"));

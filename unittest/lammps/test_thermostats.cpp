@@ -27,9 +27,9 @@
 // time of the kinetic energy); a check is meaningful only with a standard
 // error well below the 1 % tolerance, which is asserted too.
 //
-// mcva's local form (mcva_local: substep local) gets the langevin cases'
-// 1 % check like the other methods; mcva's global form the shorter runs
-// below.
+// mcva runs its local form by default and gets every case's 1 % check like
+// the other methods; its global form (mcva_global: substep global) the
+// shorter runs below.
 //
 // Kurtosis kappa = <v^4>/<v^2>^2 of the velocity components (x, y and z
 // pooled, by isotropy). A Maxwellian has 3. Bounds that statistical mechanics
@@ -86,11 +86,12 @@ Blocks read_blocks(const std::string &path)
 
 // the fluid with fix hardsphere/<method> and a thermostat; returns the block
 // means of T, <v^2>, <v^4> over nrun steps after equil of equilibration
-// the fix's style and keywords of a case's method: mcva_local is mcva's
-// local form (substep local; doc/fix_hardsphere_mcva.rst, "Local form")
+// the fix's style and keywords of a case's method: mcva_global is mcva's
+// global form (substep global; doc/fix_hardsphere_mcva.rst), plain mcva its
+// default, the local form
 std::string fix_style(const std::string &method)
 {
-  return method == "mcva_local" ? std::string("mcva substep local") : method;
+  return method == "mcva_global" ? std::string("mcva substep global") : method;
 }
 
 Blocks run_fluid(const std::string &method, const std::string &thermo, double damp, int nrun,
@@ -231,8 +232,8 @@ TEST_P(Thermostat, TemperatureAndMaxwellian)
 {
   const std::string method = std::get<0>(GetParam()), thermo = std::get<1>(GetParam());
   // temp/berendsen and temp/rescale hold T close to its target: their error
-  // bar is ~0.03 % after 2000 steps. mcva costs ~60-80 ms per step here
-  // (Newton stage solves on the global engine; ~120-240 ms before
+  // bar is ~0.03 % after 2000 steps. mcva's global form costs ~60-80 ms per
+  // step here (Newton stage solves on the global engine; ~120-240 ms before
   // lj/smooth/linear's derivatives were analytic):
   // berendsen and rescale get the 1 % check of the other methods over 1000
   // steps (error bar ~0.05 %, blocks of 50 steps = 2.5 damp); the three langevin
@@ -242,7 +243,7 @@ TEST_P(Thermostat, TemperatureAndMaxwellian)
   // other methods, ~20 CPU minutes each: examples/thermostats runs it
   // (rows "mcva (108 atoms, damp 0.1)" of its results.md).
   const bool rescaling = thermo == "berendsen" || thermo == "rescale";
-  const bool mcva = method == "mcva";
+  const bool mcva = method == "mcva_global";
   const bool short_run = mcva && !rescaling;
   // the langevin cases: 18000 steps in 100 blocks of 180 (0.9 time units,
   // ~20 correlation times of the kinetic energy at damp 0.1). 20 blocks
@@ -264,19 +265,20 @@ INSTANTIATE_TEST_SUITE_P(
                        ::testing::Values("langevin", "langevin_zero", "langevin_viscous",
                                          "berendsen", "rescale")),
     case_name);
-// mcva: every thermostat; the langevin cases shorter (see above)
+// mcva's global form: every thermostat; the langevin cases shorter (see above)
 INSTANTIATE_TEST_SUITE_P(MCVA, Thermostat,
-                         ::testing::Combine(::testing::Values("mcva"),
+                         ::testing::Combine(::testing::Values("mcva_global"),
                                             ::testing::Values("langevin", "langevin_zero",
                                                               "langevin_viscous", "berendsen",
                                                               "rescale")),
                          case_name);
-// mcva's local form (issue 21): the three langevin cases with the 1 %
-// check of the other methods (18000 steps, 100 blocks; ~6 ms per step)
+// mcva's default, its local form (issue 21): every thermostat with the 1 %
+// check of the other methods (langevin: 18000 steps, 100 blocks; ~6 ms per step)
 INSTANTIATE_TEST_SUITE_P(MCVALocal, Thermostat,
-                         ::testing::Combine(::testing::Values("mcva_local"),
+                         ::testing::Combine(::testing::Values("mcva"),
                                             ::testing::Values("langevin", "langevin_zero",
-                                                              "langevin_viscous")),
+                                                              "langevin_viscous", "berendsen",
+                                                              "rescale")),
                          case_name);
 
 // held smooth forces beside a thermostat (doc fix_hardsphere, "Held smooth
@@ -300,6 +302,11 @@ TEST_P(ThermostatSpring, LangevinBesideHeldSpring)
 }
 
 INSTANTIATE_TEST_SUITE_P(Fluid, ThermostatSpring, ::testing::Values("psa", "cva", "pcva", "vci"),
+                         [](const ::testing::TestParamInfo<const char *> &i) {
+                           return std::string(i.param);
+                         });
+// mcva's local form: the spring's work in the ledger of its projection
+INSTANTIATE_TEST_SUITE_P(MCVALocal, ThermostatSpring, ::testing::Values("mcva"),
                          [](const ::testing::TestParamInfo<const char *> &i) {
                            return std::string(i.param);
                          });

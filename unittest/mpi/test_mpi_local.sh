@@ -1186,7 +1186,7 @@ for m in cva pcva vci; do
   fi
 done
 
-# mcva's local form (substep local, issue 21): each cluster's Gauss flow
+# mcva's local form (its default; here named, substep local; issue 21): each cluster's Gauss flow
 # runs on the rank that runs the cluster, on its copies (periodic images
 # of the members by their nearest copies), and the projection is pcva's:
 # the same steps on 1, 2 and 4 ranks, the Gauss sub-steps counted alike

@@ -1,8 +1,10 @@
 #!/bin/bash
-# fix hardsphere/mcva gives the same trajectory on 1 and 2 MPI ranks (the
-# pendulum chain also on 4): identical collision counts and energies equal
-# to round-off. The Gauss solves, the contact-time root finder and the
-# modified impulse are collective, with the contact's atoms on any rank.
+# fix hardsphere/mcva's global form (substep global, the paper's algorithm)
+# gives the same trajectory on 1 and 2 MPI ranks (the pendulum chain also
+# on 4): identical collision counts and energies equal to round-off. The
+# Gauss solves, the contact-time root finder and the modified impulse are
+# collective, with the contact's atoms on any rank. (Its local form, the
+# default: test_mpi_local.sh, section "mcva".)
 #   bash test_mpi_mcva.sh <lmp> <source dir>
 # Systems: the 5-sphere pendulum chain (examples/pendulum-chain: walls,
 # bonds, sphere-sphere and wall collisions), and a small periodic 3-D fluid
@@ -36,7 +38,7 @@ pair_coeff  1 1 1.0 1.0
 comm_modify cutoff 1.7
 neighbor    0.3 bin
 neigh_modify every 1 delay 0 check yes
-fix         hs all hardsphere/mcva diameter 1.0
+fix         hs all hardsphere/mcva diameter 1.0 substep global
 timestep    0.005
 thermo_style custom step pe ke etotal press f_hs[1]
 thermo_modify norm no
@@ -66,7 +68,7 @@ neigh_modify every 1 delay 0 check yes
 comm_modify cutoff 3.0
 velocity    all create 1.5 12345 dist gaussian loop geom
 timestep    0.005
-fix         hs all hardsphere/mcva diameter 1.0
+fix         hs all hardsphere/mcva diameter 1.0 substep global
 thermo_style custom step pe ke etotal f_hs[1] f_hs[12]
 thermo_modify norm no
 thermo      20

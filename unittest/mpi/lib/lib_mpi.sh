@@ -34,11 +34,11 @@ chain_input() {
   result_line "$@"
 }
 
-# global_substep <method>: " substep global" for the methods whose default
-# is the local engine, which runs on one rank only (on more it falls back to
-# global): these tests compare rank counts of the global engine
+# global_substep <method>: " substep global" for cva, pcva and mcva, whose
+# default is the local engine (its rank counts: test_mpi_local.sh): these
+# tests compare rank counts of the global engine
 global_substep() {
-  case "$1" in cva | pcva) echo " substep global" ;; esac
+  case "$1" in cva | pcva | mcva) echo " substep global" ;; esac
   return 0
 }
 
