@@ -124,7 +124,7 @@ if [ "$PARSE_ONLY" != 1 ]; then
       lmp -in in.make-fluid -var method hs -var cells 9 -var warm 10 -var out "$SCR/fluid2916.hs.data" \
         -log "$SCR/logs/make.2916.hs"
     fi
-    one A mcva 0.005 0.01 short -var every 1
+    one A mcva 0.005 0.01 short -var every 1 -var engine global
     one A cva 0.005 0.5 short2916     # cva (local) on the same data, for comparison
     one A cva 0.005 0.5 short2916g -var engine global   # and the global engine (energy error)
   fi

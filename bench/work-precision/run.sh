@@ -54,13 +54,17 @@ if [ "$PARSE_ONLY" != 1 ]; then
     if [ "$RESUME" = 1 ] && grep -q '^BENCH' "$log" 2>/dev/null; then return; fi
     echo "[$(date -u +%T)] $sys $m dt $dt T $T ($tag)"
     local bfile="$SCR/blk.$sys.$m.$dt.$tag"
+    # mcva: the global form, of which results.md is (its default is the
+    # local form since 2 Dec 2026: ENGINE_MCVA=default)
+    local eng=()
+    [ "$m" = mcva ] && eng=(-var engine "${ENGINE_MCVA:-global}")
     if [ "$sys" = chain ]; then
       "$LMP" -in in.chain -var method "$m" -var dt "$dt" -var T "$T" -var kfile "$bfile" -var efile "$bfile.ends" \
-        "$@" -log "$log" -screen none
+        "${eng[@]}" "$@" -log "$log" -screen none
     else
       local d=hs; case $m in wca|mie) d=$m ;; esac
       "$LMP" -in in.fluid -var method "$m" -var dt "$dt" -var T "$T" \
-        -var data "$SCR/fluid.$d.data" -var pfile "$bfile" -var efile "$bfile.ends" "$@" -log "$log" -screen none
+        -var data "$SCR/fluid.$d.data" -var pfile "$bfile" -var efile "$bfile.ends" "${eng[@]}" "$@" -log "$log" -screen none
     fi
     grep -E '^BENCH|^ERROR' "$log" | tail -1 | cut -c1-200
   }

@@ -48,8 +48,12 @@ for th in $THERMOS; do
     if [ "$m" = mcva ] && [ "$th" != langevin ] && [ -z "${ALL_MCVA:-}" ]; then continue; fi
     echo "run: $tag $th ($n steps)"
     start=$(date +%s)
+    # mcva: the global form, of which results.md's rows are (its default is
+    # the local form since 2 Dec 2026: ENGINE_MCVA=default)
+    eng=default
+    [ "$m" = mcva ] && eng="${ENGINE_MCVA:-global}"
     "$LMP" -in "$HERE/in.lj-thermostat" -var method "$m" -var thermo "$th" -var nrun "$n" \
-      -var equil "$eq" -var cells "$cells" -var damp "$damp" -echo none -log none > "$f" 2>&1 \
+      -var equil "$eq" -var cells "$cells" -var damp "$damp" -var engine "$eng" -echo none -log none > "$f" 2>&1 \
       || { echo "FAILED: $tag $th"; tail -3 "$f"; }
     echo "SECONDS $(( $(date +%s) - start ))" >> "$f"
     if [ "$tag" != "$m" ] && [ -f "tblocks.$m.$th.txt" ]; then
