@@ -8,7 +8,9 @@
 #include "hs_test_main.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
 
 namespace hs_fluid {
 
@@ -81,6 +83,46 @@ variable p1 equal sqrt(mass(all)*ke*2.0)
   P = std::sqrt(std::pow(L.variable("px"), 2) + std::pow(L.variable("py"), 2) +
                 std::pow(L.variable("pz"), 2));
   scale = L.variable("p1");
+}
+
+// collisions per step (fix hs's entry 1) and the mean pressure (fix
+// ave/time) of each of nblocks blocks of 50 steps (0.25 time units at dt
+// 0.005) of the fluid set up in L
+struct Blocks {
+  std::vector<double> rate, press;
+};
+inline Blocks sample_blocks(HSLammps &L, int nblocks)
+{
+  L.cmd("compute pr all pressure thermo_temp");
+  L.cmd("fix pa all ave/time 1 50 50 c_pr");
+  L.cmd("variable pa equal f_pa");
+  Blocks b;
+  double last = 0.0;
+  for (int k = 0; k < nblocks; k++) {
+    L.cmd("run 50");
+    const double n = L.fix_vector("hs", 0);
+    b.rate.push_back((n - last) / 50.0);
+    last = n;
+    b.press.push_back(L.variable("pa"));
+  }
+  return b;
+}
+
+// two integrators sample the same fluid: their block means of the
+// collision rate and the pressure agree within 4 combined standard errors
+inline void expect_same_fluid(const Blocks &a, const Blocks &b, const std::string &la,
+                              const std::string &lb)
+{
+  auto check = [&](const char *what, const std::vector<double> &x, const std::vector<double> &y) {
+    double m1, s1, m2, s2;
+    mean_se(x, m1, s1);
+    mean_se(y, m2, s2);
+    std::printf("%s: %s %.4f +- %.4f, %s %.4f +- %.4f\n", what, la.c_str(), m1, s1, lb.c_str(),
+                m2, s2);
+    EXPECT_LE(std::fabs(m1 - m2), 4.0 * std::sqrt(s1 * s1 + s2 * s2)) << what;
+  };
+  check("collisions per step", a.rate, b.rate);
+  check("pressure", a.press, b.press);
 }
 
 }    // namespace hs_fluid

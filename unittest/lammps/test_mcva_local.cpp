@@ -190,38 +190,17 @@ TEST(MCVALocal, FixedPointStagesFallBackToGlobal)
   EXPECT_EQ(L.fix_vector("hs", 17), L.fix_vector("hs", 3)) << "every collisional step falls back";
 }
 
-// per 50-step block of a 108-sphere fluid: collisions per step and the
-// mean pressure (fix ave/time)
-void sample(const std::string &substep, std::vector<double> &rate, std::vector<double> &press)
+// 60 blocks of 50 steps of a 108-sphere fluid in either form
+hs_fluid::Blocks sample(const std::string &substep)
 {
   HSLammps L;
   L.lines(hs_fluid::fluid("fix hs all hardsphere/mcva diameter 1.0" + substep, 0.005, 4242, 3));
-  L.cmd("compute pr all pressure thermo_temp");
-  L.cmd("fix pa all ave/time 1 50 50 c_pr");
-  L.cmd("variable pa equal f_pa");
-  double last = 0.0;
-  for (int k = 0; k < 60; k++) {    // 60 blocks of 50 steps (0.25 time units)
-    L.cmd("run 50");
-    const double n = L.fix_vector("hs", 0);
-    rate.push_back((n - last) / 50.0);
-    last = n;
-    press.push_back(L.variable("pa"));
-  }
+  const hs_fluid::Blocks b = hs_fluid::sample_blocks(L, 60);
   EXPECT_EQ(L.fix_vector("hs", 13) > 0.0, substep.empty()) << "clusters: the form that ran";
+  return b;
 }
 
 TEST(MCVALocal, LocalAndGlobalSampleTheSameFluid)
 {
-  std::vector<double> rl, pl, rg, pg;
-  sample("", rl, pl);
-  sample(" substep global", rg, pg);
-  double m1, s1, m2, s2;
-  mean_se(rl, m1, s1);
-  mean_se(rg, m2, s2);
-  std::printf("collisions per step: local %.4f +- %.4f, global %.4f +- %.4f\n", m1, s1, m2, s2);
-  EXPECT_LE(std::fabs(m1 - m2), 4.0 * std::sqrt(s1 * s1 + s2 * s2));
-  mean_se(pl, m1, s1);
-  mean_se(pg, m2, s2);
-  std::printf("pressure: local %.4f +- %.4f, global %.4f +- %.4f\n", m1, s1, m2, s2);
-  EXPECT_LE(std::fabs(m1 - m2), 4.0 * std::sqrt(s1 * s1 + s2 * s2));
+  hs_fluid::expect_same_fluid(sample(""), sample(" substep global"), "local", "global");
 }

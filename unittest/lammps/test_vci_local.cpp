@@ -90,38 +90,17 @@ TEST(VCILocal, FluidEnergyErrorSecondOrderOverFiveTimeUnits)
   EXPECT_GE(p, 1.8);
 }
 
-// per 50-step interval: collisions and the mean pressure (fix ave/time)
-void sample(const std::string &substep, std::vector<double> &rate, std::vector<double> &press)
+// 20 blocks of 50 steps of the 500-sphere fluid in either form
+hs_fluid::Blocks sample(const std::string &substep)
 {
   HSLammps L;
   L.lines(hs_fluid::fluid("fix hs all hardsphere/vci diameter 1.0" + substep, 0.005, 4242));
-  L.cmd("compute pr all pressure thermo_temp");
-  L.cmd("fix pa all ave/time 1 50 50 c_pr");
-  L.cmd("variable pa equal f_pa");
-  double last = 0.0;
-  for (int k = 0; k < 20; k++) {    // 20 blocks of 50 steps (0.25 time units)
-    L.cmd("run 50");
-    const double n = L.fix_vector("hs", 0);
-    rate.push_back((n - last) / 50.0);
-    last = n;
-    press.push_back(L.variable("pa"));
-  }
+  return hs_fluid::sample_blocks(L, 20);
 }
 
 TEST(VCILocal, LocalAndGlobalSampleTheSameFluid)
 {
-  std::vector<double> rl, pl, rg, pg;
-  sample("", rl, pl);
-  sample(" substep global", rg, pg);
-  double m1, s1, m2, s2;
-  mean_se(rl, m1, s1);
-  mean_se(rg, m2, s2);
-  std::printf("collisions per step: local %.4f +- %.4f, global %.4f +- %.4f\n", m1, s1, m2, s2);
-  EXPECT_LE(std::fabs(m1 - m2), 4.0 * std::sqrt(s1 * s1 + s2 * s2));
-  mean_se(pl, m1, s1);
-  mean_se(pg, m2, s2);
-  std::printf("pressure: local %.4f +- %.4f, global %.4f +- %.4f\n", m1, s1, m2, s2);
-  EXPECT_LE(std::fabs(m1 - m2), 4.0 * std::sqrt(s1 * s1 + s2 * s2));
+  hs_fluid::expect_same_fluid(sample(""), sample(" substep global"), "local", "global");
 }
 
 TEST(VCILocal, PendulumChainDoesNotChatterAtLargeSteps)
