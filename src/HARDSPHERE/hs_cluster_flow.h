@@ -78,7 +78,12 @@ template <class Phi> class ClusterFlow {
   // at it
   // OVERLAP: a pair or wall overlaps by more than the tolerance at a
   // sub-step's start (a missed contact: the caller's error)
-  enum End { DONE = 0, STATIC_HIT = 1, FAILED = 2, NONCONVEX = 3, OVERLAP = 4 };
+  // RESTING: a contact stays touching with no normal approach on the flow
+  // for max_stuck zero-length sub-steps running (a sphere pressed against a
+  // wall or a neighbour: a resting contact, the caller's documented error);
+  // hit_member and hit_static name it as for NONCONVEX
+  enum End { DONE = 0, STATIC_HIT = 1, FAILED = 2, NONCONVEX = 3, OVERLAP = 4, RESTING = 5 };
+  int max_stuck = 100;    // (hs_types.h, MAX_STUCK)
 
   // radii of the members; statics: contact candidates that do not move;
   // npartners: the partners' count (ClusterTerm::partner < npartners);
@@ -113,7 +118,7 @@ template <class Phi> class ClusterFlow {
     std::vector<double> y1(N);
     ClusterStepDetail det;
     double t = 0.0;
-    int nsub = 0;
+    int nsub = 0, stuck = 0;
     while (true) {
       const double tau = h - t;
       if (!solve(y, tau, y1, det)) return FAILED;
@@ -155,10 +160,18 @@ template <class Phi> class ClusterFlow {
       }
       if (ts > 0.0) accept(y, y1, det, t, ts, pmom);
       t += ts;
+      const size_t kicked = kick.size();
       if (!impulse(y, hit)) {
         hit_member = hit.i;
         hit_static = hit.kind == Hit::PAIR ? hit.j : -1 - hit.j;
         return NONCONVEX;
+      }
+      // a touching contact that neither moves on nor gets an impulse
+      stuck = (ts == 0.0 && kick.size() == kicked) ? stuck + 1 : 0;
+      if (stuck >= max_stuck) {
+        hit_member = hit.i;
+        hit_static = hit.kind == Hit::PAIR ? hit.j : -1 - hit.j;
+        return RESTING;
       }
       if (++nsub > 100000) return FAILED;    // a Zeno sequence (the caller's error)
     }

@@ -936,6 +936,7 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
   }
   HardSphere::ClusterFlow<TermPhi> flow(G, rad, statics, walls, (int) job.partners.size(),
                                         TOUCH_TOL);
+  flow.max_stuck = MAX_STUCK;
   // the members' nearest images of each other at the flow's start
   for (int a = 0; a < nm; a++)
     for (int b = a + 1; b < nm; b++) {
@@ -971,19 +972,27 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
                "atom {} did not converge (or its contacts do not end): the timestep {} is too "
                "large for the curvature of the potential",
                S.style_name, update->ntimestep, tag[job.members[0]], dt);
-  if (end == Flow::NONCONVEX) {
-    // the contact: two members, or a member and wall -1 - hit_static
-    const std::string with = flow.hit_static >= 0
-        ? fmt::format("atoms {} and {}", tag[job.members[flow.hit_member]],
-                      tag[job.members[flow.hit_static]])
-        : fmt::format("atom {} and wall {}", tag[job.members[flow.hit_member]],
-                      -1 - flow.hit_static);
+  // the flow's contact (two members, or a member and wall -1 - hit_static)
+  // for the errors
+  auto contact = [&]() {
+    Impulse imp{};
+    imp.itag = tag[job.members[flow.hit_member]];
+    if (flow.hit_static >= 0) {
+      imp.type = PAIR_EVENT;
+      imp.jtag = tag[job.members[flow.hit_static]];
+    } else {
+      imp.type = WALL_EVENT;
+      imp.wall = -1 - flow.hit_static;
+    }
+    return imp;
+  };
+  if (end == Flow::NONCONVEX)
     error->one(FLERR,
                "Fix {} substep local: on step {} the modified Hamiltonian is not convex in the "
                "momenta along the contact normal of {}: the timestep {} is too large for the "
                "curvature of the potential",
-               S.style_name, update->ntimestep, with, dt);
-  }
+               S.style_name, update->ntimestep, S.contact_name(contact()), dt);
+  if (end == Flow::RESTING) S.resting_contact_error(contact(), false);
   if (end == Flow::OVERLAP)
     error->one(FLERR,
                "Fix {} substep local: on step {} a sphere of the cluster of atom {} overlaps "

@@ -388,7 +388,10 @@ comm_modify cutoff 7.0
 
 TEST(StressResting, VerletSubstepMethodsStopWithTheDocumentedError)
 {
-  for (const auto &m : methods()) {
+  // (mcva: its local form, the default, and its global form)
+  std::vector<std::string> ms = methods();
+  ms.push_back("mcva substep global");
+  for (const auto &m : ms) {
     if (m == "psa") continue;
     RunResult r = run_lmp(resting_input(m, 0.01) + "run 10\n");
     EXPECT_NE(r.exit_code, 0) << m;

@@ -93,6 +93,30 @@ TEST(ClusterFlow, WallBounceUnderConstantForceIsExact)
   for (int k = 0; k < nb; k++) EXPECT_NEAR(sg[k].t1, t1 + k * period, 1e-12) << "bounce " << k;
 }
 
+// a sphere at rest on the wall, pressed against it by a constant force:
+// no impulse can move it on (no normal velocity) and the flow cannot pass
+// the wall, a resting contact, which the flow names instead of taking
+// sub-steps of zero length without end
+TEST(ClusterFlow, RestingContactIsNamed)
+{
+  const double im[1] = {1.0}, fc[3] = {0.0, 0.0, -1.5};
+  const Gauss G(1, im, fc, 0.01 * 0.01 / 12.0, {}, &phi);
+  FlowWall W;
+  W.dim = 2;
+  W.coord = 0.0;
+  W.sign = 1.0;
+  Flow F(G, {0.5}, {}, {W}, 0, 1e-9);
+  std::vector<double> y = {0.3, 0.0, 0.5, 0.2, 0.0, 0.0}, pm;
+  ASSERT_EQ(F.run(0.01, y, pm), Flow::RESTING);
+  EXPECT_EQ(F.hit_member, 0);
+  EXPECT_EQ(F.hit_static, -1);    // wall 0
+  // a bounce under the same force is no resting contact
+  std::vector<double> y2 = {0.3, 0.0, 0.5, 0.2, 0.0, -0.1};
+  Flow F2(G, {0.5}, {}, {W}, 0, 1e-9);
+  EXPECT_EQ(F2.run(0.01, y2, pm), Flow::DONE);
+  EXPECT_EQ(F2.stats.wall, 1);
+}
+
 // two unit-radius-sum spheres (masses 1 and 3) on a spring of rest length
 // 1.2 with a soft repulsion, oscillating hard enough to collide at r = 1
 struct Pair {
