@@ -30,7 +30,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 # So these run against the first version listed only; the others say so in
 # their summary. HS_STATS_EVERY_VERSION=1 runs them against every version.
 # (vci's thermostat runs were here too until its local form made them cheap.)
-STATS_ONCE='^lammps\.(MCVA/Thermostat\.|MCVALocal/Thermostat\.|MCVALocal/ThermostatSpring\.|MCVALocal\.LocalAndGlobalSampleTheSameFluid|PCVALocal\.AgreesWithGlobalOn4000Spheres|LocalCross\.FluidEnergyError|VCILocal\.FluidEnergyError)'
+STATS_ONCE='^lammps\.(MCVA/Thermostat\.|MCVALocal/Thermostat\.|MCVALocal/ThermostatSpring\.|MCVALocal\.LocalAndGlobalSampleTheSameFluid|MCVALocalHeld\.|PCVALocal\.AgreesWithGlobalOn4000Spheres|LocalCross\.FluidEnergyError|VCILocal\.FluidEnergyError)'
 declare -A dir=([2021]=build [2025]=build-2025)
 declare -A name=([2021]="LAMMPS 29 Sep 2021 update 2 (Debian bookworm liblammps)"
                  [2025]="LAMMPS 4 Feb 2025 (stock, Debian trixie source)")
