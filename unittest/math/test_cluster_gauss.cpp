@@ -325,6 +325,53 @@ TEST(ClusterGauss, StartJacobianConvergesToTheSameStep)
   }
 }
 
+// the start's Jacobian by its leading part (from V'' alone, the default)
+// or exact: both converge to full Newton's step, the leading one in at most
+// one iteration more; and a step from the same start whose length differs
+// by 1e-6 (a contact time's later trial) starts from the last solution and
+// stops within one iteration at the same step as a cold start's
+TEST(ClusterGauss, LeadingJacobianAndWarmStartGiveTheSameStep)
+{
+  Scene s;
+  ClusterNewtonOptions full, exact, lead;
+  full.full = true;
+  exact.leading = false;
+  for (double h : {0.05, 0.0125, 0.003}) {
+    const double tol = 1e-12 * 30.0 * h;    // (the stages' tolerance, as above)
+    const Cluster Cf = s.make(CDYN), Ce = s.make(CDYN), Cl = s.make(CDYN);
+    std::vector<double> yf(Cf.dim()), ye(Cf.dim()), yl(Cf.dim());
+    const ClusterNewtonStatus f = Cf.step(s.y0.data(), h, yf.data(), full);
+    const ClusterNewtonStatus e = Ce.step(s.y0.data(), h, ye.data(), exact);
+    const ClusterNewtonStatus l = Cl.step(s.y0.data(), h, yl.data(), lead);
+    ASSERT_TRUE(f.converged && e.converged && l.converged) << h;
+    double de = 0.0, dl = 0.0;
+    for (int i = 0; i < Cf.dim(); i++) {
+      de = std::max(de, std::fabs(ye[i] - yf[i]));
+      dl = std::max(dl, std::fabs(yl[i] - yf[i]));
+    }
+    std::printf("h %.4f: exact start Jacobian %d iterations, leading %d; from full Newton's "
+                "step %.1e, %.1e\n",
+                h, e.iterations, l.iterations, de, dl);
+    EXPECT_LE(de, tol);
+    EXPECT_LE(dl, tol);
+    EXPECT_LE(l.iterations, e.iterations + 1) << h;
+    // the warm trial (Cl solved h from this start) against a cold one
+    const double h2 = h * (1.0 + 1e-6);
+    const Cluster Cc = s.make(CDYN);
+    std::vector<double> yw(Cf.dim()), yc(Cf.dim());
+    const ClusterNewtonStatus w = Cl.step(s.y0.data(), h2, yw.data(), lead);
+    const ClusterNewtonStatus c = Cc.step(s.y0.data(), h2, yc.data(), lead);
+    ASSERT_TRUE(w.converged && c.converged) << h;
+    double dw = 0.0;
+    for (int i = 0; i < Cf.dim(); i++) dw = std::max(dw, std::fabs(yw[i] - yc[i]));
+    std::printf("  length x (1 + 1e-6): warm %d iterations, cold %d; apart %.1e\n", w.iterations,
+                c.iterations, dw);
+    EXPECT_LE(dw, 2.0 * tol);
+    if (h < 0.005) EXPECT_LE(w.iterations, 1) << h;    // (the fluid tests' sub-steps)
+    EXPECT_LT(w.iterations, c.iterations) << h;
+  }
+}
+
 TEST(ClusterGauss, AlphaHatKeepsModifiedEnergyAndIsElasticWithoutIt)
 {
   Scene s;
