@@ -82,7 +82,7 @@ void HSMethodMCVA::init()
   if (comm->me == 0) {
     std::string how;
     if (local_form)
-      how = "Newton on each cluster's stage equations (the start's Jacobian, Eigen LU; "
+      how = "Newton per cluster (the start's Jacobian, Eigen LU; "
             "substep local)";
     else if (!newton)
       how = "fixed-point iteration (fix_modify stages fixed)";
