@@ -328,7 +328,7 @@ template <class Phi> class ClusterFlow {
     // trials a contact on the fluid)
     double lo = 0.0, hi = tmax, t = std::min(guess, tmax), best = -1.0;
     double tprev = 0.0, gprev = 0.0;
-    bool have_hi = false, have_prev = false;
+    bool have_hi = false;
     for (int it = 0; it < 60; it++) {
       double g, dg;
       gap(t, g, dg);
@@ -336,10 +336,9 @@ template <class Phi> class ClusterFlow {
       if (!(g == g)) return -1.0;
       // (the window's width from the flow's own g', as before)
       const double dg_end = dg;
-      if (have_prev && t != tprev && g != gprev) dg = (g - gprev) / (t - tprev);
+      if (it > 0 && t != tprev && g != gprev) dg = (g - gprev) / (t - tprev);
       tprev = t;
       gprev = g;
-      have_prev = true;
       const double gtol = std::min(gtol0, std::fabs(dg_end) * ttol);
       if (g >= 0.0) {
         lo = std::max(lo, t);

@@ -303,7 +303,6 @@ template <class Phi> class ClusterGauss {
     ClusterNewtonStatus st;
     Vec K1(N), K2(N);
     Eigen::Map<const Vec> y(y0, N);
-    bool warm = false;    // started from the last solution (the predictor above)
     if (!opt.full) {
       // the start's field and Jacobian, kept while the start is the same
       if (!(start_ok_ && std::equal(y0, y0 + N, sy0_.data()))) {
@@ -327,7 +326,6 @@ template <class Phi> class ClusterGauss {
       // a contact time's later trials differ from the last by 1e-5 h or
       // less, and their iterations start within round-off of the solution
       const Vec Jf = sJ0_ * sf0_;
-      warm = last_ok_;
       if (last_ok_) {
         K1 = sK1_ + (GL::c1 * (h - sh_)) * Jf;
         K2 = sK2_ + (GL::c2 * (h - sh_)) * Jf;
@@ -340,6 +338,8 @@ template <class Phi> class ClusterGauss {
       st.fields++;
       K2 = K1;
     }
+    // started from the last solution (the predictor above)
+    const bool warm = !opt.full && last_ok_;
     Vec Y1(N), Y2(N), f1(N), f2(N), R(2 * N), D(2 * N);
     Mat J1, J2, A(2 * N, 2 * N);
     Eigen::PartialPivLU<Mat> lu;
