@@ -34,6 +34,7 @@
 #include "hs_cluster_gauss.h"
 #include "hs_contact.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -272,19 +273,24 @@ template <class Phi> class ClusterFlow {
     std::vector<double> y1;
     ClusterStepDetail det;
   };
+  // the last ntrial_ (<= 3) trials, oldest first; their storage is reused
   std::vector<Trial> trials;
+  int ntrial_ = 0;
   double refine(const std::vector<double> &y, const Hit &hit, double guess, double tmax)
   {
-    trials.clear();
+    ntrial_ = 0;
     if (guess <= 0.0) return 0.0;
     // to 1e-11 of the sub-step: the gap then errs by ~1e-11 h |v_n|, far
     // below the touching tolerance
     const double ttol = 1e-11 * std::max(tmax, 1e-300) + 1e-300;
     const int n = G.members(), N = G.dim();
     auto gap = [&](double tt, double &g, double &dg) {
-      if (trials.size() >= 3) trials.erase(trials.begin());
-      trials.push_back({tt, std::vector<double>(N), ClusterStepDetail()});
-      Trial &tr = trials.back();
+      if (ntrial_ == 3) std::rotate(trials.begin(), trials.begin() + 1, trials.begin() + 3);
+      else if ((int) trials.size() <= ntrial_) trials.emplace_back();
+      if (ntrial_ < 3) ntrial_++;
+      Trial &tr = trials[ntrial_ - 1];
+      tr.t = tt;
+      tr.y1.resize(N);
       G.step(y.data(), tt, tr.y1.data(), newton_opt(), &tr.det);
       const std::vector<double> &yt = tr.y1;
       if (hit.kind == Hit::PAIR) {
@@ -360,8 +366,8 @@ template <class Phi> class ClusterFlow {
   // the kept trial of length t, if any
   const Trial *tried(double t) const
   {
-    for (const Trial &tr : trials)
-      if (tr.t == t) return &tr;
+    for (int k = 0; k < ntrial_; k++)
+      if (trials[k].t == t) return &trials[k];
     return nullptr;
   }
 

@@ -217,7 +217,8 @@ template <class Phi> class ClusterGauss {
     }
     for (size_t ti = 0; ti < terms_.size(); ti++) {
       const ClusterTerm &t = terms_[ti];
-      const double *pt = pc_[ti].data();
+      const TermAt &at = pc_[ti];
+      const double *pt = at.p.data();
       const bool two = t.b >= 0;
       // inputs: q_a, q_b, v_a, v_b, a_a, a_b (a static atom: q = xb, v = a = 0)
       double z[18];
@@ -233,9 +234,9 @@ template <class Phi> class ClusterGauss {
       // (b: minus), w = v_a - v_b, a_rel = a_a - a_b
       if (!J) {
         double o[6];
-        term_field<double>(pt, z, o);
+        term_field_at(at, z, o);
         add_term(t, o, k);
-        if (pf && !two && t.partner >= 0) add_partner(t, pt, z, o, pf);
+        if (pf && !two && t.partner >= 0) add_partner(t, at, o, pf);
         continue;
       }
       AD za[18], o[6];
@@ -244,7 +245,7 @@ template <class Phi> class ClusterGauss {
       double ov[6];
       for (int r = 0; r < 6; r++) ov[r] = o[r].value();
       add_term(t, ov, k);
-      if (pf && !two && t.partner >= 0) add_partner(t, pt, z, ov, pf);
+      if (pf && !two && t.partner >= 0) add_partner(t, at, ov, pf);
       // chain rule into J: a row block (outputs of member a, and -those of b)
       // by the inputs' columns; a's columns through Da
       for (int side = 0; side < (two ? 2 : 1); side++) {
@@ -301,7 +302,11 @@ template <class Phi> class ClusterGauss {
     using GL = GaussLegendre2;
     const int N = dim(), m = 3 * n_;
     ClusterNewtonStatus st;
-    Vec K1(N), K2(N);
+    // (scratch kept between calls: a step's vectors, matrix and LU were a
+    // dozen heap allocations, 3 % of a collisional step on the fluid)
+    Vec &K1 = ss_.K1, &K2 = ss_.K2;
+    K1.resize(N);
+    K2.resize(N);
     Eigen::Map<const Vec> y(y0, N);
     if (!opt.full) {
       // the start's field and Jacobian, kept while the start is the same
@@ -325,7 +330,8 @@ template <class Phi> class ClusterGauss {
       // new stage times, K_i' + c_i (h - h') J0 f0, off by O(|h - h'| h):
       // a contact time's later trials differ from the last by 1e-5 h or
       // less, and their iterations start within round-off of the solution
-      const Vec Jf = sJ0_ * sf0_;
+      Vec &Jf = ss_.Jf;
+      Jf.noalias() = sJ0_ * sf0_;
       if (last_ok_) {
         K1 = sK1_ + (GL::c1 * (h - sh_)) * Jf;
         K2 = sK2_ + (GL::c2 * (h - sh_)) * Jf;
@@ -340,9 +346,16 @@ template <class Phi> class ClusterGauss {
     }
     // started from the last solution (the predictor above)
     const bool warm = !opt.full && last_ok_;
-    Vec Y1(N), Y2(N), f1(N), f2(N), R(2 * N), D(2 * N);
-    Mat J1, J2, A(2 * N, 2 * N);
-    Eigen::PartialPivLU<Mat> lu;
+    Vec &Y1 = ss_.Y1, &Y2 = ss_.Y2, &f1 = ss_.f1, &f2 = ss_.f2, &R = ss_.R, &D = ss_.D;
+    Y1.resize(N);
+    Y2.resize(N);
+    f1.resize(N);
+    f2.resize(N);
+    R.resize(2 * N);
+    D.resize(2 * N);
+    Mat &J1 = ss_.J1, &J2 = ss_.J2, &A = ss_.A;
+    A.resize(2 * N, 2 * N);
+    Eigen::PartialPivLU<Mat> &lu = ss_.lu;
     // dR/dK = I - h [[a11 Ja, a12 Ja], [a21 Jb, a22 Jb]], factorised
     auto factor = [&](const Mat &Ja, const Mat &Jb) {
       A.setIdentity();
@@ -378,7 +391,7 @@ template <class Phi> class ClusterGauss {
       st.fields += 2;
       R.head(N) = K1 - f1;
       R.tail(N) = K2 - f2;
-      D = lu.solve(R);
+      D.noalias() = lu.solve(R);
       K1 -= D.head(N);
       K2 -= D.tail(N);
       st.iterations++;
@@ -466,7 +479,7 @@ template <class Phi> class ClusterGauss {
     for (size_t ti = 0; ti < terms_.size(); ti++) {
       const ClusterTerm &t = terms_[ti];
       if (t.b >= 0 || t.partner < 0) continue;
-      const double *p = pc_[ti].data();
+      const TermAt &at = pc_[ti];
       double z[18], o[6];
       for (int d = 0; d < 3; d++) {
         z[d] = q[3 * t.a + d];
@@ -476,8 +489,8 @@ template <class Phi> class ClusterGauss {
         z[12 + d] = a[3 * t.a + d];
         z[15 + d] = 0.0;
       }
-      term_field<double>(p, z, o);
-      add_partner(t, p, z, o, out);
+      term_field_at(at, z, o);
+      add_partner(t, at, o, out);
     }
   }
 
@@ -538,6 +551,13 @@ template <class Phi> class ClusterGauss {
   mutable double stheta_ = -1.0;    // the last contraction seen (step())
   mutable Vec sK1_, sK2_;
   mutable Mat sJ0_;
+  // step()'s scratch
+  struct StepScratch {
+    Vec K1, K2, Jf, Y1, Y2, f1, f2, R, D;
+    Mat J1, J2, A;
+    Eigen::PartialPivLU<Mat> lu;
+  };
+  mutable StepScratch ss_;
   // field()'s scratch
   mutable std::vector<double> sF_, sa_;
   mutable Mat sK_, sDa_;
@@ -545,7 +565,8 @@ template <class Phi> class ClusterGauss {
   Phi phi_;
 
   // V, F = -grad V (fc included) and V'' (K) at positions q; each term's
-  // phi^(k), k <= order, kept in pc_ for term_field() at the same q
+  // phi^(k), k <= order, and the geometry kept in pc_ for term_field_at()
+  // at the same q
   void forces(const double *q, double &V, double *F, Mat *K, int order) const
   {
     pc_.resize(terms_.size());
@@ -560,10 +581,14 @@ template <class Phi> class ClusterGauss {
       for (int d = 0; d < 3; d++)
         x[d] = q[3 * t.a + d] - (t.b >= 0 ? q[3 * t.b + d] - t.off[d] : t.xb[d]);
       const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-      double *p = pc_[ti++].data();
+      TermAt &at = pc_[ti++];
+      double *p = at.p.data();
       phi_(t.kind, r, order, p);
       V += p[0];
-      const double e[3] = {x[0] / r, x[1] / r, x[2] / r};
+      // (term_field()'s arithmetic: one division a term)
+      at.ir = 1.0 / r;
+      double *e = at.e;
+      for (int d = 0; d < 3; d++) e[d] = x[d] * at.ir;
       for (int d = 0; d < 3; d++) {
         F[3 * t.a + d] -= p[1] * e[d];
         if (t.b >= 0) F[3 * t.b + d] += p[1] * e[d];
@@ -593,7 +618,12 @@ template <class Phi> class ClusterGauss {
   {
     for (int k = 0; k < 3; k++) out[k] = AD(p[k + 1], p[k + 2] * r.derivatives());
   }
-  mutable std::vector<std::array<double, 5>> pc_;
+  // a term at the positions of the last forces(): phi^(k), 1/r, e = x / r
+  struct TermAt {
+    std::array<double, 5> p;
+    double ir, e[3];
+  };
+  mutable std::vector<TermAt> pc_;
 
   // one term's part of the field, before the inverse mass (member a's; b's is
   // its negative): o[0..2] = 2c V_t'' w, o[3..5] = -c (grad_x (w^T V_t'' w)
@@ -617,6 +647,23 @@ template <class Phi> class ClusterGauss {
     const S ir = 1.0 / r;
     S e[3];
     for (int d = 0; d < 3; d++) e[d] = x[d] * ir;
+    term_core<S>(p, ir, e, w, ar, o);
+  }
+  // the same in double at the positions of the last forces(), whose
+  // geometry (1/r, e) and phi^(k) it takes: the same bits as term_field()
+  void term_field_at(const TermAt &at, const double *z, double *o) const
+  {
+    double w[3], ar[3];
+    for (int d = 0; d < 3; d++) {
+      w[d] = z[6 + d] - z[9 + d];
+      ar[d] = z[12 + d] - z[15 + d];
+    }
+    term_core<double>(&at.p[1], at.ir, at.e, w, ar, o);
+  }
+  // p: phi', phi'', phi'''
+  template <class S>
+  void term_core(const S *p, const S &ir, const S *e, const S *w, const S *ar, S *o) const
+  {
     const S B = p[0] * ir, A = p[1] - B;
     const S Bp = (p[1] - B) * ir, Ap = p[2] - Bp;
     const S s = e[0] * w[0] + e[1] * w[1] + e[2] * w[2];
@@ -634,14 +681,11 @@ template <class Phi> class ClusterGauss {
   }
 
   // a static term's force on its partner: minus its part of the member's
-  // dp/dt (phi' e less the modified part o[3..5]); z: the term's inputs
-  static void add_partner(const ClusterTerm &t, const double *p, const double *z, const double *o,
-                          double *pf)
+  // dp/dt (phi' e less the modified part o[3..5]); at: the term at the
+  // positions of the last forces()
+  static void add_partner(const ClusterTerm &t, const TermAt &at, const double *o, double *pf)
   {
-    double x[3];
-    for (int d = 0; d < 3; d++) x[d] = z[d] - z[3 + d];
-    const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-    for (int d = 0; d < 3; d++) pf[3 * t.partner + d] += p[1] * x[d] / r - o[3 + d];
+    for (int d = 0; d < 3; d++) pf[3 * t.partner + d] += at.p[1] * at.e[d] - o[3 + d];
   }
 
   void add_term(const ClusterTerm &t, const double *o, double *k) const

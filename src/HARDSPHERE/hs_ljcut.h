@@ -66,6 +66,27 @@ inline void lj_derivs(double eps, double sig, double fl, double rsq, double r, i
   if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * rinv * rinv * rinv * rinv;
 }
 
+// phi^(k)(r), k = 0..order (order <= 4), of one lj/cut term in one pass:
+// phi and phi' as lj_cut_phi01() (single()'s bits), the higher ones from
+// the same 1/r^2 and r^-6 (the compiler shares them with lj_cut_phi01()'s)
+// with 1/r = r / r^2: one division a term where lj_cut_phi01() +
+// lj_derivs() take three (mcva's cluster flows evaluate ~3000 terms a
+// collision)
+inline void lj_cut_phi04(const double *c, double fl, double rsq, double r, int order,
+                         double phi[5])
+{
+  lj_cut_phi01(c, fl, rsq, r, phi);
+  phi[2] = phi[3] = phi[4] = 0.0;
+  if (order < 2) return;
+  const double r2inv = 1.0 / rsq;
+  const double r6inv = r2inv * r2inv * r2inv;
+  // fl 4 eps sigma^12 r^-12 and -fl 4 eps sigma^6 r^-6 (c[2], c[3]: lj3, lj4)
+  const double c12 = fl * c[2] * r6inv * r6inv, c6 = -fl * c[3] * r6inv;
+  phi[2] = (156.0 * c12 + 42.0 * c6) * r2inv;
+  if (order >= 3) phi[3] = (-2184.0 * c12 - 336.0 * c6) * (r2inv * r2inv * r);
+  if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * (r2inv * r2inv);
+}
+
 // PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
 // entries carry the special bits above SB (factor special_lj[j >> SB & 3])
 // and the index in MASK (LAMMPS' SBBITS and NEIGHMASK); f[j] -= only if

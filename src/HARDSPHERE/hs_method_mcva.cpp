@@ -818,7 +818,7 @@ struct TermPhi {
   void operator()(int t, double r, int order, double *d) const
   {
     const int i = tloc[toff[t]], j = tloc[toff[t] + 1];
-    if (t < npair) pot->pair_term4(i, j, textra[t], r * r, order, d);
+    if (t < npair) pot->pair_term4(i, j, textra[t], r, order, d);
     else pot->bond_term4(textra[t], i, j, r * r, order, d);
   }
 };

@@ -446,12 +446,18 @@ struct HSPotential::Impl : protected Pointers {
   /* ---- SINGLE: radial pair and bond terms ---- */
 
   // phi^(k)(r), k = 1..order, of one pair term
-  void pair_phi(int i, int j, int itype, int jtype, double rsq, double fc, double fl, int order,
-                double phi[5])
+  // (r: sqrt(rsq), from the caller, which often has it)
+  void pair_phi(int i, int j, int itype, int jtype, double rsq, double r, double fc, double fl,
+                int order, double phi[5])
   {
     Pair *pair = force->pair;
     double fforce = 0.0;
-    const double r = sqrt(rsq);
+    if (lj_inline && pair_lj) {
+      // both: phi to phi'''' in one pass (lj_current() as below)
+      HardSphere::lj_cut_phi04(&ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)], fl,
+                               rsq, r, order, phi);
+      return;
+    }
     if (lj_inline)
       // PairLJCut::single(), operation for operation (lj_current() checked
       // at the start of the pass that the coefficients still hold)
@@ -570,7 +576,7 @@ struct HSPotential::Impl : protected Pointers {
             const double r = rc * (0.3 + 0.7 * k / 16.0), rsq = r * r;
             double f1 = 0.0, p[5];
             const double e1 = pair->single(0, 0, it, jt, rsq, 1.0, fl, f1);
-            pair_phi(0, 0, it, jt, rsq, 1.0, fl, 1, p);
+            pair_phi(0, 0, it, jt, rsq, r, 1.0, fl, 1, p);
             const double p1 = -f1 * r;    // (pair_phi()'s phi' from single()'s)
             if (!(memcmp(&e1, &p[0], sizeof(double)) == 0 &&
                   memcmp(&p1, &p[1], sizeof(double)) == 0)) {
@@ -675,8 +681,8 @@ struct HSPotential::Impl : protected Pointers {
                           bool inside) {
         if (!((mask[i] | mask[j]) & groupbit)) return;
         if (frozen_on ? !in_set[first[ii] + jj] : !inside) return;
-        pair_phi(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb],
-                 order, phi);
+        pair_phi(i, j, type[i], type[j], rsq, sqrt(rsq), force->special_coul[sb],
+                 force->special_lj[sb], order, phi);
         const bool full = newton_pair || j < nlocal;
         fn(i, j, d, phi, full ? 1.0 : 0.5, true, full);
       });
@@ -1442,7 +1448,8 @@ void HSPotential::pair_term(int i, int j, int sb, double rsq, double phi[3])
 {
   const int *type = atom->type;
   double p[5];
-  impl->pair_phi(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb], 2, p);
+  impl->pair_phi(i, j, type[i], type[j], rsq, sqrt(rsq), force->special_coul[sb],
+                 force->special_lj[sb], 2, p);
   for (int k = 0; k < 3; k++) phi[k] = p[k];
 }
 
@@ -1453,11 +1460,11 @@ void HSPotential::bond_term(int btype, int i, int j, double rsq, double phi[3])
   for (int k = 0; k < 3; k++) phi[k] = p[k];
 }
 
-void HSPotential::pair_term4(int i, int j, int sb, double rsq, int order, double phi[5])
+void HSPotential::pair_term4(int i, int j, int sb, double r, int order, double phi[5])
 {
   const int *type = atom->type;
-  impl->pair_phi(i, j, type[i], type[j], rsq, force->special_coul[sb], force->special_lj[sb],
-                 order, phi);
+  impl->pair_phi(i, j, type[i], type[j], r * r, r, force->special_coul[sb],
+                 force->special_lj[sb], order, phi);
 }
 
 void HSPotential::bond_term4(int btype, int i, int j, double rsq, int order, double phi[5])

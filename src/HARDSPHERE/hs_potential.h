@@ -176,8 +176,9 @@ class HSPotential : protected Pointers {
   void bond_term(int btype, int i, int j, double rsq, double phi[3]);
   // the same to derivative order (<= 4; phi[0..order], the rest 0: analytic
   // for lj/cut, lj/smooth/linear's LJ part and harmonic bonds, else
-  // differences of single()'s phi' in r), for mcva's local stages
-  void pair_term4(int i, int j, int sb, double rsq, int order, double phi[5]);
+  // differences of single()'s phi' in r), for mcva's local stages; the pair
+  // term's at distance r (not its square: the stages have r)
+  void pair_term4(int i, int j, int sb, double r, int order, double phi[5]);
   void bond_term4(int btype, int i, int j, double rsq, int order, double phi[5]);
   // lj/cut's phi and phi' are single()'s arithmetic inline (its
   // coefficients rebuilt and checked bit for bit against single() at init)

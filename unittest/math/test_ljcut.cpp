@@ -266,12 +266,22 @@ TEST(LJCut, KernelWithEnergyIsComputeBitForBit)
 // one term's phi and phi' as PairLJCut::single() computes them (energy and
 // fforce, written here one operation at a time, phi' = -fforce r), and its
 // phi'', phi''', phi'''' against the closed forms of 4 eps fl [(s/r)^12 -
-// (s/r)^6] and against central differences of the next lower derivative
+// (s/r)^6] and against central differences of the next lower derivative;
+// both ways the kernels give them: lj_cut_phi01() + lj_derivs(), and
+// lj_cut_phi04() in one pass
 TEST(LJCut, TermIsSinglesBitsAndItsDerivatives)
 {
   std::mt19937 g(20261129);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  for (int trial = 0; trial < 2000; trial++) {
+  for (int trial = 0; trial < 4000; trial++) {
+    const bool fused = trial % 4 >= 2;
+    auto term = [&](const double *c, double fl, double rsq, double r, double *phi) {
+      if (fused) HardSphere::lj_cut_phi04(c, fl, rsq, r, 4, phi);
+      else {
+        HardSphere::lj_cut_phi01(c, fl, rsq, r, phi);
+        HardSphere::lj_derivs(c[5], c[6], fl, rsq, r, 4, phi);
+      }
+    };
     const double eps = 0.5 + U(g), sig = 0.8 + 0.4 * U(g), cut = 2.0 + U(g);
     const double fl = trial % 3 == 0 ? 1.0 : (trial % 3 == 1 ? 0.5 : 0.125);
     const double ratio = sig / cut;
@@ -282,8 +292,7 @@ TEST(LJCut, TermIsSinglesBitsAndItsDerivatives)
                          eps, sig};
     const double r = sig * (0.85 + (cut / sig - 0.85) * U(g)), rsq = r * r;
     double phi[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
-    HardSphere::lj_cut_phi01(c, fl, rsq, std::sqrt(rsq), phi);
-    HardSphere::lj_derivs(c[5], c[6], fl, rsq, std::sqrt(rsq), 4, phi);
+    term(c, fl, rsq, std::sqrt(rsq), phi);
     // single(): r2inv, r6inv, forcelj, fforce = factor_lj forcelj r2inv,
     // philj = r6inv (lj3 r6inv - lj4) - offset, returns factor_lj philj
     volatile double r2inv = 1.0 / rsq, r4 = r2inv * r2inv, r6inv = r4 * r2inv;
@@ -311,10 +320,8 @@ TEST(LJCut, TermIsSinglesBitsAndItsDerivatives)
     for (int q = 2; q <= 4; q++) {
       double pp[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, pm[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
       const double rp = r + h, rm = r - h;
-      HardSphere::lj_cut_phi01(c, fl, rp * rp, rp, pp);
-      HardSphere::lj_derivs(c[5], c[6], fl, rp * rp, rp, 4, pp);
-      HardSphere::lj_cut_phi01(c, fl, rm * rm, rm, pm);
-      HardSphere::lj_derivs(c[5], c[6], fl, rm * rm, rm, 4, pm);
+      term(c, fl, rp * rp, rp, pp);
+      term(c, fl, rm * rm, rm, pm);
       const double fd = (pp[q - 1] - pm[q - 1]) / (2.0 * h);
       EXPECT_NEAR(phi[q], fd, 1e-6 * scale[q])
           << "trial " << trial << " order " << q;
