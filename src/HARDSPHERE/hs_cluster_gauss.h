@@ -320,7 +320,10 @@ template <class Phi> class ClusterGauss {
         else
           field(y0, sf0_.data(), fresh ? &sJ0_ : nullptr);
         st.fields++;
-        if (fresh) st.jacobians++;
+        if (fresh) {
+          st.jacobians++;
+          lu_ok_ = false;
+        }
         start_ok_ = true;
         last_ok_ = false;
         stheta_ = -1.0;
@@ -365,7 +368,16 @@ template <class Phi> class ClusterGauss {
       A.block(N, N, N, N) -= h * GL::a22 * Jb;
       lu.compute(A);
     };
-    if (!opt.full) factor(sJ0_, sJ0_);
+    // the last factorisation with J0 serves a length within 1e-6 of its
+    // own (a contact time's later trials, 1e-5 h apart or less): the matrix
+    // is then off by 1e-6 h |J0|, below the iteration's own contraction
+    // from the stages' Jacobians' change, and the LU (a tenth of a
+    // collisional step) is not repeated
+    if (!opt.full && !(lu_ok_ && std::fabs(h - lu_h_) <= 1e-6 * std::fabs(lu_h_))) {
+      factor(sJ0_, sJ0_);
+      lu_ok_ = true;
+      lu_h_ = h;
+    }
     double prev = std::numeric_limits<double>::infinity();
     for (int it = 0; it < opt.maxit; it++) {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
@@ -384,6 +396,7 @@ template <class Phi> class ClusterGauss {
         field(Y2.data(), f2.data(), &J2, p2);
         st.jacobians += 2;
         factor(J1, J2);
+        lu_ok_ = false;
       } else {
         field(Y1.data(), f1.data(), nullptr, p1);
         field(Y2.data(), f2.data(), nullptr, p2);
@@ -558,6 +571,9 @@ template <class Phi> class ClusterGauss {
     Eigen::PartialPivLU<Mat> lu;
   };
   mutable StepScratch ss_;
+  // ss_.lu holds I - h A (x) J0 for h = lu_h_ and the kept start's J0
+  mutable bool lu_ok_ = false;
+  mutable double lu_h_ = 0.0;
   // field()'s scratch
   mutable std::vector<double> sF_, sa_;
   mutable Mat sK_, sDa_;
