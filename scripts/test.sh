@@ -30,7 +30,13 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 # So these run against the first version listed only; the others say so in
 # their summary. HS_STATS_EVERY_VERSION=1 runs them against every version.
 # (vci's thermostat runs were here too until its local form made them cheap.)
-STATS_ONCE='^lammps\.(MCVA/Thermostat\.|MCVALocal/Thermostat\.|MCVALocal/ThermostatSpring\.|MCVALocal\.LocalAndGlobalSampleTheSameFluid|MCVALocalHeld\.|PCVALocal\.AgreesWithGlobalOn4000Spheres|LocalCross\.FluidEnergyError|VCILocal\.FluidEnergyError)'
+# Also the local engine's settling-rounds regression (LocalEngine.
+# StepIndependentOfItsSettlingRounds: 25 steps of cva on 1000 spheres at
+# packing 0.45 and T 3, twice, ~150 s CPU: the engine's own rounds, whose
+# LAMMPS side, atom sorting, the short LocalEngine tests cover) and mcva's
+# fixed-point stage iteration on the lj/cut fluid (a kernel option, ~25 s;
+# its Newton case runs against every version).
+STATS_ONCE='^lammps\.(MCVA/Thermostat\.|MCVALocal/Thermostat\.|MCVALocal/ThermostatSpring\.|MCVALocal\.LocalAndGlobalSampleTheSameFluid|MCVALocalHeld\.|PCVALocal\.AgreesWithGlobalOn4000Spheres|LocalCross\.FluidEnergyError|VCILocal\.FluidEnergyError|LocalEngine\.StepIndependentOfItsSettlingRounds|MCVACutoff\.LJCutFluidRunsThroughFixedPoint)'
 declare -A dir=([2021]=build [2025]=build-2025)
 declare -A name=([2021]="LAMMPS 29 Sep 2021 update 2 (Debian bookworm liblammps)"
                  [2025]="LAMMPS 4 Feb 2025 (stock, Debian trixie source)")
@@ -46,7 +52,7 @@ for v in $VERSIONS; do
   note=""
   if [ "$v" != "${VERSIONS%% *}" ] && [ "${HS_STATS_EVERY_VERSION:-0}" != 1 ]; then
     excl=(-E "$STATS_ONCE")
-    note=" (mcva thermostat statistics, long local-engine order runs: in ${dir[${VERSIONS%% *}]}/ only)"
+    note=" (mcva thermostat statistics, long local-engine order and settling runs: in ${dir[${VERSIONS%% *}]}/ only)"
     echo "not run here, run in ${dir[${VERSIONS%% *}]}/: tests matching $STATS_ONCE"
   fi
   set +e
