@@ -452,21 +452,17 @@ struct HSPotential::Impl : protected Pointers {
   {
     Pair *pair = force->pair;
     double fforce = 0.0;
-    if (lj_inline && pair_lj) {
-      // both: phi to phi'''' in one pass (lj_current() as below)
+    if (lj_inline) {
+      // (set only with pair_lj) phi and phi' as PairLJCut::single(),
+      // operation for operation (lj_current() checked at the start of the
+      // pass that the coefficients still hold), phi'' .. phi'''' from the
+      // same powers of r, in one pass
       HardSphere::lj_cut_phi04(&ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)], fl,
                                rsq, r, order, phi);
       return;
     }
-    if (lj_inline)
-      // PairLJCut::single(), operation for operation (lj_current() checked
-      // at the start of the pass that the coefficients still hold)
-      HardSphere::lj_cut_phi01(&ljc[LJC * ((size_t) itype * (atom->ntypes + 1) + jtype)], fl,
-                               rsq, r, phi);
-    else {
-      phi[0] = pair->single(i, j, itype, jtype, rsq, fc, fl, fforce);
-      phi[1] = -fforce * r;
-    }
+    phi[0] = pair->single(i, j, itype, jtype, rsq, fc, fl, fforce);
+    phi[1] = -fforce * r;
     phi[2] = phi[3] = phi[4] = 0.0;
     if (order < 2) return;
     if (pair_lj) {
