@@ -38,6 +38,11 @@ struct LJCutTable {
   // sigma they came from; nullptr: none
   const double *coef = nullptr;
   int stride = 0, ntp1 = 0;
+  // the coefficients of the type pair (itype, jtype)
+  const double *of(int itype, int jtype) const
+  {
+    return coef + (size_t) stride * (itype * ntp1 + jtype);
+  }
 };
 
 // one term's phi and phi'(r) = -fforce r, as PairLJCut::single() computes

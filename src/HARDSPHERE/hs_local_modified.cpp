@@ -139,7 +139,7 @@ void HSLocalModified::terms_eval(X xpos, double &E, double &Q, double &Qbb, bool
       const int ti = type[i], tj = type[j];
       if (rsq >= cutsq[ti][tj]) continue;
       if (ljt.coef) {
-        const double *c = ljt.coef + (size_t) ljt.stride * (ti * ljt.ntp1 + tj);
+        const double *c = ljt.of(ti, tj);
         const double fl = special_lj[textra[t]];
         HardSphere::lj_cut_phi01(c, fl, rsq, r, phi);
         HardSphere::lj_derivs(c[5], c[6], fl, rsq, r, 2, phi);

@@ -919,7 +919,7 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
     {
       TermOf of{i, j, te[t], t < job.npair, nullptr, 0.0};
       if (of.pair && ljt.coef) {
-        of.lj = ljt.coef + (size_t) ljt.stride * (type[i] * ljt.ntp1 + type[j]);
+        of.lj = ljt.of(type[i], type[j]);
         of.fl = force->special_lj[te[t]];
       }
       term_of.push_back(of);
