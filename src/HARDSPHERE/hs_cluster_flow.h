@@ -276,6 +276,7 @@ template <class Phi> class ClusterFlow {
   // the last ntrial_ (<= 3) trials, oldest first; their storage is reused
   std::vector<Trial> trials;
   int ntrial_ = 0;
+  std::vector<double> kf_;    // refine()'s field at a trial's end
   double refine(const std::vector<double> &y, const Hit &hit, double guess, double tmax)
   {
     ntrial_ = 0;
@@ -313,39 +314,62 @@ template <class Phi> class ClusterFlow {
         dg = W.sign * yt[3 * n + 3 * hit.i + W.dim];
       }
     };
-    // safeguarded Newton on the gap from the parabola's time (its error is
-    // the step's O(h^3)), stopped at a gap within gtol on the allowed side
-    // (a time bracket of width ttol would need a point past the contact
-    // too) that is also within ttol of the contact in time, g <= |g'| ttol:
-    // a grazing contact's normal speed |g'| is small, and a gap of 1e-12
-    // would put its time off by 1e-12 / |g'| (the impulse's direction with
-    // it; StressGrazing). Where round-off in g keeps Newton from that
+    // the gap's first and second derivatives along the flow at the last
+    // trial's end, from the field there (dq/dt = v + 2c M^-1 V'' v, dv/dt):
+    // the end state's v is not dq/dt (off by the modified Hamiltonian's
+    // velocity correction, 3e-3 relative at the fluid's sub-steps), and a
+    // Gauss step's end moves with its length as the flow does, to O(h^4)
+    auto flow_slopes = [&](double &g1, double &g2) {
+      const std::vector<double> &yt = trials[ntrial_ - 1].y1;
+      kf_.resize(N);
+      G.field(yt.data(), kf_.data());
+      g1 = g2 = 0.0;
+      if (hit.kind == Hit::PAIR) {
+        const double *off = pair_off(hit.i, hit.j);
+        for (int d = 0; d < 3; d++) {
+          const double dq = yt[3 * hit.i + d] - yt[3 * hit.j + d] + off[d];
+          const double dv = kf_[3 * hit.i + d] - kf_[3 * hit.j + d];
+          const double da = kf_[3 * n + 3 * hit.i + d] - kf_[3 * n + 3 * hit.j + d];
+          g1 += 2.0 * dq * dv;
+          // (dv/dt for d^2q/dt^2: off by O(c) relative, enough for the curvature)
+          g2 += 2.0 * (dv * dv + dq * da);
+        }
+      } else {
+        const FlowWall &W = wall[hit.j];
+        g1 = W.sign * kf_[3 * hit.i + W.dim];
+        g2 = W.sign * kf_[3 * n + 3 * hit.i + W.dim];
+      }
+    };
+    // safeguarded root search on the gap from the parabola's time (its
+    // error is the step's O(h^3): 6e-5 of the time at the fluid's median
+    // contact), stopped at a gap within gtol on the allowed side (a time
+    // bracket of width ttol would need a point past the contact too) that
+    // is also within ttol of the contact in time, g <= |g'| ttol: a grazing
+    // contact's normal speed |g'| is small, and a gap of 1e-12 would put its
+    // time off by 1e-12 / |g'| (the impulse's direction with it;
+    // StressGrazing). Where round-off in g keeps the search from that
     // window, the bracket closes to ttol
     // (a pair's g is |dq|^2 - sigma^2: its gap of 1e-12 sigma is 2e-12 sigma^2)
     const double gtol0 = hit.kind == Hit::PAIR
         ? 2e-12 * (rad[hit.i] + rad[hit.j]) * (rad[hit.i] + rad[hit.j])
         : 2e-12 * rad[hit.i];
-    // From the second trial on, the slope is the secant's through the last
-    // two trials: the end state's g' (the collocation parabola's end
-    // velocity) is not the derivative of the step's end in its length, off
-    // by O(h^2) relative (3e-3 at the fluid's sub-steps), so that Newton on
-    // it gains only a factor ~300 a trial; the secant's error is the product
-    // of the last two, within the window from the third trial (4 -> 3
-    // trials a contact on the fluid)
+    // Each step solves g + g' d + g'' d^2 / 2 = gtol / 2 by one Newton step
+    // from d = -g / g' (Halley's method), g' and g'' along the flow
+    // (flow_slopes(), one field evaluation): the error left is the cubic
+    // term's, and the O(c) error of g'' times d^2. From the parabola's guess
+    // one step reaches the window on 92 % of the fluid's contacts: 2.1
+    // trials a contact, against 3.0 with secant steps on the end state's v
+    // (4000 fluid, 200 steps: 48031 Gauss solves against 56928)
     double lo = 0.0, hi = tmax, t = std::min(guess, tmax), best = -1.0;
-    double tprev = 0.0, gprev = 0.0;
     bool have_hi = false;
     for (int it = 0; it < 60; it++) {
       double g, dg;
       gap(t, g, dg);
       stats.refine += 1.0;
       if (!(g == g)) return -1.0;
-      // (the window's width from the flow's own g', as before)
-      const double dg_end = dg;
-      if (it > 0 && t != tprev && g != gprev) dg = (g - gprev) / (t - tprev);
-      tprev = t;
-      gprev = g;
-      const double gtol = std::min(gtol0, std::fabs(dg_end) * ttol);
+      // (the window's width from the end state's g' = 2 dq.v: its 3e-3 does
+      // not matter there)
+      const double gtol = std::min(gtol0, std::fabs(dg) * ttol);
       if (g >= 0.0) {
         lo = std::max(lo, t);
         best = t;
@@ -355,10 +379,16 @@ template <class Phi> class ClusterFlow {
         have_hi = true;
       }
       if (have_hi && hi - lo <= ttol) return best >= 0.0 ? best : lo;
-      // (aimed at the middle of the allowed window [0, gtol])
-      double tn = (dg != 0.0 && dg == dg) ? t - (g - 0.5 * gtol) / dg : -1.0;
-      if (!(tn > lo && tn < hi)) tn = have_hi ? 0.5 * (lo + hi) : std::min(tmax, 2.0 * t);
       if (!have_hi && t >= tmax && g > 0.0) return guess;    // the flow grazes: the parabola's time
+      // (aimed at the middle of the allowed window [0, gtol])
+      double g1, g2, tn = -1.0;
+      flow_slopes(g1, g2);
+      if (g1 != 0.0 && g1 == g1) {
+        const double d0 = (0.5 * gtol - g) / g1, den = g1 + 0.5 * g2 * d0;
+        // (Newton's step where the curvature would turn the slope over)
+        tn = t + ((den * g1 > 0.0) ? (0.5 * gtol - g) / den : d0);
+      }
+      if (!(tn > lo && tn < hi)) tn = have_hi ? 0.5 * (lo + hi) : std::min(tmax, 2.0 * t);
       t = tn;
     }
     return best >= 0.0 ? best : guess;
