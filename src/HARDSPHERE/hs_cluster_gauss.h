@@ -27,7 +27,8 @@
    Why Newton on the exact Jacobian here and simplified Newton
    (hs_newton.h, G = M^-1 V'' only) in the global form: a cluster has 2-8
    members, so its 12n stage equations are small and dense and a
-   partial-pivot LU (Eigen) is cheap. With the exact Jacobian at every
+   partial-pivot LU (Eigen) is cheap; with the leading Jacobian it is one
+   complex 3n x 3n LU (LeadingStageLU). With the exact Jacobian at every
    iterate (ClusterNewtonOptions::full) the iteration converges
    quadratically; the engine keeps the Jacobian of the flow's start
    instead, by default its leading part from V'' (leading_jacobian(); the
@@ -65,6 +66,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <vector>
 
@@ -142,6 +144,72 @@ struct ClusterStepDetail {
   // Newton iteration: the partners' momentum over the step is h (pf1 +
   // pf2) / 2, the same quadrature as the members' to the stages' tolerance
   std::vector<double> pf1, pf2;
+};
+
+// The Gauss stage matrix I - h A (x) J0 of a Jacobian in the leading form
+// J0 = [[0, P], [Q, 0]] (ClusterGauss::leading_jacobian(): P = I + 2c G,
+// Q = -G + c G G, m x m each), solved through one complex m x m LU instead
+// of a real 4m x 4m one (Hairer & Wanner, Solving ODEs II, IV.8): Gauss'
+// A = T diag(l, conj l) T^-1 with l = a11 + i b, b^2 = -a12 a21 (a11 =
+// a22), eigenvectors (a12, +-i b), so that (I - h A (x) J0) D = R splits
+// into (I - h l J0) x = s and its conjugate, s = R1 / (2 a12) - i R2 / (2 b),
+// and D1 = 2 a12 Re x, D2 = -2 b Im x; with J0's blocks, x_v solves
+// (I - mu^2 Q P) x_v = s_v + mu Q s_q (mu = h l) and x_q = s_q + mu P x_v.
+// The same linear algebra as a real LU of the whole matrix, to round-off
+// (unittest/math/test_cluster_gauss.cpp), for a tenth of its work at 2
+// members
+class LeadingStageLU {
+ public:
+  using Mat = Eigen::MatrixXd;
+  using Vec = Eigen::VectorXd;
+  using Cx = std::complex<double>;
+  // J0 (2m x 2m): only its blocks P (top right) and Q (bottom left) are read
+  void set_blocks(const Mat &J0)
+  {
+    m_ = (int) J0.rows() / 2;
+    const auto P = J0.block(0, m_, m_, m_);
+    const auto Q = J0.block(m_, 0, m_, m_);
+    QP_.noalias() = Q * P;
+    P_ = P.template cast<Cx>();
+    Q_ = Q.template cast<Cx>();
+  }
+  void factor(double h)
+  {
+    mu_ = h * Cx(GaussLegendre2::a11, b());
+    M_ = (-(mu_ * mu_)) * QP_.template cast<Cx>();
+    M_.diagonal().array() += 1.0;
+    lu_.compute(M_);
+  }
+  // D = (I - h A (x) J0)^-1 R, R and D of 2N = 4m (the two stages' blocks)
+  void solve(const Vec &R, Vec &D)
+  {
+    using GL = GaussLegendre2;
+    const int N = 2 * m_, m = m_;
+    const double r1 = 0.5 / GL::a12, r2 = -0.5 / b();
+    s_.resize(N);
+    for (int k = 0; k < N; k++) s_[k] = Cx(r1 * R[k], r2 * R[N + k]);
+    t_.noalias() = Q_ * s_.head(m);
+    t_ = s_.tail(m) + mu_ * t_;
+    x_.resize(N);
+    x_.tail(m) = lu_.solve(t_);
+    x_.head(m).noalias() = P_ * x_.tail(m);
+    x_.head(m) = s_.head(m) + mu_ * x_.head(m);
+    const double d1 = 2.0 * GL::a12, d2 = -2.0 * b();
+    D.resize(2 * N);
+    for (int k = 0; k < N; k++) {
+      D[k] = d1 * x_[k].real();
+      D[N + k] = d2 * x_[k].imag();
+    }
+  }
+
+ private:
+  static double b() { return std::sqrt(-GaussLegendre2::a12 * GaussLegendre2::a21); }
+  int m_ = 0;
+  Mat QP_;
+  Eigen::MatrixXcd P_, Q_, M_;
+  Eigen::PartialPivLU<Eigen::MatrixXcd> lu_;
+  Eigen::VectorXcd s_, t_, x_;
+  Cx mu_;
 };
 
 template <class Phi> class ClusterGauss {
@@ -319,6 +387,10 @@ template <class Phi> class ClusterGauss {
         if (fresh && opt.leading) leading_jacobian(y0, sf0_.data(), sJ0_);
         else
           field(y0, sf0_.data(), fresh ? &sJ0_ : nullptr);
+        if (fresh) {
+          j0_leading_ = opt.leading;
+          if (opt.leading) slu_.set_blocks(sJ0_);
+        }
         st.fields++;
         if (fresh) {
           st.jacobians++;
@@ -378,8 +450,13 @@ template <class Phi> class ClusterGauss {
     // is then off by 1e-6 h |J0|, below the iteration's own contraction
     // from the stages' Jacobians' change, and the LU (a tenth of a
     // collisional step) is not repeated
+    // (J0's leading form: the same matrix solved through one complex m x m
+    // LU, LeadingStageLU)
+    const bool structured = !opt.full && j0_leading_;
     if (!opt.full && !(lu_ok_ && std::fabs(h - lu_h_) <= 1e-6 * std::fabs(lu_h_))) {
-      factor(sJ0_, sJ0_);
+      if (structured) slu_.factor(h);
+      else
+        factor(sJ0_, sJ0_);
       lu_ok_ = true;
       lu_h_ = h;
     }
@@ -409,7 +486,9 @@ template <class Phi> class ClusterGauss {
       st.fields += 2;
       R.head(N) = K1 - f1;
       R.tail(N) = K2 - f2;
-      D.noalias() = lu.solve(R);
+      if (structured) slu_.solve(R, D);
+      else
+        D.noalias() = lu.solve(R);
       K1 -= D.head(N);
       K2 -= D.tail(N);
       st.iterations++;
@@ -577,8 +656,11 @@ template <class Phi> class ClusterGauss {
   };
   mutable StepScratch ss_;
   // ss_.lu holds I - h A (x) J0 for h = lu_h_ and the kept start's J0
+  // (its leading form: slu_)
   mutable bool lu_ok_ = false;
   mutable double lu_h_ = 0.0;
+  mutable bool j0_leading_ = false;    // sJ0_ is leading_jacobian()'s
+  mutable LeadingStageLU slu_;         // (its stage matrix)
   // field()'s scratch
   mutable std::vector<double> sF_, sa_;
   mutable Mat sK_, sDa_;

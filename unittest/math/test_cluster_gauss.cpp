@@ -24,6 +24,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <vector>
 
@@ -370,6 +371,40 @@ TEST(ClusterGauss, LeadingJacobianAndWarmStartGiveTheSameStep)
     if (h < 0.005) EXPECT_LE(w.iterations, 1) << h;    // (the fluid tests' sub-steps)
     EXPECT_LT(w.iterations, c.iterations) << h;
   }
+}
+
+// the stage matrix of a leading-form Jacobian through one complex m x m LU
+// (LeadingStageLU) against the test's own dense real LU of I - h A (x) J0,
+// A written out from the Gauss-Legendre tableau: random blocks, not only
+// those of leading_jacobian() (P, Q need not commute), m = 6 and 24 (2 and
+// 8 members), a small step and one where h |J0| is order 1
+TEST(ClusterGauss, LeadingStageSolveEqualsTheDenseLU)
+{
+  const double s3 = std::sqrt(3.0);
+  const double A[2][2] = {{0.25, 0.25 - s3 / 6.0}, {0.25 + s3 / 6.0, 0.25}};
+  std::srand(4711);
+  for (int m : {6, 24})
+    for (double h : {0.003, 0.4}) {
+      const int N = 2 * m;
+      Eigen::MatrixXd J0 = Eigen::MatrixXd::Zero(N, N);
+      J0.block(0, m, m, m) = Eigen::MatrixXd::Identity(m, m) + 0.3 * Eigen::MatrixXd::Random(m, m);
+      J0.block(m, 0, m, m) = -4.0 * Eigen::MatrixXd::Random(m, m);
+      Eigen::MatrixXd Mfull = Eigen::MatrixXd::Identity(2 * N, 2 * N);
+      for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++) Mfull.block(a * N, b * N, N, N) -= h * A[a][b] * J0;
+      const Eigen::VectorXd R = Eigen::VectorXd::Random(2 * N);
+      const Eigen::VectorXd Dref = Mfull.partialPivLu().solve(R);
+      LeadingStageLU lu;
+      lu.set_blocks(J0);
+      lu.factor(h);
+      Eigen::VectorXd D;
+      lu.solve(R, D);
+      const double err = (D - Dref).cwiseAbs().maxCoeff() / Dref.cwiseAbs().maxCoeff();
+      std::printf("m %d, h %.3f: max |D - D_dense| / max |D_dense| %.1e, residual %.1e\n", m, h,
+                  err, (Mfull * D - R).cwiseAbs().maxCoeff());
+      EXPECT_LE(err, 1e-13) << m << " " << h;
+      EXPECT_LE((Mfull * D - R).cwiseAbs().maxCoeff(), 1e-13 * R.cwiseAbs().maxCoeff() * 10.0);
+    }
 }
 
 TEST(ClusterGauss, AlphaHatKeepsModifiedEnergyAndIsElasticWithoutIt)
