@@ -898,6 +898,8 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
   // "Pair styles cut off without smoothing")
   std::vector<HardSphere::ClusterTerm> terms;
   std::vector<TermOf> term_of;
+  terms.reserve(nterm);
+  term_of.reserve(nterm);
   // (lj_cut_table() also checks that epsilon and sigma still hold, as
   // begin_terms())
   const HardSphere::LJCutTable ljt = S.pot->lj_cut_table();
