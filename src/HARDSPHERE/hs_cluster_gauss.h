@@ -403,18 +403,30 @@ template <class Phi> class ClusterGauss {
       // the predictor K_i = f(y(c_i h)) to O(h^2), f0 + c_i h J0 f0, with
       // the linear part of the h^2 term, (c_i h)^2 / 2 J0 J0 f0 (the stiff
       // part near a contact; 128169 Newton iterations against 131263
-      // without it on the 4000 fluid, 200 steps); after
-      // a step of length h' from the same start, its stages moved to the
-      // new stage times, K_i' + c_i (h - h') J0 f0, off by O(|h - h'| h):
-      // a contact time's later trials differ from the last by 1e-5 h or
-      // less, and their iterations start within round-off of the solution
-      Vec &Jf = ss_.Jf;
-      Jf.noalias() = sJ0_ * sf0_;
-      if (last_ok_) {
-        K1 = sK1_ + (GL::c1 * (h - sh_)) * Jf;
-        K2 = sK2_ + (GL::c2 * (h - sh_)) * Jf;
+      // without it on the 4000 fluid, 200 steps); after a step of length h'
+      // from the same start (a contact time's trials), the quadratic through
+      // f0 at 0 and its stages K_i' at c_i h' (f along that step's path,
+      // to O(h'^3)) at the new stage times: the first trial, a fraction of
+      // h' long, starts within its interpolation error, not O(|h - h'| h)
+      // off as with K_i' + c_i (h - h') J0 f0 (res 1e-3 on the fluid's
+      // first trials; 108709 Newton iterations against 118845), and a later
+      // trial, 1e-5 h' or less away, within round-off of the solution. A
+      // step more than half again as long (or after one of length 0) takes
+      // the start's predictor: far out, the quadratic's extrapolation is
+      // worse
+      if (last_ok_ && sh_ > 0.0 && h <= 1.5 * sh_) {
+        const double t1 = GL::c1 * sh_, t2 = GL::c2 * sh_;
+        auto lagrange = [&](double t, Vec &K) {
+          const double l0 = (t - t1) * (t - t2) / (t1 * t2);
+          const double l1 = t * (t - t2) / (t1 * (t1 - t2));
+          const double l2 = t * (t - t1) / (t2 * (t2 - t1));
+          K = l0 * sf0_ + l1 * sK1_ + l2 * sK2_;
+        };
+        lagrange(GL::c1 * h, K1);
+        lagrange(GL::c2 * h, K2);
       } else {
-        Vec &JJf = ss_.JJf;
+        Vec &Jf = ss_.Jf, &JJf = ss_.JJf;
+        Jf.noalias() = sJ0_ * sf0_;
         JJf.noalias() = sJ0_ * Jf;
         K1 = sf0_ + (GL::c1 * h) * Jf + (0.5 * GL::c1 * GL::c1 * h * h) * JJf;
         K2 = sf0_ + (GL::c2 * h) * Jf + (0.5 * GL::c2 * GL::c2 * h * h) * JJf;

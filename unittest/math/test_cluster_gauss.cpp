@@ -370,6 +370,22 @@ TEST(ClusterGauss, LeadingJacobianAndWarmStartGiveTheSameStep)
     EXPECT_LE(dw, 2.0 * tol);
     if (h < 0.005) EXPECT_LE(w.iterations, 1) << h;    // (the fluid tests' sub-steps)
     EXPECT_LT(w.iterations, c.iterations) << h;
+    // a first trial at a fraction of the solved length (a contact time's
+    // guess): the stages from the quadratic through f0 and the last
+    // stages start within its interpolation error
+    const double h3 = 0.6 * h;
+    const Cluster Cc3 = s.make(CDYN);
+    std::vector<double> yw3(Cf.dim()), yc3(Cf.dim());
+    const ClusterNewtonStatus w3 = Cl.step(s.y0.data(), h3, yw3.data(), lead);
+    const ClusterNewtonStatus c3 = Cc3.step(s.y0.data(), h3, yc3.data(), lead);
+    ASSERT_TRUE(w3.converged && c3.converged) << h;
+    double dw3 = 0.0;
+    for (int i = 0; i < Cf.dim(); i++) dw3 = std::max(dw3, std::fabs(yw3[i] - yc3[i]));
+    std::printf("  length x 0.6: warm %d iterations (first change %.1e), cold %d (%.1e); apart "
+                "%.1e\n",
+                w3.iterations, w3.history.front(), c3.iterations, c3.history.front(), dw3);
+    EXPECT_LE(dw3, 2.0 * tol);
+    EXPECT_LT(w3.history.front(), 0.1 * c3.history.front()) << h;
   }
 }
 
