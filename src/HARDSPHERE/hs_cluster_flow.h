@@ -93,10 +93,26 @@ template <class Phi> class ClusterFlow {
   ClusterFlow(const ClusterGauss<Phi> &g, std::vector<double> radii,
               std::vector<FlowStatic> statics, std::vector<FlowWall> walls, int npartners,
               double tol) :
-      G(g), rad(std::move(radii)), stat(std::move(statics)), wall(std::move(walls)),
-      np(npartners), tol_(tol), poff(3 * rad.size() * rad.size(), 0.0)
+      G(g)
   {
+    rad = std::move(radii);
+    stat = std::move(statics);
+    wall = std::move(walls);
+    reset(npartners, tol);
   }
+  // another cluster of G's (radii, statics, walls: into radii(), statics(),
+  // walls(), before), with this object's storage
+  void reset(int npartners, double tol)
+  {
+    np = npartners;
+    tol_ = tol;
+    poff.assign(3 * rad.size() * rad.size(), 0.0);
+    stats = FlowStats();
+    hit_member = hit_static = -1;
+  }
+  std::vector<double> &radii() { return rad; }
+  std::vector<FlowStatic> &statics() { return stat; }
+  std::vector<FlowWall> &walls() { return wall; }
   // periodic images: the separation of members i and j is q_i - q_j +
   // off (off[3] for i < j; the caller's nearest images at the flow's start)
   void set_pair_offset(int i, int j, const double *off)
@@ -189,8 +205,8 @@ template <class Phi> class ClusterFlow {
   std::vector<double> rad;
   std::vector<FlowStatic> stat;
   std::vector<FlowWall> wall;
-  int np;
-  double tol_;
+  int np = 0;
+  double tol_ = 0.0;
   std::vector<double> poff;    // [n][n][3] pair offsets
   const double *pair_off(int i, int j) const { return &poff[3 * (i * (int) rad.size() + j)]; }
   std::vector<std::vector<FlowSeg>> segs;

@@ -220,12 +220,31 @@ template <class Phi> class ClusterGauss {
   // n members, their inverse masses im[n], constant forces fc[3n] (null:
   // none), H~'s coefficient c = dt^2/12, the terms, the radial functions
   ClusterGauss(int n, const double *im, const double *fc, double c, std::vector<ClusterTerm> terms,
-               Phi phi) :
-      n_(n), c_(c), im_(im, im + n), fc_(3 * n, 0.0), terms_(std::move(terms)), phi_(phi)
+               Phi phi)
   {
-    if (fc) std::copy(fc, fc + 3 * n, fc_.begin());
-    for (const ClusterTerm &t : terms_) np_ = std::max(np_, t.partner + 1);
+    terms_ = std::move(terms);
+    reset(n, im, fc, c, phi);
   }
+  ClusterGauss() = default;
+  // another cluster (terms: into terms(), before), with this object's
+  // storage: a flow's kernel built anew held ~5 % of a collisional step in
+  // malloc and free
+  void reset(int n, const double *im, const double *fc, double c, Phi phi)
+  {
+    n_ = n;
+    c_ = c;
+    im_.assign(im, im + n);
+    fc_.assign(3 * n, 0.0);
+    if (fc) std::copy(fc, fc + 3 * n, fc_.begin());
+    phi_ = phi;
+    np_ = 0;
+    for (const ClusterTerm &t : terms_) np_ = std::max(np_, t.partner + 1);
+    tally = ClusterTally();
+    start_ok_ = last_ok_ = lu_ok_ = j0_leading_ = false;
+    sh_ = lu_h_ = 0.0;
+    stheta_ = -1.0;
+  }
+  std::vector<ClusterTerm> &terms() { return terms_; }
 
   int dim() const { return 6 * n_; }
   mutable ClusterTally tally;
@@ -688,9 +707,9 @@ template <class Phi> class ClusterGauss {
   using Der = Eigen::Matrix<double, 18, 1>;
   using AD = Eigen::AutoDiffScalar<Der>;
 
-  int n_;
+  int n_ = 0;
   int np_ = 0;    // partners (the largest ClusterTerm::partner + 1)
-  double c_;
+  double c_ = 0.0;
   std::vector<double> im_, fc_;
   // step(): the last start's field and Jacobian (ClusterNewtonOptions::full)
   mutable bool start_ok_ = false;

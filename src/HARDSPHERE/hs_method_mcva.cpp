@@ -837,6 +837,14 @@ struct TermPhi {
 };
 }    // namespace
 
+// (the objects of cluster_flow(), reset for each cluster)
+struct HSMethodMCVA::FlowKernel {
+  std::vector<TermOf> term_of;
+  std::vector<double> im, y, pmom;
+  HardSphere::ClusterGauss<TermPhi> G;
+  HardSphere::ClusterFlow<TermPhi> flow{G, {}, {}, {}, 0, 0.0};
+};
+
 std::string HSMethodMCVA::local_limits()
 {
   std::string why;
@@ -873,7 +881,12 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
   const int nterm = (int) to.size() - 1;
   double **cutsq = force->pair ? force->pair->cutsq : nullptr;
   const int *type = atom->type;
-  std::vector<double> im(nm), rad(nm);
+  if (!fk) fk.reset(new FlowKernel);
+  HardSphere::ClusterGauss<TermPhi> &G = fk->G;
+  HardSphere::ClusterFlow<TermPhi> &flow = fk->flow;
+  std::vector<double> &im = fk->im, &rad = flow.radii();
+  im.resize(nm);
+  rad.resize(nm);
   for (int k = 0; k < nm; k++) {
     im[k] = ftm2v / S.mass_of(job.members[k]);
     rad[k] = S.radius_of(job.members[k]);
@@ -896,8 +909,10 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
   // the terms inside their cutoff at the flow's start, continued past it
   // through the flow (the frozen set of the global form, section
   // "Pair styles cut off without smoothing")
-  std::vector<HardSphere::ClusterTerm> terms;
-  std::vector<TermOf> term_of;
+  std::vector<HardSphere::ClusterTerm> &terms = G.terms();
+  std::vector<TermOf> &term_of = fk->term_of;
+  terms.clear();
+  term_of.clear();
   terms.reserve(nterm);
   term_of.reserve(nterm);
   // (lj_cut_table() also checks that epsilon and sigma still hold, as
@@ -946,22 +961,21 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
     }
     terms.push_back(ct);
   }
-  const TermPhi phi{S.pot, term_of.data()};
-  const HardSphere::ClusterGauss<TermPhi> G(nm, im.data(), job.fc.data(), dt * dt / 12.0, terms,
-                                            phi);
-  std::vector<HardSphere::FlowStatic> statics(job.statics.size());
+  G.reset(nm, im.data(), job.fc.data(), dt * dt / 12.0, TermPhi{S.pot, term_of.data()});
+  std::vector<HardSphere::FlowStatic> &statics = flow.statics();
+  statics.resize(job.statics.size());
   for (size_t s = 0; s < job.statics.size(); s++) {
     for (int d = 0; d < 3; d++) statics[s].x[d] = x[job.statics[s]][d];
     statics[s].radius = S.radius_of(job.statics[s]);
   }
-  std::vector<HardSphere::FlowWall> walls(S.walls.size());
+  std::vector<HardSphere::FlowWall> &walls = flow.walls();
+  walls.resize(S.walls.size());
   for (size_t w = 0; w < S.walls.size(); w++) {
     walls[w].dim = S.walls[w].dim;
     walls[w].coord = S.walls[w].coord;
     walls[w].sign = S.walls[w].side < 0 ? 1.0 : -1.0;
   }
-  HardSphere::ClusterFlow<TermPhi> flow(G, rad, statics, walls, (int) job.partners.size(),
-                                        TOUCH_TOL);
+  flow.reset((int) job.partners.size(), TOUCH_TOL);
   flow.max_stuck = MAX_STUCK;
   // the members' nearest images of each other at the flow's start
   for (int a = 0; a < nm; a++)
@@ -972,7 +986,9 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
       for (int dd = 0; dd < 3; dd++) off[dd] = dm[dd] - d[dd];
       flow.set_pair_offset(a, b, off);
     }
-  std::vector<double> y(6 * nm), pmom;
+  std::vector<double> &y = fk->y, &pmom = fk->pmom;
+  y.resize(6 * nm);
+  pmom.clear();
   for (int k = 0; k < nm; k++)
     for (int d = 0; d < 3; d++) {
       y[3 * k + d] = x[job.members[k]][d];

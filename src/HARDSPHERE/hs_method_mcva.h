@@ -16,6 +16,7 @@
 #include "hs_method.h"
 #include "hs_newton.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,10 @@ class HSMethodMCVA : public HSMethod {
   // counts (projections done, skipped)
   double flow_counts[4] = {0.0, 0.0, 0.0, 0.0}, rank_counts[4] = {0.0, 0.0, 0.0, 0.0};
   HSLocalModified *lmod = nullptr;
+  // the local form's cluster kernels and their inputs, kept from flow to
+  // flow for their storage (hs_method_mcva.cpp)
+  struct FlowKernel;
+  std::unique_ptr<FlowKernel> fk;
   std::string held_work;
   bigint count0 = -1;
   unsigned long long idsum0 = 0;
