@@ -389,7 +389,7 @@ template <class Phi> class ClusterGauss {
 
   // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by
   // Newton (ClusterNewtonOptions::full) from the predictor K1 = K2 = f(y0)
-  // (full), else K_i = f0 + c_i h J0 f0 + (c_i h)^2 / 2 J0 J0 f0
+  // (full), else from the predictor below
   ClusterNewtonStatus step(const double *y0, double h, double *y1,
                            const ClusterNewtonOptions &opt = ClusterNewtonOptions(),
                            ClusterStepDetail *detail = nullptr) const
@@ -418,8 +418,8 @@ template <class Phi> class ClusterGauss {
         if (fresh && opt.leading) leading_jacobian(y0, sf0_.data(), sJ0_, sv3_.data());
         else if (fresh)
           field(y0, sf0_.data(), &sJ0_);
-        else
-          field(y0, sf0_.data(), nullptr, nullptr, nullptr, sv3_.data());
+        else    // (the kept J0's form decides whether the predictor takes V''')
+          field(y0, sf0_.data(), nullptr, nullptr, nullptr, j0_leading_ ? sv3_.data() : nullptr);
         if (fresh) {
           j0_leading_ = opt.leading;
           if (opt.leading) slu_.set_blocks(sJ0_);
@@ -495,8 +495,7 @@ template <class Phi> class ClusterGauss {
     // the last factorisation with J0 serves a length within 1e-6 of its
     // own (a contact time's later trials, 1e-5 h apart or less): the matrix
     // is then off by 1e-6 h |J0|, below the iteration's own contraction
-    // from the stages' Jacobians' change, and the LU (a tenth of a
-    // collisional step) is not repeated
+    // from the stages' Jacobians' change, and the LU is not repeated
     // (J0's leading form: the same matrix solved through one complex m x m
     // LU, LeadingStageLU)
     const bool structured = !opt.full && j0_leading_;
