@@ -239,6 +239,22 @@ template <class Phi> class ClusterGauss {
     phi_ = phi;
     np_ = 0;
     for (const ClusterTerm &t : terms_) np_ = std::max(np_, t.partner + 1);
+    // the terms between members first, then each member's static terms
+    // together (soff_[a] .. soff_[a + 1]): with a static atom w = v_a and
+    // a_rel = a_a are the member's own, so field() sums the static terms'
+    // parts of V_t'' w, V_t'' a_rel and grad(w^T V_t'' w) as coefficients of
+    // e, w and a_rel (static_field()), and forces() their V_t'' into one
+    // 3 x 3 block (on the fluid nearly every term is static)
+    std::stable_sort(terms_.begin(), terms_.end(), [](const ClusterTerm &x, const ClusterTerm &y) {
+      const int kx = x.b >= 0 ? -1 : x.a, ky = y.b >= 0 ? -1 : y.a;
+      return kx < ky;
+    });
+    soff_.assign(n + 1, 0);
+    for (const ClusterTerm &t : terms_)
+      if (t.b < 0) soff_[t.a + 1]++;
+    soff_[0] = (int) terms_.size();
+    for (int a = 0; a < n; a++) soff_[0] -= soff_[a + 1];
+    for (int a = 0; a < n; a++) soff_[a + 1] += soff_[a];
     tally = ClusterTally();
     start_ok_ = last_ok_ = lu_ok_ = j0_leading_ = false;
     sh_ = lu_h_ = 0.0;
@@ -305,7 +321,11 @@ template <class Phi> class ClusterGauss {
       for (int r = 0; r < m; r++) Da.row(r) *= im_[r / 3];
       J->block(m, 0, m, m) = Da;
     }
-    for (size_t ti = 0; ti < terms_.size(); ti++) {
+    // (without J: the static terms by member, static_field())
+    const size_t nt = J ? terms_.size() : (size_t) soff_[0];
+    if (!J)
+      for (int i = 0; i < n_; i++) static_field(i, v + 3 * i, a.data() + 3 * i, k, pf, v3);
+    for (size_t ti = 0; ti < nt; ti++) {
       const ClusterTerm &t = terms_[ti];
       const TermAt &at = pc_[ti];
       const double *pt = at.p.data();
@@ -736,6 +756,9 @@ template <class Phi> class ClusterGauss {
   mutable std::vector<double> sF_, sa_;
   mutable Mat sK_, sDa_;
   std::vector<ClusterTerm> terms_;
+  // terms_[soff_[a] .. soff_[a + 1]): member a's static terms (reset());
+  // terms_[0 .. soff_[0]): the terms between members
+  std::vector<int> soff_;
   Phi phi_;
 
   // V, F = -grad V (fc included) and V'' (K) at positions q; each term's
@@ -744,41 +767,80 @@ template <class Phi> class ClusterGauss {
   void forces(const double *q, double &V, double *F, Mat *K, int order) const
   {
     pc_.resize(terms_.size());
-    size_t ti = 0;
     V = 0.0;
     for (int i = 0; i < 3 * n_; i++) {
       F[i] = fc_[i];
       V -= fc_[i] * q[i];
     }
-    for (const ClusterTerm &t : terms_) {
-      double x[3];
-      for (int d = 0; d < 3; d++)
-        x[d] = q[3 * t.a + d] - (t.b >= 0 ? q[3 * t.b + d] - t.off[d] : t.xb[d]);
+    // one term: phi^(k), 1/r (term_field()'s arithmetic: one division a
+    // term) and e kept; its force on a added into Fa; the coefficients of
+    // V_t'' = phi'' e e^T + phi'/r (I - e e^T) returned (A = phi'' - phi'/r,
+    // B = phi'/r)
+    auto term = [&](int ti, const double *x, double *Fa, double &A,
+                    double &B) -> const double * {
+      const ClusterTerm &t = terms_[ti];
       const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-      TermAt &at = pc_[ti++];
+      TermAt &at = pc_[ti];
       double *p = at.p.data();
       phi_(t.kind, r, order, p);
       V += p[0];
-      // (term_field()'s arithmetic: one division a term)
       at.ir = 1.0 / r;
       double *e = at.e;
-      for (int d = 0; d < 3; d++) e[d] = x[d] * at.ir;
       for (int d = 0; d < 3; d++) {
-        F[3 * t.a + d] -= p[1] * e[d];
-        if (t.b >= 0) F[3 * t.b + d] += p[1] * e[d];
+        e[d] = x[d] * at.ir;
+        Fa[d] -= p[1] * e[d];
       }
+      B = p[1] * at.ir;
+      A = p[2] - B;
+      return e;
+    };
+    // between members
+    for (int ti = 0; ti < soff_[0]; ti++) {
+      const ClusterTerm &t = terms_[ti];
+      double x[3], A, B;
+      for (int d = 0; d < 3; d++) x[d] = q[3 * t.a + d] - q[3 * t.b + d] + t.off[d];
+      const double *e = term(ti, x, F + 3 * t.a, A, B);
+      for (int d = 0; d < 3; d++) F[3 * t.b + d] += pc_[ti].p[1] * e[d];
       if (!K) continue;
-      // V_t'' = phi'' e e^T + phi'/r (I - e e^T)
       Eigen::Matrix3d H;
       for (int r1 = 0; r1 < 3; r1++)
-        for (int c1 = 0; c1 < 3; c1++)
-          H(r1, c1) = (p[2] - p[1] / r) * e[r1] * e[c1] + (r1 == c1 ? p[1] / r : 0.0);
+        for (int c1 = 0; c1 < 3; c1++) H(r1, c1) = A * e[r1] * e[c1] + (r1 == c1 ? B : 0.0);
       K->block<3, 3>(3 * t.a, 3 * t.a) += H;
-      if (t.b >= 0) {
-        K->block<3, 3>(3 * t.b, 3 * t.b) += H;
-        K->block<3, 3>(3 * t.a, 3 * t.b) -= H;
-        K->block<3, 3>(3 * t.b, 3 * t.a) -= H;
+      K->block<3, 3>(3 * t.b, 3 * t.b) += H;
+      K->block<3, 3>(3 * t.a, 3 * t.b) -= H;
+      K->block<3, 3>(3 * t.b, 3 * t.a) -= H;
+    }
+    // each member's static terms: their V_t'' summed into one block
+    for (int a = 0; a < n_; a++) {
+      double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
+      const double *qa = q + 3 * a;
+      double Fa[3] = {0.0, 0.0, 0.0};
+      for (int ti = soff_[a]; ti < soff_[a + 1]; ti++) {
+        const double *xb = terms_[ti].xb;
+        const double x[3] = {qa[0] - xb[0], qa[1] - xb[1], qa[2] - xb[2]};
+        double A, B;
+        const double *e = term(ti, x, Fa, A, B);
+        if (!K) continue;
+        Hs[0] += A * e[0] * e[0];
+        Hs[1] += A * e[1] * e[1];
+        Hs[2] += A * e[2] * e[2];
+        Hs[3] += A * e[0] * e[1];
+        Hs[4] += A * e[0] * e[2];
+        Hs[5] += A * e[1] * e[2];
+        Bs += B;
       }
+      for (int d = 0; d < 3; d++) F[3 * a + d] += Fa[d];
+      if (!K || soff_[a] == soff_[a + 1]) continue;
+      auto blk = K->block<3, 3>(3 * a, 3 * a);
+      blk(0, 0) += Hs[0] + Bs;
+      blk(1, 1) += Hs[1] + Bs;
+      blk(2, 2) += Hs[2] + Bs;
+      blk(0, 1) += Hs[3];
+      blk(1, 0) += Hs[3];
+      blk(0, 2) += Hs[4];
+      blk(2, 0) += Hs[4];
+      blk(1, 2) += Hs[5];
+      blk(2, 1) += Hs[5];
     }
   }
 
@@ -853,6 +915,51 @@ template <class Phi> class ClusterGauss {
       o[d] = c2 * Hw;
       o[3 + d] = -c_ * (grad + Ha);
       if (g) g[d] = grad;
+    }
+  }
+
+  // member i's static terms' part of the field (term_core() with w = v_i,
+  // a_rel = a_i, summed: sum_t V_t'' w = (sum A s e) + (sum B) w, and so
+  // for V_t'' a_rel and grad(w^T V_t'' w)), of v3 and of their partners'
+  // forces (add_partner()'s), at the positions of the last forces()
+  void static_field(int i, const double *w, const double *ar, double *k, double *pf,
+                    double *v3) const
+  {
+    if (soff_[i] == soff_[i + 1]) return;
+    const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
+           He[3] = {0.0, 0.0, 0.0};
+    for (int ti = soff_[i]; ti < soff_[i + 1]; ti++) {
+      const TermAt &at = pc_[ti];
+      const double *e = at.e, ir = at.ir;
+      const double B = at.p[1] * ir, A = at.p[2] - B;
+      const double Bp = A * ir, Ap = at.p[3] - Bp;
+      const double s = e[0] * w[0] + e[1] * w[1] + e[2] * w[2];
+      const double sa = e[0] * ar[0] + e[1] * ar[1] + e[2] * ar[2];
+      const double cAs2 = 2.0 * A * s * ir;
+      const double ce = Ap * s * s + Bp * ww - cAs2 * s;
+      const double As = A * s, Asa = A * sa;
+      for (int d = 0; d < 3; d++) {
+        Ue[d] += As * e[d];
+        Ge[d] += ce * e[d];
+        He[d] += Asa * e[d];
+      }
+      Bs += B;
+      Cs += cAs2;
+      const int pt = terms_[ti].partner;
+      if (pf && pt >= 0) {
+        // phi' e + c (grad + V_t'' a_rel)
+        const double ke = at.p[1] + c_ * (ce + Asa), kw = c_ * cAs2, ka = c_ * B;
+        for (int d = 0; d < 3; d++) pf[3 * pt + d] += ke * e[d] + kw * w[d] + ka * ar[d];
+      }
+    }
+    const int m = 3 * n_;
+    const double im = im_[i];
+    for (int d = 0; d < 3; d++) {
+      const double grad = Ge[d] + Cs * w[d];
+      k[3 * i + d] += im * (2.0 * c_ * (Ue[d] + Bs * w[d]));
+      k[m + 3 * i + d] += im * (-c_ * (grad + He[d] + Bs * ar[d]));
+      if (v3) v3[3 * i + d] += im * grad;
     }
   }
 

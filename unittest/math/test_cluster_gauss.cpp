@@ -200,6 +200,62 @@ TEST(ClusterGauss, FieldIsTheHamiltonianVectorFieldOfModifiedEnergy)
   }
 }
 
+// several static terms per member, in no order, most with partners (the
+// engine's clusters: nearly every term is static): the field is still H~'s
+// (the kernel sums a member's static terms by coefficient, not term by
+// term), and the partners' forces that a field gathers balance the
+// members' dp/dt: sum over members of M dv/dt + sum of partner forces =
+// sum fc (momentum, as each term's force on its partner is minus its part)
+TEST(ClusterGauss, ManyStaticTermsFieldAndPartnerForces)
+{
+  Scene s;
+  auto add = [&](int a, int kind, std::array<double, 3> xb, int partner) {
+    ClusterTerm t;
+    t.a = a;
+    t.b = -1;
+    t.kind = kind;
+    t.partner = partner;
+    for (int d = 0; d < 3; d++) t.xb[d] = xb[d];
+    s.terms.push_back(t);
+  };
+  add(1, 0, {2.2, 0.3, -0.2}, 0);
+  add(0, 1, {-0.3, -1.1, 0.4}, 1);
+  add(1, 1, {1.0, -1.0, 0.6}, 1);
+  add(0, 0, {0.2, -0.4, -1.2}, 2);
+  add(2, 0, {0.4, 2.2, 0.9}, 0);
+  for (ClusterTerm &t : s.terms)
+    if (t.b < 0 && t.partner < 0) t.partner = 3;
+  // the first term static, then one between members: no grouping given
+  std::swap(s.terms[0], s.terms[4]);
+  const double c = 0.004;
+  const Cluster C = s.make(c);
+  const RefH H{s, c};
+  EXPECT_NEAR(C.energy(s.y0.data()), H(s.y0), 1e-12 * std::fabs(H(s.y0)) + 1e-12);
+  const int m = 3 * s.n;
+  std::vector<double> k(2 * m), ref(2 * m), pf(3 * 4, 0.0);
+  C.field(s.y0.data(), k.data(), nullptr, pf.data());
+  for (int i = 0; i < m; i++) {
+    ref[i] = s.im[i / 3] * diff4(H, s.y0, m + i, 1e-3);
+    ref[m + i] = -s.im[i / 3] * diff4(H, s.y0, i, 1e-4);
+  }
+  const double scale = maxabs(ref);
+  for (int i = 0; i < 2 * m; i++) EXPECT_NEAR(k[i], ref[i], 2e-7 * scale) << "component " << i;
+  double fscale = 0.0;
+  for (int d = 0; d < 3; d++) {
+    double sum = 0.0;
+    for (int i = 0; i < s.n; i++) {
+      sum += k[m + 3 * i + d] / s.im[i] - s.fc[3 * i + d];
+      fscale = std::max(fscale, std::fabs(k[m + 3 * i + d] / s.im[i]));
+    }
+    for (int p = 0; p < 4; p++) sum += pf[3 * p + d];
+    EXPECT_NEAR(sum, 0.0, 1e-13 * fscale) << "momentum component " << d;
+  }
+  // and every partner took a force (each has a term within reach)
+  for (int p = 0; p < 4; p++)
+    EXPECT_GT(std::fabs(pf[3 * p]) + std::fabs(pf[3 * p + 1]) + std::fabs(pf[3 * p + 2]), 1e-6)
+        << "partner " << p;
+}
+
 TEST(ClusterGauss, JacobianIsExact)
 {
   Scene s;
