@@ -158,11 +158,14 @@ struct ClusterStepDetail {
 // The same linear algebra as a real LU of the whole matrix, to round-off
 // (unittest/math/test_cluster_gauss.cpp), for a sixth of its factorisation's
 // instructions on the 4000 fluid (mostly 2 members)
-class LeadingStageLU {
+// (M: m at compile time, or Eigen::Dynamic; StageLU below picks)
+template <int M = Eigen::Dynamic> class LeadingStageLU {
  public:
   using Mat = Eigen::MatrixXd;
   using Vec = Eigen::VectorXd;
   using Cx = std::complex<double>;
+  using CMat = Eigen::Matrix<Cx, M, M>;
+  using CVec = Eigen::Matrix<Cx, M, 1>;
   // J0 (2m x 2m): only its blocks P (top right) and Q (bottom left) are read
   void set_blocks(const Mat &J0)
   {
@@ -186,30 +189,76 @@ class LeadingStageLU {
     using GL = GaussLegendre2;
     const int N = 2 * m_, m = m_;
     const double r1 = 0.5 / GL::a12, r2 = -0.5 / b();
-    s_.resize(N);
-    for (int k = 0; k < N; k++) s_[k] = Cx(r1 * R[k], r2 * R[N + k]);
-    t_.noalias() = Q_ * s_.head(m);
-    t_ = s_.tail(m) + mu_ * t_;
-    x_.resize(N);
-    x_.tail(m) = lu_.solve(t_);
-    x_.head(m).noalias() = P_ * x_.tail(m);
-    x_.head(m) = s_.head(m) + mu_ * x_.head(m);
+    sq_.resize(m);
+    sv_.resize(m);
+    for (int k = 0; k < m; k++) {
+      sq_[k] = Cx(r1 * R[k], r2 * R[N + k]);
+      sv_[k] = Cx(r1 * R[m + k], r2 * R[N + m + k]);
+    }
+    t_.noalias() = Q_ * sq_;
+    t_ = sv_ + mu_ * t_;
+    xv_ = lu_.solve(t_);
+    xq_.noalias() = P_ * xv_;
+    xq_ = sq_ + mu_ * xq_;
     const double d1 = 2.0 * GL::a12, d2 = -2.0 * b();
     D.resize(2 * N);
-    for (int k = 0; k < N; k++) {
-      D[k] = d1 * x_[k].real();
-      D[N + k] = d2 * x_[k].imag();
+    for (int k = 0; k < m; k++) {
+      D[k] = d1 * xq_[k].real();
+      D[N + k] = d2 * xq_[k].imag();
+      D[m + k] = d1 * xv_[k].real();
+      D[N + m + k] = d2 * xv_[k].imag();
     }
   }
 
  private:
   static double b() { return std::sqrt(-GaussLegendre2::a12 * GaussLegendre2::a21); }
   int m_ = 0;
-  Mat QP_;
-  Eigen::MatrixXcd P_, Q_, M_;
-  Eigen::PartialPivLU<Eigen::MatrixXcd> lu_;
-  Eigen::VectorXcd s_, t_, x_;
+  Eigen::Matrix<double, M, M> QP_;
+  CMat P_, Q_, M_;
+  Eigen::PartialPivLU<CMat> lu_;
+  CVec sq_, sv_, t_, xq_, xv_;
   Cx mu_;
+};
+
+// LeadingStageLU with m fixed at compile time for a cluster of one or two
+// members (nearly all of them on a fluid: Eigen's dynamic-size LU and
+// solves spent more in calls and loops than in arithmetic at m = 6), else
+// of dynamic size
+class StageLU {
+ public:
+  using Mat = Eigen::MatrixXd;
+  using Vec = Eigen::VectorXd;
+  void set_blocks(const Mat &J0)
+  {
+    m_ = (int) J0.rows() / 2;
+    if (m_ == 3) l3_.set_blocks(J0);
+    else if (m_ == 6)
+      l6_.set_blocks(J0);
+    else
+      lx_.set_blocks(J0);
+  }
+  void factor(double h)
+  {
+    if (m_ == 3) l3_.factor(h);
+    else if (m_ == 6)
+      l6_.factor(h);
+    else
+      lx_.factor(h);
+  }
+  void solve(const Vec &R, Vec &D)
+  {
+    if (m_ == 3) l3_.solve(R, D);
+    else if (m_ == 6)
+      l6_.solve(R, D);
+    else
+      lx_.solve(R, D);
+  }
+
+ private:
+  int m_ = 0;
+  LeadingStageLU<3> l3_;
+  LeadingStageLU<6> l6_;
+  LeadingStageLU<> lx_;
 };
 
 template <class Phi> class ClusterGauss {
@@ -754,7 +803,7 @@ template <class Phi> class ClusterGauss {
   mutable bool lu_ok_ = false;
   mutable double lu_h_ = 0.0;
   mutable bool j0_leading_ = false;    // sJ0_ is leading_jacobian()'s
-  mutable LeadingStageLU slu_;         // (its stage matrix)
+  mutable StageLU slu_;         // (its stage matrix)
   // field()'s scratch
   mutable std::vector<double> sF_, sa_;
   mutable Mat sK_, sDa_;

@@ -450,16 +450,19 @@ TEST(ClusterGauss, LeadingJacobianAndWarmStartGiveTheSameStep)
 }
 
 // the stage matrix of a leading-form Jacobian through one complex m x m LU
-// (LeadingStageLU) against the test's own dense real LU of I - h A (x) J0,
+// (StageLU) against the test's own dense real LU of I - h A (x) J0,
 // A written out from the Gauss-Legendre tableau: random blocks, not only
-// those of leading_jacobian() (P, Q need not commute), m = 6 and 24 (2 and
-// 8 members), a small step and one where h |J0| is order 1
+// those of leading_jacobian() (P, Q need not commute), m = 3, 6, 9 and 24
+// (1, 2, 3 and 8 members: the fixed sizes and the dynamic one), one object
+// for all in turn (as ClusterGauss keeps it from cluster to cluster), a
+// small step and one where h |J0| is order 1
 TEST(ClusterGauss, LeadingStageSolveEqualsTheDenseLU)
 {
   const double s3 = std::sqrt(3.0);
   const double A[2][2] = {{0.25, 0.25 - s3 / 6.0}, {0.25 + s3 / 6.0, 0.25}};
   std::srand(4711);
-  for (int m : {6, 24})
+  StageLU lu;
+  for (int m : {6, 24, 3, 9, 6})
     for (double h : {0.003, 0.4}) {
       const int N = 2 * m;
       Eigen::MatrixXd J0 = Eigen::MatrixXd::Zero(N, N);
@@ -470,7 +473,6 @@ TEST(ClusterGauss, LeadingStageSolveEqualsTheDenseLU)
         for (int b = 0; b < 2; b++) Mfull.block(a * N, b * N, N, N) -= h * A[a][b] * J0;
       const Eigen::VectorXd R = Eigen::VectorXd::Random(2 * N);
       const Eigen::VectorXd Dref = Mfull.partialPivLu().solve(R);
-      LeadingStageLU lu;
       lu.set_blocks(J0);
       lu.factor(h);
       Eigen::VectorXd D;
