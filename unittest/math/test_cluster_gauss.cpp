@@ -33,7 +33,7 @@ using namespace HardSphere;
 namespace {
 
 // kind 0: 4 (r^-12 - r^-6) (LJ, epsilon = sigma = 1); kind 1: spring
-// 20/2 (r - 1.2)^2; phi^(k), k = 0..4
+// 20/2 (r - 1.2)^2; kind 2: 30/2 r^2; phi^(k), k = 0..4
 void phi(int kind, double r, int, double *d)
 {
   if (kind == 0) {
@@ -43,6 +43,13 @@ void phi(int kind, double r, int, double *d)
     d[2] = 4.0 * (156.0 * i12 - 42.0 * i6) * i2;
     d[3] = 4.0 * (-2184.0 * i12 + 336.0 * i6) * i2 * i;
     d[4] = 4.0 * (32760.0 * i12 - 3024.0 * i6) * i2 * i2;
+  } else if (kind == 2) {    // k/2 r^2: V quadratic in q
+    const double k = 30.0;
+    d[0] = 0.5 * k * r * r;
+    d[1] = k * r;
+    d[2] = k;
+    d[3] = 0.0;
+    d[4] = 0.0;
   } else {
     const double k = 20.0, r0 = 1.2;
     d[0] = 0.5 * k * (r - r0) * (r - r0);
@@ -254,6 +261,84 @@ TEST(ClusterGauss, ManyStaticTermsFieldAndPartnerForces)
   for (int p = 0; p < 4; p++)
     EXPECT_GT(std::fabs(pf[3 * p]) + std::fabs(pf[3 * p + 1]) + std::fabs(pf[3 * p + 2]), 1e-6)
         << "partner " << p;
+}
+
+// a step's partners' forces (ClusterStepDetail::pf1, pf2) are those of its
+// last iteration, also where the cold predictor is already the solution:
+// two members tied to static partners by V_t = k/2 |q_a - x_b|^2 (V'''
+// = 0: the leading Jacobian and the predictor's linear model are exact, and
+// the first iteration's change is round-off; the kernel, which skips the
+// partners' forces in a cold first iteration, must take one iteration
+// more). The members' momentum change plus the partners' h (pf1 + pf2) / 2
+// is h sum fc, and each partner's force at each stage is the test's own:
+// minus the term's part of its member's dp/dt, -k x - c k a_a
+TEST(ClusterGauss, PartnerForcesOfTheLastIterationAtAnExactPredictor)
+{
+  Scene s;
+  s.n = 2;
+  s.im = {1.0, 0.5};
+  s.fc = {0.1, 0.0, -0.2, 0.0, 0.3, 0.0};
+  s.terms.clear();
+  auto add = [&](int a, std::array<double, 3> xb, int partner) {
+    ClusterTerm t;
+    t.a = a;
+    t.b = -1;
+    t.kind = 2;
+    t.partner = partner;
+    for (int d = 0; d < 3; d++) t.xb[d] = xb[d];
+    s.terms.push_back(t);
+  };
+  add(0, {1.1, -0.2, 0.3}, 0);
+  add(1, {-0.4, 0.9, 0.2}, 1);
+  add(1, {0.3, 0.1, -1.0}, 0);
+  s.y0 = {0.1, 0.2, -0.1, 0.5, -0.3, 0.2, 0.7, -0.4, 0.3, -0.2, 0.6, 0.5};
+  const double c = 0.002, h = 0.01, k = 30.0;
+  const Cluster C = s.make(c);
+  const int m = 3 * s.n;
+  std::vector<double> y1(2 * m);
+  ClusterStepDetail det;
+  const ClusterNewtonStatus st = C.step(s.y0.data(), h, y1.data(), ClusterNewtonOptions(), &det);
+  ASSERT_TRUE(st.converged);
+  std::printf("quadratic V: %d iterations, first relative change %.1e\n", st.iterations,
+              st.history.front());
+  // the path under test: the first change already below the tolerance
+  ASSERT_LE(st.history.front(), ClusterNewtonOptions().tol);
+  ASSERT_EQ((int) det.pf1.size(), 3 * 2);
+  ASSERT_EQ((int) det.pf2.size(), 3 * 2);
+  // momentum: the members' change and the partners' make h sum fc
+  double scale = 0.0;
+  for (int d = 0; d < 3; d++) {
+    double sum = 0.0, fsum = 0.0;
+    for (int i = 0; i < s.n; i++) {
+      const double dp = (y1[m + 3 * i + d] - s.y0[m + 3 * i + d]) / s.im[i];
+      sum += dp;
+      fsum += s.fc[3 * i + d];
+      scale = std::max(scale, std::fabs(dp));
+    }
+    for (int p = 0; p < 2; p++) sum += 0.5 * h * (det.pf1[3 * p + d] + det.pf2[3 * p + d]);
+    EXPECT_NEAR(sum, h * fsum, 1e-12 * scale) << "momentum component " << d;
+  }
+  // each partner's force at each stage: for V_t = k/2 |x|^2 the member's
+  // dp/dt from the term is -k x - c (grad_x(w^T V_t'' w) + V_t'' a_rel) =
+  // -k x - c k a_a (V_t'' = k I, its gradient 0; a_rel = a_a = M^-1 F at
+  // the stage, F = fc - k sum_t x_t); the partner takes minus it
+  for (int stage = 0; stage < 2; stage++) {
+    const std::vector<double> &Y = stage == 0 ? det.Y1 : det.Y2;
+    const std::vector<double> &pf = stage == 0 ? det.pf1 : det.pf2;
+    double a[2][3];
+    for (int i = 0; i < 2; i++)
+      for (int d = 0; d < 3; d++) a[i][d] = s.fc[3 * i + d];
+    for (const ClusterTerm &t : s.terms)
+      for (int d = 0; d < 3; d++) a[t.a][d] -= k * (Y[3 * t.a + d] - t.xb[d]);
+    for (int i = 0; i < 2; i++)
+      for (int d = 0; d < 3; d++) a[i][d] *= s.im[i];
+    double ref[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    for (const ClusterTerm &t : s.terms)
+      for (int d = 0; d < 3; d++)
+        ref[3 * t.partner + d] += k * (Y[3 * t.a + d] - t.xb[d]) + c * k * a[t.a][d];
+    for (int q = 0; q < 6; q++)
+      EXPECT_NEAR(pf[q], ref[q], 1e-12 * (1.0 + std::fabs(ref[q]))) << "stage " << stage << " " << q;
+  }
 }
 
 TEST(ClusterGauss, JacobianIsExact)
