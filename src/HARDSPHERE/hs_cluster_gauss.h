@@ -231,31 +231,28 @@ class StageLU {
   void set_blocks(const Mat &J0)
   {
     m_ = (int) J0.rows() / 2;
-    if (m_ == 3) l3_.set_blocks(J0);
-    else if (m_ == 6)
-      l6_.set_blocks(J0);
-    else
-      lx_.set_blocks(J0);
+    with([&](auto &l) { l.set_blocks(J0); });
   }
   void factor(double h)
   {
-    if (m_ == 3) l3_.factor(h);
-    else if (m_ == 6)
-      l6_.factor(h);
-    else
-      lx_.factor(h);
+    with([&](auto &l) { l.factor(h); });
   }
   void solve(const Vec &R, Vec &D)
   {
-    if (m_ == 3) l3_.solve(R, D);
-    else if (m_ == 6)
-      l6_.solve(R, D);
-    else
-      lx_.solve(R, D);
+    with([&](auto &l) { l.solve(R, D); });
   }
 
  private:
   int m_ = 0;
+  // f on the form of this m
+  template <class F> void with(F f)
+  {
+    if (m_ == 3) f(l3_);
+    else if (m_ == 6)
+      f(l6_);
+    else
+      f(lx_);
+  }
   LeadingStageLU<3> l3_;
   LeadingStageLU<6> l6_;
   LeadingStageLU<> lx_;
@@ -812,7 +809,7 @@ template <class Phi> class ClusterGauss {
   mutable bool lu_ok_ = false;
   mutable double lu_h_ = 0.0;
   mutable bool j0_leading_ = false;    // sJ0_ is leading_jacobian()'s
-  mutable StageLU slu_;         // (its stage matrix)
+  mutable StageLU slu_;               // (its stage matrix)
   // field()'s scratch
   mutable std::vector<double> sF_, sa_;
   mutable Mat sK_, sDa_;
