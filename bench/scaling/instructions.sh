@@ -13,6 +13,8 @@
 #   LMP=/path/to/old/lmp bash bench/scaling/instructions.sh  # another build
 #   N=256000 NP=2 bash bench/scaling/instructions.sh         # 2 ranks (issue 20)
 #   N=256000 CACHE=1 bash bench/scaling/instructions.sh      # + last-level cache misses
+#   N=4000 STEPS=40 CONTENDERS=mcva-local bash bench/scaling/instructions.sh
+#                        # others (issue 21): nve cva-local pcva-local mcva-local vci-local
 # CACHE=1 adds callgrind's cache simulation with a 16 MB, 16-way last-level
 # cache (this VM reports a 256 MB L3, in which every array fits) and reports
 # its read and write misses: the memory traffic of the passes over all atoms,
@@ -25,6 +27,7 @@ N=${N:-32000}
 STEPS=${STEPS:-10}
 NP=${NP:-1}
 CACHE=${CACHE:-0}
+CONTENDERS=${CONTENDERS:-"nve cva-local pcva-local"}
 CACHEOPTS=()
 [ "$CACHE" = 1 ] && CACHEOPTS=(--cache-sim=yes --LL=16777216,16,64)
 DATA=$HERE/scratch/fluid.$N.data
@@ -32,9 +35,12 @@ DATA=$HERE/scratch/fluid.$N.data
 OUT=$HERE/scratch/callgrind
 mkdir -p "$OUT"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-for c in "nve:fix hs all nve" "cva-local:fix hs all hardsphere/cva diameter 1.0" \
-         "pcva-local:fix hs all hardsphere/pcva diameter 1.0"; do
-  name=${c%%:*}; fix=${c#*:}
+for name in $CONTENDERS; do
+  case $name in
+    nve) fix="fix hs all nve" ;;
+    cva-local|pcva-local|mcva-local|vci-local) fix="fix hs all hardsphere/${name%-local} diameter 1.0" ;;
+    *) echo "instructions.sh: unknown contender $name (nve, cva-local, pcva-local, mcva-local, vci-local)"; exit 1 ;;
+  esac
   rm -f "$OUT/cg.$name".*
   mpirun -np "$NP" --oversubscribe valgrind --tool=callgrind "${CACHEOPTS[@]}" \
     --callgrind-out-file="$OUT/cg.$name.np$NP.%q{OMPI_COMM_WORLD_RANK}" --collect-atstart=no \
