@@ -456,16 +456,29 @@ template <class Phi> class ClusterGauss {
     J.block(m, 0, m, m) -= G;
   }
 
-  // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by
-  // Newton (ClusterNewtonOptions::full) from the predictor K1 = K2 = f(y0)
-  // (full), else from the predictor below
-  ClusterNewtonStatus step(const double *y0, double h, double *y1,
-                           const ClusterNewtonOptions &opt = ClusterNewtonOptions(),
-                           ClusterStepDetail *detail = nullptr) const
+  // dR/dK = I - h [[a11 Ja, a12 Ja], [a21 Jb, a22 Jb]], factorised into ss_.lu
+  void factor(const Mat &Ja, const Mat &Jb, double h) const
+  {
+    using GL = GaussLegendre2;
+    const int N = dim();
+    Mat &A = ss_.A;
+    A.resize(2 * N, 2 * N);
+    A.setIdentity();
+    A.block(0, 0, N, N) -= h * GL::a11 * Ja;
+    A.block(0, N, N, N) -= h * GL::a12 * Ja;
+    A.block(N, 0, N, N) -= h * GL::a21 * Jb;
+    A.block(N, N, N, N) -= h * GL::a22 * Jb;
+    ss_.lu.compute(A);
+  }
+
+  // step()'s start: the start's field and Jacobian (kept while the start
+  // is the same), the stage matrix's LU for h and the stages' predictor
+  // (into ss_.K1, ss_.K2)
+  void start_and_predict(const double *y0, double h, const ClusterNewtonOptions &opt,
+                         ClusterNewtonStatus &st) const
   {
     using GL = GaussLegendre2;
     const int N = dim(), m = 3 * n_;
-    ClusterNewtonStatus st;
     // (scratch kept between calls: a step's vectors, matrix and LU were a
     // dozen heap allocations, 3 % of a collisional step on the fluid)
     Vec &K1 = ss_.K1, &K2 = ss_.K2;
@@ -539,28 +552,6 @@ template <class Phi> class ClusterGauss {
       st.fields++;
       K2 = K1;
     }
-    // started from the last solution (the predictor above)
-    const bool warm = !opt.full && last_ok_;
-
-    Vec &Y1 = ss_.Y1, &Y2 = ss_.Y2, &f1 = ss_.f1, &f2 = ss_.f2, &R = ss_.R, &D = ss_.D;
-    Y1.resize(N);
-    Y2.resize(N);
-    f1.resize(N);
-    f2.resize(N);
-    R.resize(2 * N);
-    D.resize(2 * N);
-    Mat &J1 = ss_.J1, &J2 = ss_.J2, &A = ss_.A;
-    A.resize(2 * N, 2 * N);
-    Eigen::PartialPivLU<Mat> &lu = ss_.lu;
-    // dR/dK = I - h [[a11 Ja, a12 Ja], [a21 Jb, a22 Jb]], factorised
-    auto factor = [&](const Mat &Ja, const Mat &Jb) {
-      A.setIdentity();
-      A.block(0, 0, N, N) -= h * GL::a11 * Ja;
-      A.block(0, N, N, N) -= h * GL::a12 * Ja;
-      A.block(N, 0, N, N) -= h * GL::a21 * Jb;
-      A.block(N, N, N, N) -= h * GL::a22 * Jb;
-      lu.compute(A);
-    };
     // the last factorisation with J0 serves a length within 1e-6 of its
     // own (a contact time's later trials, 1e-5 h apart or less): the matrix
     // is then off by 1e-6 h |J0|, below the iteration's own contraction
@@ -571,7 +562,7 @@ template <class Phi> class ClusterGauss {
     if (!opt.full && !(lu_ok_ && std::fabs(h - lu_h_) <= 1e-6 * std::fabs(lu_h_))) {
       if (structured) slu_.factor(h);
       else
-        factor(sJ0_, sJ0_);
+        factor(sJ0_, sJ0_, h);
       lu_ok_ = true;
       lu_h_ = h;
     }
@@ -600,6 +591,65 @@ template <class Phi> class ClusterGauss {
       K1 = P0.head(N);
       K2 = P0.tail(N);
     }
+  }
+
+  // the parabola u(t) = q0 + vq t + aq t^2 / 2 through stages K1, K2 of a
+  // step of length h (u'(c_i h) = the q part of K_i)
+  void parabola(const Vec &K1, const Vec &K2, double h, ClusterStepDetail &detail) const
+  {
+    using GL = GaussLegendre2;
+    const int m = 3 * n_;
+    detail.vq.resize(m);
+    detail.aq.resize(m);
+    for (int r = 0; r < m; r++) {
+      const double aq = (K2[r] - K1[r]) / ((GL::c2 - GL::c1) * h);
+      detail.aq[r] = aq;
+      detail.vq[r] = K1[r] - aq * GL::c1 * h;
+    }
+  }
+
+  // the parabola (detail's vq and aq) of a step of length h from y0 that
+  // step()'s predictor gives, with no Newton iteration: where the start is
+  // new, the cold predictor, the exact stages of a model whose field follows
+  // the flow's to O(t^2) (start_and_predict()), so that a contact on it is
+  // within O(h^3) of the flow's, as one on a solved step's parabola. A
+  // step() of the same length from the same start then starts from these
+  // stages, with the start's field, Jacobian and LU computed here
+  void predict(const double *y0, double h, const ClusterNewtonOptions &opt,
+               ClusterStepDetail &detail) const
+  {
+    ClusterNewtonStatus st;
+    start_and_predict(y0, h, opt, st);
+    tally.fields += st.fields;
+    tally.jacobians += st.jacobians;
+    parabola(ss_.K1, ss_.K2, h, detail);
+  }
+
+  // one Gauss-Legendre step of length h from y0 into y1 (6n), stages by
+  // Newton (ClusterNewtonOptions::full) from the predictor K1 = K2 = f(y0)
+  // (full), else from start_and_predict()'s
+  ClusterNewtonStatus step(const double *y0, double h, double *y1,
+                           const ClusterNewtonOptions &opt = ClusterNewtonOptions(),
+                           ClusterStepDetail *detail = nullptr) const
+  {
+    using GL = GaussLegendre2;
+    const int N = dim(), m = 3 * n_;
+    ClusterNewtonStatus st;
+    start_and_predict(y0, h, opt, st);
+    Vec &K1 = ss_.K1, &K2 = ss_.K2;
+    Eigen::Map<const Vec> y(y0, N);
+    const bool structured = !opt.full && j0_leading_;
+    // started from the last solution (the predictor above)
+    const bool warm = !opt.full && last_ok_;
+
+    Vec &Y1 = ss_.Y1, &Y2 = ss_.Y2, &f1 = ss_.f1, &f2 = ss_.f2, &R = ss_.R, &D = ss_.D;
+    Y1.resize(N);
+    Y2.resize(N);
+    f1.resize(N);
+    f2.resize(N);
+    R.resize(2 * N);
+    D.resize(2 * N);
+    Mat &J1 = ss_.J1, &J2 = ss_.J2;
     double prev = std::numeric_limits<double>::infinity();
     for (int it = 0; it < opt.maxit; it++) {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
@@ -622,7 +672,7 @@ template <class Phi> class ClusterGauss {
         field(Y1.data(), f1.data(), &J1, p1);
         field(Y2.data(), f2.data(), &J2, p2);
         st.jacobians += 2;
-        factor(J1, J2);
+        factor(J1, J2, h);
         lu_ok_ = false;
       } else {
         field(Y1.data(), f1.data(), nullptr, p1);
@@ -633,7 +683,7 @@ template <class Phi> class ClusterGauss {
       R.tail(N) = K2 - f2;
       if (structured) slu_.solve(R, D);
       else
-        D.noalias() = lu.solve(R);
+        D.noalias() = ss_.lu.solve(R);
       K1 -= D.head(N);
       K2 -= D.tail(N);
       st.iterations++;
@@ -698,14 +748,7 @@ template <class Phi> class ClusterGauss {
       Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
       detail->Y1.assign(Y1.data(), Y1.data() + N);
       detail->Y2.assign(Y2.data(), Y2.data() + N);
-      // u'(c_i h) = K_i (q part): u' = vq + aq t, aq = (K2 - K1) / ((c2 - c1) h)
-      detail->vq.resize(m);
-      detail->aq.resize(m);
-      for (int r = 0; r < m; r++) {
-        const double aq = (K2[r] - K1[r]) / ((GL::c2 - GL::c1) * h);
-        detail->aq[r] = aq;
-        detail->vq[r] = K1[r] - aq * GL::c1 * h;
-      }
+      parabola(K1, K2, h, *detail);
     }
     return st;
   }
