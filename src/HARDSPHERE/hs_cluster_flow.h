@@ -144,9 +144,9 @@ template <class Phi> class ClusterFlow {
       // is then the sub-step's first solve; the whole sub-step is solved
       // only where that parabola has none, or the flow reaches none within
       // tau (a contact with a static sphere, the cluster's growth, is left
-      // to the solved step's parabola, as before). On the 4000 fluid most
-      // sub-steps with a contact end there, and their whole-step solve was
-      // a sixth of the solves
+      // to the solved step's parabola, as before). On the 4000 fluid the
+      // search takes as many trials from that parabola's time as from the
+      // solved step's, whose solve was a fifth of all
       Hit hit;
       double ts = -1.0;
       bool refined = false, searched = false;
