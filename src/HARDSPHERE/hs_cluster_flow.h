@@ -149,12 +149,12 @@ template <class Phi> class ClusterFlow {
       // solved step's, whose solve was a fifth of all
       Hit hit;
       double ts = -1.0;
-      bool refined = false, searched = false;
+      bool refined = false;
+      ntrial_ = 0;    // (the kept trials are from one start: this one's)
       G.predict(y.data(), tau, newton_opt(), det);
       {
         const Hit hp = earliest(y, det, tau);
         if (!hp.overlap && (hp.kind == Hit::PAIR || hp.kind == Hit::WALL)) {
-          searched = true;
           ts = refine(y, hp, hp.t, tau, true);
           if (ts == -1.0) return FAILED;
           refined = ts >= 0.0;
@@ -162,8 +162,8 @@ template <class Phi> class ClusterFlow {
         }
       }
       if (!refined) {
-        // (the search's trial at tau, if it made one from this start)
-        if (const Trial *tr = searched ? tried(tau) : nullptr) {
+        // (the search's trial at tau, if it made one)
+        if (const Trial *tr = tried(tau)) {
           y1 = tr->y1;
           det = tr->det;
         } else if (!solve(y, tau, y1, det))

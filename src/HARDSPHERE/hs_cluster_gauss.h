@@ -613,8 +613,9 @@ template <class Phi> class ClusterGauss {
   // new, the cold predictor, the exact stages of a model whose field follows
   // the flow's to O(t^2) (start_and_predict()), so that a contact on it is
   // within O(h^3) of the flow's, as one on a solved step's parabola. A
-  // step() of the same length from the same start then starts from these
-  // stages, with the start's field, Jacobian and LU computed here
+  // step() of the same length from the same start then takes the start's
+  // field, Jacobian and LU computed here (and solves for the same
+  // predictor again: one LU solve)
   void predict(const double *y0, double h, const ClusterNewtonOptions &opt,
                ClusterStepDetail &detail) const
   {
