@@ -239,6 +239,11 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     std::vector<int> members;       // runner: the members' copies (nearest the runner's)
     std::vector<int> touched;       // runner: members and partners (copies)
     HSLocalForces::Snapshot snap;   // runner: its restricted lists
+    // runner, for a method's own flow (HSMethod::runs_cluster_flows()): the
+    // terms of snap's lists, recorded by the evaluation that made them
+    // (HSLocalForces::take_terms()), pairs first (tnpair of them)
+    std::vector<int> tloc, toff, textra;
+    int tnpair = 0;
     std::vector<Vec> fk0;           // runner: V_C's force at the step's start, on touched
     bool a_done = false, b_done = false;
     bool in_sa = false;    // runner: its first half's sums are in sa (sa_change)
@@ -261,7 +266,8 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
     void reset()
     {
       mine = false;
-      for (auto *v : {&members, &touched, &env}) v->clear();
+      for (auto *v : {&members, &touched, &env, &tloc, &toff, &textra}) v->clear();
+      tnpair = 0;
       mtags.clear();
       xnbrs.clear();
       for (auto *v :
@@ -610,7 +616,9 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   void reborder();
   void resize_shell();
   double cutneigh = 0.0;       // the rows' reach: neighbor cutoff (chosen())
-  void vc(const int *c, int n);
+  // V_C's restricted forces on the copies c (record_terms: and their terms,
+  // HSLocalForces::term_local())
+  void vc(const int *c, int n, bool record_terms = false);
   // contact candidates of any local copy: every group atom within the
   // contact list's cutoff at the list build (HSSystem::xref), bonded
   // partners included (as the fix's list, HSSystem::reset_reference), not
