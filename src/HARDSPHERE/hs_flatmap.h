@@ -17,6 +17,7 @@
 #ifndef LMP_HS_FLATMAP_H
 #define LMP_HS_FLATMAP_H
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -75,14 +76,14 @@ template <class K, class V> class FlatMap {
     return true;
   }
 
+  // (every slot by std::fill, which vectorises, where a test of each slot
+  // did not: a table keeps the capacity of its largest content, and mcva's
+  // partner map is cleared for every flow; ~1 % of its time)
   void clear()
   {
     if (n_ == 0) return;
-    for (size_t s = 0; s < keys_.size(); s++)
-      if (keys_[s] != 0) {
-        keys_[s] = 0;
-        vals_[s] = V();
-      }
+    std::fill(keys_.begin(), keys_.end(), K(0));
+    std::fill(vals_.begin(), vals_.end(), V());
     n_ = 0;
   }
 
