@@ -5,7 +5,8 @@
 # collision counts of 30 steps on the cases the engine's changes are checked on:
 # the 32000-atom hard-core fluid with cva and pcva, the 4000-bead melt with pcva, and
 # the melt with fix langevin for cva and pcva (held forces), and vci (the flows'
-# energies) on the fluid and the melt, each on NPS ranks.
+# energies) on the fluid and the melt, and mcva (its own cluster flows) on the fluid
+# and on the melt with fix langevin, each on NPS ranks.
 #   bash bench/scaling/bitwise.sh /path/to/old/lmp              # against build/lmp
 #   NPS="1 2" bash bench/scaling/bitwise.sh OLD_LMP NEW_LMP
 # Prints one line per case and rank count (same / DIFFERS) and exits 1 if any differs.
@@ -37,7 +38,9 @@ cases=("cvaF|fluid|$SCR/fluid.32000.data|fix hs all hardsphere/cva diameter 1.0|
        "cvaL|melt|$SCR/melt.4000.data|fix hs all hardsphere/cva diameter 0.9|$lt"
        "pcvaL|melt|$SCR/melt.4000.data|fix hs all hardsphere/pcva diameter 0.9|$lt"
        "vciF|fluid|$SCR/fluid.32000.data|fix hs all hardsphere/vci diameter 1.0|"
-       "vciM|melt|$SCR/melt.4000.data|fix hs all hardsphere/vci diameter 0.9|")
+       "vciM|melt|$SCR/melt.4000.data|fix hs all hardsphere/vci diameter 0.9|"
+       "mcvaF|fluid|$SCR/fluid.32000.data|fix hs all hardsphere/mcva diameter 1.0|"
+       "mcvaL|melt|$SCR/melt.4000.data|fix hs all hardsphere/mcva diameter 0.9|$lt")
 fail=0
 for np in $NPS; do
   for c in "${cases[@]}"; do
