@@ -2255,7 +2255,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       F.add_impulse_virial(imp);
       (kk.j < 0 ? F.ncoll_wall : F.ncoll_pair) += 1.0;
     }
-    locf->restore(r.snap);
+    // (V_C's lists are r.snap's still: the method's flow evaluates its own
+    // terms, and the terms it took were recorded at the first half's start)
     if (!provisional) {
       locf->recompute();
       ncompute_here += 1.0;
