@@ -934,17 +934,25 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
       for (int d = 0; d < 3; d++) rsq += (x[i][d] - x[j][d]) * (x[i][d] - x[j][d]);
       if (rsq >= cutsq[type[i]][type[j]]) continue;
     }
-    HardSphere::ClusterTerm ct;
     int si = slot(i), sj = slot(j), ci = i, cj = j;
     if (si < 0 && sj < 0) continue;
+    // (both records written in place: built on the stack by parts and
+    // copied whole, each copy waited on its parts' stores, a fifth of this
+    // function's time)
+    HardSphere::ClusterTerm &ct = terms.emplace_back();
     ct.kind = (int) term_of.size();
     {
-      TermOf of{i, j, te[t], t < job.npair, nullptr, 0.0};
+      TermOf &of = term_of.emplace_back();
+      of.i = i;
+      of.j = j;
+      of.extra = te[t];
+      of.pair = t < job.npair;
+      of.lj = nullptr;
+      of.fl = 0.0;
       if (of.pair && ljt.coef) {
         of.lj = ljt.of(type[i], type[j]);
         of.fl = force->special_lj[te[t]];
       }
-      term_of.push_back(of);
     }
     if (si < 0) {    // the member first (phi depends on |r| only)
       std::swap(si, sj);
@@ -964,7 +972,6 @@ void HSMethodMCVA::cluster_flow(HSClusterFlowJob &job)
       for (int d = 0; d < 3; d++) ct.xb[d] = x[cj][d] - offi[d];
       ct.partner = partner(cj);
     }
-    terms.push_back(ct);
   }
   G.reset(nm, im.data(), job.fc.data(), dt * dt / 12.0, TermPhi{S.pot, term_of.data()});
   std::vector<HardSphere::FlowStatic> &statics = flow.statics();
