@@ -59,6 +59,7 @@
 #define LMP_HS_CLUSTER_GAUSS_H
 
 #include "hs_gauss.h"
+#include "hs_lj_terms.h"
 #include "hs_modified.h"
 
 #include <Eigen/Dense>
@@ -68,6 +69,8 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace HardSphere {
@@ -258,6 +261,17 @@ class StageLU {
   LeadingStageLU<> lx_;
 };
 
+// a Phi that names a term's lj/cut coefficients: lj_coef(kind, fl) returns
+// lj1..lj4 and the offset (hs_ljcut.h's LJCutTable row) and sets the
+// special factor fl, or returns nullptr for a term of another form; its
+// operator() then gives lj_cut_phi04()'s values for such a term (forces()
+// takes a member whose static terms are all lj/cut four at a time,
+// hs_lj_terms.h)
+template <class P, class = void> struct PhiNamesLJ : std::false_type {};
+template <class P>
+struct PhiNamesLJ<P, std::void_t<decltype(std::declval<const P &>().lj_coef(
+                         0, std::declval<double &>()))>> : std::true_type {};
+
 template <class Phi> class ClusterGauss {
  public:
   using Mat = Eigen::MatrixXd;
@@ -304,6 +318,32 @@ template <class Phi> class ClusterGauss {
     tsort_.resize(terms_.size());
     for (const ClusterTerm &t : terms_) tsort_[t.b >= 0 ? mm++ : next[t.a]++] = t;
     terms_.swap(tsort_);
+    // the static atoms' coordinates by column, and which members' static
+    // terms are all lj/cut (forces())
+    const int ns = (int) terms_.size() - soff_[0];
+    sbx_.resize(ns);
+    sby_.resize(ns);
+    sbz_.resize(ns);
+    for (int k = 0; k < ns; k++) {
+      const ClusterTerm &t = terms_[soff_[0] + k];
+      sbx_[k] = t.xb[0];
+      sby_[k] = t.xb[1];
+      sbz_[k] = t.xb[2];
+    }
+    slj_all_.assign(n, 0);
+    if constexpr (PhiNamesLJ<Phi>::value) {
+      slj_.resize(ns);
+      sfl_.resize(ns);
+      for (int a = 0; a < n; a++) {
+        bool all = true;
+        for (int ti = soff_[a]; ti < soff_[a + 1]; ti++) {
+          const int k = ti - soff_[0];
+          slj_[k] = phi_.lj_coef(terms_[ti].kind, sfl_[k]);
+          all = all && slj_[k];
+        }
+        slj_all_[a] = all;
+      }
+    }
     tally = ClusterTally();
     start_ok_ = last_ok_ = lu_ok_ = j0_leading_ = false;
     sh_ = lu_h_ = 0.0;
@@ -918,10 +958,17 @@ template <class Phi> class ClusterGauss {
     // three passes (the geometry, phi^(k), the sums) whose iterations do
     // not wait on each other, so that the square roots and divisions of
     // successive terms overlap (one pass of ~130 instructions a term held
-    // little more than one term in flight)
+    // little more than one term in flight); a member whose static terms
+    // are all lj/cut (the Phi names them) takes the first two passes four
+    // terms at a time (lj_static(): -8 % of mcva's instructions and -6 % of
+    // its time on the 4000 fluid)
     for (int a = 0; a < n_; a++) {
       const double *qa = q + 3 * a;
       const int t0 = soff_[a], t1 = soff_[a + 1];
+      if (slj_all_[a]) {
+        lj_static(a, qa, V, F, K, order);
+        continue;
+      }
       for (int ti = t0; ti < t1; ti++) {
         const double *xb = terms_[ti].xb;
         const double x[3] = {qa[0] - xb[0], qa[1] - xb[1], qa[2] - xb[2]};
@@ -964,6 +1011,55 @@ template <class Phi> class ClusterGauss {
     }
   }
 
+  // forces()' part of member a's static terms, all lj/cut: their geometry
+  // and phi^(k) four at a time (hs_lj_terms.h: the same operations as the
+  // passes above, so the same bits), then the same sums in the same order,
+  // each term's values kept in pc_ as above
+  void lj_static(int a, const double *qa, double &V, double *F, Mat *K, int order) const
+  {
+    const int t0 = soff_[a], na = soff_[a + 1] - t0, s = t0 - soff_[0];
+    const int ns = (int) sbx_.size();
+    gr_.resize(5 * (size_t) ns);
+    gp_.resize(5 * (size_t) ns);
+    double *r = gr_.data() + s, *ir = r + ns, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
+    double *p = gp_.data() + 5 * (size_t) s;
+    static_geometry(qa, na, sbx_.data() + s, sby_.data() + s, sbz_.data() + s, r, ir, ex, ey, ez);
+    lj_phi(r, na, slj_.data() + s, sfl_.data() + s, order, p);
+    double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
+    double Fa[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < na; k++) {
+      TermAt &at = pc_[t0 + k];
+      for (int j = 0; j < 5; j++) at.p[j] = p[j * na + k];
+      at.ir = ir[k];
+      const double e[3] = {ex[k], ey[k], ez[k]};
+      for (int d = 0; d < 3; d++) at.e[d] = e[d];
+      const double p1 = at.p[1];
+      V += at.p[0];
+      for (int d = 0; d < 3; d++) Fa[d] -= p1 * e[d];
+      if (!K) continue;
+      const double B = p1 * at.ir, A = at.p[2] - B;
+      Hs[0] += A * e[0] * e[0];
+      Hs[1] += A * e[1] * e[1];
+      Hs[2] += A * e[2] * e[2];
+      Hs[3] += A * e[0] * e[1];
+      Hs[4] += A * e[0] * e[2];
+      Hs[5] += A * e[1] * e[2];
+      Bs += B;
+    }
+    for (int d = 0; d < 3; d++) F[3 * a + d] += Fa[d];
+    if (!K || na == 0) return;
+    auto blk = K->block<3, 3>(3 * a, 3 * a);
+    blk(0, 0) += Hs[0] + Bs;
+    blk(1, 1) += Hs[1] + Bs;
+    blk(2, 2) += Hs[2] + Bs;
+    blk(0, 1) += Hs[3];
+    blk(1, 0) += Hs[3];
+    blk(0, 2) += Hs[4];
+    blk(2, 0) += Hs[4];
+    blk(1, 2) += Hs[5];
+    blk(2, 1) += Hs[5];
+  }
+
   // phi^(k)(r) for k = 1..3 as S from the term's p (forces() at the same
   // q); an AD r carries phi^(k+1) dr
   static void radial(const double *p, double, double out[3])
@@ -980,6 +1076,14 @@ template <class Phi> class ClusterGauss {
     double ir, e[3];
   };
   mutable std::vector<TermAt> pc_;
+  // the static terms by column (reset()): their atoms' coordinates, lj/cut
+  // coefficients and special factors (Phi names them: PhiNamesLJ), and per
+  // member whether all of its static terms are lj/cut; lj_static()'s
+  // scratch (r, 1/r, e by column; phi^(k) in rows of each member's count)
+  std::vector<double> sbx_, sby_, sbz_, sfl_;
+  std::vector<const double *> slj_;
+  std::vector<char> slj_all_;
+  mutable std::vector<double> gr_, gp_, gq_;
 
   // one term's part of the field, before the inverse mass (member a's; b's is
   // its negative): o[0..2] = 2c V_t'' w, o[3..5] = -c (grad_x (w^T V_t'' w)
@@ -1047,6 +1151,10 @@ template <class Phi> class ClusterGauss {
   {
     if (soff_[i] == soff_[i + 1]) return;
     const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    if (slj_all_[i]) {
+      static_field_lj(i, w, ar, ww, k, pf, v3);
+      return;
+    }
     double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
            He[3] = {0.0, 0.0, 0.0};
     for (int ti = soff_[i]; ti < soff_[i + 1]; ti++) {
@@ -1073,6 +1181,49 @@ template <class Phi> class ClusterGauss {
         for (int d = 0; d < 3; d++) pf[3 * pt + d] += ke * e[d] + kw * w[d] + ka * ar[d];
       }
     }
+    static_field_add(i, w, ar, Bs, Cs, Ue, Ge, He, k, v3);
+  }
+  // static_field() for a member whose static terms took lj_static() in the
+  // last forces(): the per-term coefficients four at a time from its columns
+  // (hs_lj_terms.h, the same operations), then the same sums in the same
+  // order (-3 % of mcva's instructions on the 4000 fluid; the scalar loop's
+  // eleven sums and temporaries had spilled to the stack)
+  void static_field_lj(int i, const double *w, const double *ar, double ww, double *k, double *pf,
+                       double *v3) const
+  {
+    const int t0 = soff_[i], na = soff_[i + 1] - t0, s = t0 - soff_[0];
+    const int ns = (int) sbx_.size();
+    const double *ir = gr_.data() + ns + s, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
+    const double *p = gp_.data() + 5 * (size_t) s;
+    gq_.resize(8 * (size_t) ns);
+    double *o = gq_.data();
+    static_field_terms(na, p + na, p + 2 * na, p + 3 * na, ir, ex, ey, ez, w, ar, ww, c_, o);
+    double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
+           He[3] = {0.0, 0.0, 0.0};
+    for (int t = 0; t < na; t++) {
+      const double e[3] = {ex[t], ey[t], ez[t]};
+      const double As = o[t], ce = o[na + t], Asa = o[2 * na + t];
+      for (int d = 0; d < 3; d++) {
+        Ue[d] += As * e[d];
+        Ge[d] += ce * e[d];
+        He[d] += Asa * e[d];
+      }
+      Bs += o[3 * na + t];
+      Cs += o[4 * na + t];
+      const int pt = terms_[t0 + t].partner;
+      if (pf && pt >= 0) {
+        const double ke = o[5 * na + t], kw = o[6 * na + t], ka = o[7 * na + t];
+        for (int d = 0; d < 3; d++) pf[3 * pt + d] += ke * e[d] + kw * w[d] + ka * ar[d];
+      }
+    }
+    static_field_add(i, w, ar, Bs, Cs, Ue, Ge, He, k, v3);
+  }
+
+  // the sums of member i's static terms into its field (and v3)
+  void static_field_add(int i, const double *w, const double *ar, double Bs, double Cs,
+                        const double *Ue, const double *Ge, const double *He, double *k,
+                        double *v3) const
+  {
     const int m = 3 * n_;
     const double im = im_[i];
     for (int d = 0; d < 3; d++) {

@@ -835,6 +835,12 @@ struct TermPhi {
     else if (t.pair) pot->pair_term4(t.i, t.j, t.extra, r, order, d);
     else pot->bond_term4(t.extra, t.i, t.j, r * r, order, d);
   }
+  // (ClusterGauss' PhiNamesLJ: its lj/cut terms four at a time)
+  const double *lj_coef(int k, double &fl) const
+  {
+    fl = of[k].fl;
+    return of[k].lj;
+  }
 };
 }    // namespace
 
