@@ -32,7 +32,9 @@ struct System {
   std::vector<int *> firstneigh;
   std::vector<double> cutsq_s, coef;
   std::vector<const double *> cutsq;
-  double special[4] = {1.0, 0.0, 0.5, 0.25};
+  // (1/1.2, AMBER's 1-4 factor, scales inexactly: a product taken in another
+  // order shows)
+  double special[4] = {1.0, 0.0, 0.5, 1.0 / 1.2};
 };
 
 System make(std::mt19937 &g, int nall, int ntypes)
