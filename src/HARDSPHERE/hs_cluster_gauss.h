@@ -265,8 +265,8 @@ class StageLU {
 // lj1..lj4 and the offset (hs_ljcut.h's LJCutTable row) and sets the
 // special factor fl, or returns nullptr for a term of another form; its
 // operator() then gives lj_cut_phi04()'s values for such a term (forces()
-// takes a member whose static terms are all lj/cut four at a time,
-// hs_lj_terms.h)
+// takes a member's static lj/cut terms four at a time, hs_lj_terms.h, and
+// the others one by one after them)
 template <class P, class = void> struct PhiNamesLJ : std::false_type {};
 template <class P>
 struct PhiNamesLJ<P, std::void_t<decltype(std::declval<const P &>().lj_coef(
@@ -330,18 +330,27 @@ template <class Phi> class ClusterGauss {
       sby_[k] = t.xb[1];
       sbz_[k] = t.xb[2];
     }
-    slj_all_.assign(n, 0);
+    // (a term of another form, a bond say, takes zero coefficients in the
+    // batch and its own phi_() after it: sother_, by member)
+    sbatch_.assign(n, 0);
+    sother_.clear();
+    sooff_.assign(n + 1, 0);
     if constexpr (PhiNamesLJ<Phi>::value) {
+      static const double zero[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
       slj_.resize(ns);
       sfl_.resize(ns);
       for (int a = 0; a < n; a++) {
-        bool all = true;
         for (int ti = soff_[a]; ti < soff_[a + 1]; ti++) {
           const int k = ti - soff_[0];
           slj_[k] = phi_.lj_coef(terms_[ti].kind, sfl_[k]);
-          all = all && slj_[k];
+          if (!slj_[k]) {
+            slj_[k] = zero;
+            sfl_[k] = 0.0;
+            sother_.push_back(ti - soff_[a]);
+          }
         }
-        slj_all_[a] = all;
+        sooff_[a + 1] = (int) sother_.size();
+        sbatch_[a] = 1;
       }
     }
     tally = ClusterTally();
@@ -958,14 +967,14 @@ template <class Phi> class ClusterGauss {
     // three passes (the geometry, phi^(k), the sums) whose iterations do
     // not wait on each other, so that the square roots and divisions of
     // successive terms overlap (one pass of ~130 instructions a term held
-    // little more than one term in flight); a member whose static terms
-    // are all lj/cut (the Phi names them) takes the first two passes four
-    // terms at a time (lj_static(): -8 % of mcva's instructions and -6 % of
-    // its time on the 4000 fluid)
+    // little more than one term in flight); with a Phi that names its
+    // lj/cut terms the first two passes go four terms at a time
+    // (lj_static(): -8 % of mcva's instructions and -6 % of its time on the
+    // 4000 fluid)
     for (int a = 0; a < n_; a++) {
       const double *qa = q + 3 * a;
       const int t0 = soff_[a], t1 = soff_[a + 1];
-      if (slj_all_[a]) {
+      if (sbatch_[a]) {
         lj_static(a, qa, V, F, K, order);
         continue;
       }
@@ -1011,10 +1020,11 @@ template <class Phi> class ClusterGauss {
     }
   }
 
-  // forces()' part of member a's static terms, all lj/cut: their geometry
-  // and phi^(k) four at a time (hs_lj_terms.h: the same operations as the
-  // passes above, so the same bits), then the same sums in the same order,
-  // each term's values kept in pc_ as above
+  // forces()' part of member a's static terms: their geometry and the
+  // lj/cut terms' phi^(k) four at a time (hs_lj_terms.h: the same
+  // operations as the passes above, so the same bits), the other terms'
+  // phi^(k) by phi_() after them, then the same sums in the same order, each
+  // term's values kept in pc_ as above
   void lj_static(int a, const double *qa, double &V, double *F, Mat *K, int order) const
   {
     const int t0 = soff_[a], na = soff_[a + 1] - t0, s = t0 - soff_[0];
@@ -1025,6 +1035,12 @@ template <class Phi> class ClusterGauss {
     double *p = gp_.data() + 5 * (size_t) s;
     static_geometry(qa, na, sbx_.data() + s, sby_.data() + s, sbz_.data() + s, r, ir, ex, ey, ez);
     lj_phi(r, na, slj_.data() + s, sfl_.data() + s, order, p);
+    for (int o = sooff_[a]; o < sooff_[a + 1]; o++) {
+      const int k = sother_[o];
+      double d[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+      phi_(terms_[t0 + k].kind, r[k], order, d);
+      for (int j = 0; j < 5; j++) p[j * na + k] = d[j];
+    }
     double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
     double Fa[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < na; k++) {
@@ -1077,12 +1093,13 @@ template <class Phi> class ClusterGauss {
   };
   mutable std::vector<TermAt> pc_;
   // the static terms by column (reset()): their atoms' coordinates, lj/cut
-  // coefficients and special factors (Phi names them: PhiNamesLJ), and per
-  // member whether all of its static terms are lj/cut; lj_static()'s
+  // coefficients and special factors (Phi names them: PhiNamesLJ; zeros for
+  // the others), and per member whether lj_static() takes its terms; its
   // scratch (r, 1/r, e by column; phi^(k) in rows of each member's count)
   std::vector<double> sbx_, sby_, sbz_, sfl_;
   std::vector<const double *> slj_;
-  std::vector<char> slj_all_;
+  std::vector<char> sbatch_;
+  std::vector<int> sother_, sooff_;    // a member's static terms not lj/cut (index in its terms)
   mutable std::vector<double> gr_, gp_, gq_;
 
   // one term's part of the field, before the inverse mass (member a's; b's is
@@ -1151,7 +1168,7 @@ template <class Phi> class ClusterGauss {
   {
     if (soff_[i] == soff_[i + 1]) return;
     const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    if (slj_all_[i]) {
+    if (sbatch_[i]) {
       static_field_lj(i, w, ar, ww, k, pf, v3);
       return;
     }

@@ -218,22 +218,37 @@ TEST(LJTerms, DerivativesAreLJs)
 }
 
 namespace {
-// two radial functions with the same values: lj/cut terms by kind, one that
-// names them to ClusterGauss (lj_coef(): the batched path) and one that
-// does not (each term by operator())
+// two radial functions with the same values: lj/cut terms by kind, and
+// every fifth kind (k % 5 == 3) a harmonic bond 300 (r - 0.97)^2 written up
+// to the order asked for; one names its lj/cut terms to ClusterGauss
+// (lj_coef(): the batched path, the bonds after it), the other does not
+// (each term by operator())
+bool is_bond(int k)
+{
+  return k % 5 == 3;
+}
 struct PlainPhi {
   const std::vector<const double *> *c;
   const std::vector<double> *fl;
   void operator()(int k, double r, int order, double *d) const
   {
-    lj_cut_phi04((*c)[k], (*fl)[k], r * r, r, order, d);
+    if (!is_bond(k)) {
+      lj_cut_phi04((*c)[k], (*fl)[k], r * r, r, order, d);
+      return;
+    }
+    const double dr = r - 0.97;
+    d[0] = 300.0 * dr * dr;
+    d[1] = 600.0 * dr;
+    if (order >= 2) d[2] = 600.0;
+    if (order >= 3) d[3] = 0.0;
+    if (order >= 4) d[4] = 0.0;
   }
 };
 struct NamingPhi : PlainPhi {
   const double *lj_coef(int k, double &f) const
   {
     f = (*fl)[k];
-    return (*c)[k];
+    return is_bond(k) ? nullptr : (*c)[k];
   }
 };
 static_assert(!PhiNamesLJ<PlainPhi>::value && PhiNamesLJ<NamingPhi>::value,
@@ -245,7 +260,7 @@ TEST(LJTerms, ClusterGaussSameBitsBatchedOrNot)
   std::mt19937 g(14);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   // three members in a row 1.05 apart, each with 5..11 static atoms (all
-  // lengths mod 4), a pair term between members 0 and 1
+  // lengths mod 4; bonds among them), a pair term between members 0 and 1
   const int n = 3;
   const Terms all = make(g, 30);
   std::vector<ClusterTerm> terms;
