@@ -330,28 +330,28 @@ template <class Phi> class ClusterGauss {
       sby_[k] = t.xb[1];
       sbz_[k] = t.xb[2];
     }
-    // (a term of another form, a bond say, takes zero coefficients in the
-    // batch and its own phi_() after it: sother_, by member)
-    sbatch_.assign(n, 0);
+    // the terms' lj/cut coefficients where the Phi names them (PhiNamesLJ);
+    // a term of another form (a bond, or every term of a Phi that names
+    // none) takes zero coefficients in the batch and its own phi_() after
+    // it (sother_, by member)
     sother_.clear();
     sooff_.assign(n + 1, 0);
-    if constexpr (PhiNamesLJ<Phi>::value) {
-      static const double zero[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
-      slj_.resize(ns);
-      sfl_.resize(ns);
-      for (int a = 0; a < n; a++) {
-        for (int ti = soff_[a]; ti < soff_[a + 1]; ti++) {
-          const int k = ti - soff_[0];
-          slj_[k] = phi_.lj_coef(terms_[ti].kind, sfl_[k]);
-          if (!slj_[k]) {
-            slj_[k] = zero;
-            sfl_[k] = 0.0;
-            sother_.push_back(ti - soff_[a]);
-          }
+    slj_.resize(ns);
+    sfl_.resize(ns);
+    static const double zero[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+    for (int a = 0; a < n; a++) {
+      for (int ti = soff_[a]; ti < soff_[a + 1]; ti++) {
+        const int k = ti - soff_[0];
+        slj_[k] = nullptr;
+        sfl_[k] = 0.0;
+        if constexpr (PhiNamesLJ<Phi>::value) slj_[k] = phi_.lj_coef(terms_[ti].kind, sfl_[k]);
+        if (!slj_[k]) {
+          slj_[k] = zero;
+          sfl_[k] = 0.0;
+          sother_.push_back(ti - soff_[a]);
         }
-        sooff_[a + 1] = (int) sother_.size();
-        sbatch_[a] = 1;
       }
+      sooff_[a + 1] = (int) sother_.size();
     }
     tally = ClusterTally();
     start_ok_ = last_ok_ = lu_ok_ = j0_leading_ = false;
@@ -963,69 +963,20 @@ template <class Phi> class ClusterGauss {
       K->block<3, 3>(3 * t.a, 3 * t.b) -= H;
       K->block<3, 3>(3 * t.b, 3 * t.a) -= H;
     }
-    // each member's static terms: their V_t'' summed into one block. In
-    // three passes (the geometry, phi^(k), the sums) whose iterations do
-    // not wait on each other, so that the square roots and divisions of
-    // successive terms overlap (one pass of ~130 instructions a term held
-    // little more than one term in flight); with a Phi that names its
-    // lj/cut terms the first two passes go four terms at a time
-    // (lj_static(): -8 % of mcva's instructions and -6 % of its time on the
-    // 4000 fluid)
-    for (int a = 0; a < n_; a++) {
-      const double *qa = q + 3 * a;
-      const int t0 = soff_[a], t1 = soff_[a + 1];
-      if (sbatch_[a]) {
-        lj_static(a, qa, V, F, K, order);
-        continue;
-      }
-      for (int ti = t0; ti < t1; ti++) {
-        const double *xb = terms_[ti].xb;
-        const double x[3] = {qa[0] - xb[0], qa[1] - xb[1], qa[2] - xb[2]};
-        const double r = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-        TermAt &at = pc_[ti];
-        at.ir = 1.0 / r;
-        for (int d = 0; d < 3; d++) at.e[d] = x[d] * at.ir;
-        at.p[0] = r;    // (phi_ below reads r from it, then writes phi there)
-      }
-      for (int ti = t0; ti < t1; ti++) phi_(terms_[ti].kind, pc_[ti].p[0], order, pc_[ti].p.data());
-      double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
-      double Fa[3] = {0.0, 0.0, 0.0};
-      for (int ti = t0; ti < t1; ti++) {
-        const TermAt &at = pc_[ti];
-        const double *p = at.p.data(), *e = at.e;
-        V += p[0];
-        for (int d = 0; d < 3; d++) Fa[d] -= p[1] * e[d];
-        if (!K) continue;
-        const double B = p[1] * at.ir, A = p[2] - B;
-        Hs[0] += A * e[0] * e[0];
-        Hs[1] += A * e[1] * e[1];
-        Hs[2] += A * e[2] * e[2];
-        Hs[3] += A * e[0] * e[1];
-        Hs[4] += A * e[0] * e[2];
-        Hs[5] += A * e[1] * e[2];
-        Bs += B;
-      }
-      for (int d = 0; d < 3; d++) F[3 * a + d] += Fa[d];
-      if (!K || soff_[a] == soff_[a + 1]) continue;
-      auto blk = K->block<3, 3>(3 * a, 3 * a);
-      blk(0, 0) += Hs[0] + Bs;
-      blk(1, 1) += Hs[1] + Bs;
-      blk(2, 2) += Hs[2] + Bs;
-      blk(0, 1) += Hs[3];
-      blk(1, 0) += Hs[3];
-      blk(0, 2) += Hs[4];
-      blk(2, 0) += Hs[4];
-      blk(1, 2) += Hs[5];
-      blk(2, 1) += Hs[5];
-    }
+    // each member's static terms: their V_t'' summed into one block
+    // (static_terms())
+    for (int a = 0; a < n_; a++) static_terms(a, q + 3 * a, V, F, K, order);
   }
 
-  // forces()' part of member a's static terms: their geometry and the
-  // lj/cut terms' phi^(k) four at a time (hs_lj_terms.h: the same
-  // operations as the passes above, so the same bits), the other terms'
-  // phi^(k) by phi_() after them, then the same sums in the same order, each
-  // term's values kept in pc_ as above
-  void lj_static(int a, const double *qa, double &V, double *F, Mat *K, int order) const
+  // forces()' part of member a's static terms (at qa), in passes whose
+  // iterations do not wait on each other: their geometry and the lj/cut
+  // terms' phi^(k) four at a time (hs_lj_terms.h: a square root and two
+  // divisions a term, which one term at a time held the loop to the
+  // divider's latency; -8 % of mcva's instructions and -6 % of its time on
+  // the 4000 fluid), the other terms' phi^(k) by phi_() after them, then
+  // the sums; each term's values kept in pc_ for term_field_at(),
+  // partner_forces() and the Jacobian
+  void static_terms(int a, const double *qa, double &V, double *F, Mat *K, int order) const
   {
     const int t0 = soff_[a], na = soff_[a + 1] - t0, s = t0 - soff_[0];
     const int ns = (int) sbx_.size();
@@ -1034,7 +985,7 @@ template <class Phi> class ClusterGauss {
     double *r = gr_.data() + s, *ir = r + ns, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
     double *p = gp_.data() + 5 * (size_t) s;
     static_geometry(qa, na, sbx_.data() + s, sby_.data() + s, sbz_.data() + s, r, ir, ex, ey, ez);
-    lj_phi(r, na, slj_.data() + s, sfl_.data() + s, order, p);
+    if (sooff_[a + 1] - sooff_[a] < na) lj_phi(r, na, slj_.data() + s, sfl_.data() + s, order, p);
     for (int o = sooff_[a]; o < sooff_[a + 1]; o++) {
       const int k = sother_[o];
       double d[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
@@ -1094,11 +1045,10 @@ template <class Phi> class ClusterGauss {
   mutable std::vector<TermAt> pc_;
   // the static terms by column (reset()): their atoms' coordinates, lj/cut
   // coefficients and special factors (Phi names them: PhiNamesLJ; zeros for
-  // the others), and per member whether lj_static() takes its terms; its
-  // scratch (r, 1/r, e by column; phi^(k) in rows of each member's count)
+  // the others); static_terms()' scratch (r, 1/r, e by column; phi^(k) in
+  // rows of each member's count; static_field_cols()' coefficients)
   std::vector<double> sbx_, sby_, sbz_, sfl_;
   std::vector<const double *> slj_;
-  std::vector<char> sbatch_;
   std::vector<int> sother_, sooff_;    // a member's static terms not lj/cut (index in its terms)
   mutable std::vector<double> gr_, gp_, gq_;
 
@@ -1168,44 +1118,14 @@ template <class Phi> class ClusterGauss {
   {
     if (soff_[i] == soff_[i + 1]) return;
     const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    if (sbatch_[i]) {
-      static_field_lj(i, w, ar, ww, k, pf, v3);
-      return;
-    }
-    double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
-           He[3] = {0.0, 0.0, 0.0};
-    for (int ti = soff_[i]; ti < soff_[i + 1]; ti++) {
-      const TermAt &at = pc_[ti];
-      const double *e = at.e, ir = at.ir;
-      const double B = at.p[1] * ir, A = at.p[2] - B;
-      const double Bp = A * ir, Ap = at.p[3] - Bp;
-      const double s = e[0] * w[0] + e[1] * w[1] + e[2] * w[2];
-      const double sa = e[0] * ar[0] + e[1] * ar[1] + e[2] * ar[2];
-      const double cAs2 = 2.0 * A * s * ir;
-      const double ce = Ap * s * s + Bp * ww - cAs2 * s;
-      const double As = A * s, Asa = A * sa;
-      for (int d = 0; d < 3; d++) {
-        Ue[d] += As * e[d];
-        Ge[d] += ce * e[d];
-        He[d] += Asa * e[d];
-      }
-      Bs += B;
-      Cs += cAs2;
-      const int pt = terms_[ti].partner;
-      if (pf && pt >= 0) {
-        // phi' e + c (grad + V_t'' a_rel)
-        const double ke = at.p[1] + c_ * (ce + Asa), kw = c_ * cAs2, ka = c_ * B;
-        for (int d = 0; d < 3; d++) pf[3 * pt + d] += ke * e[d] + kw * w[d] + ka * ar[d];
-      }
-    }
-    static_field_add(i, w, ar, Bs, Cs, Ue, Ge, He, k, v3);
+    static_field_cols(i, w, ar, ww, k, pf, v3);
   }
-  // static_field() for a member whose static terms took lj_static() in the
-  // last forces(): the per-term coefficients four at a time from its columns
-  // (hs_lj_terms.h, the same operations), then the same sums in the same
-  // order (-3 % of mcva's instructions on the 4000 fluid; the scalar loop's
-  // eleven sums and temporaries had spilled to the stack)
-  void static_field_lj(int i, const double *w, const double *ar, double ww, double *k, double *pf,
+  // static_field()'s sums from the columns of the last forces()
+  // (static_terms()): the per-term coefficients four at a time
+  // (hs_lj_terms.h), then the sums in term order (-3 % of mcva's
+  // instructions on the 4000 fluid, where one loop's eleven sums and
+  // temporaries had spilled to the stack)
+  void static_field_cols(int i, const double *w, const double *ar, double ww, double *k, double *pf,
                        double *v3) const
   {
     const int t0 = soff_[i], na = soff_[i + 1] - t0, s = t0 - soff_[0];
