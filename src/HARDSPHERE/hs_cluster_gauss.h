@@ -318,8 +318,8 @@ template <class Phi> class ClusterGauss {
     tsort_.resize(terms_.size());
     for (const ClusterTerm &t : terms_) tsort_[t.b >= 0 ? mm++ : next[t.a]++] = t;
     terms_.swap(tsort_);
-    // the static atoms' coordinates by column, and which members' static
-    // terms are all lj/cut (forces())
+    // the static atoms' coordinates by column (static_terms()), and the
+    // columns' scratch
     const int ns = (int) terms_.size() - soff_[0];
     sbx_.resize(ns);
     sby_.resize(ns);
@@ -330,6 +330,9 @@ template <class Phi> class ClusterGauss {
       sby_[k] = t.xb[1];
       sbz_[k] = t.xb[2];
     }
+    gr_.resize(5 * (size_t) ns);
+    gp_.resize(5 * (size_t) ns);
+    gq_.resize(8 * (size_t) ns);
     // the terms' lj/cut coefficients where the Phi names them (PhiNamesLJ);
     // a term of another form (a bond, or every term of a Phi that names
     // none) takes zero coefficients in the batch and its own phi_() after
@@ -343,7 +346,6 @@ template <class Phi> class ClusterGauss {
       for (int ti = soff_[a]; ti < soff_[a + 1]; ti++) {
         const int k = ti - soff_[0];
         slj_[k] = nullptr;
-        sfl_[k] = 0.0;
         if constexpr (PhiNamesLJ<Phi>::value) slj_[k] = phi_.lj_coef(terms_[ti].kind, sfl_[k]);
         if (!slj_[k]) {
           slj_[k] = zero;
@@ -980,8 +982,6 @@ template <class Phi> class ClusterGauss {
   {
     const int t0 = soff_[a], na = soff_[a + 1] - t0, s = t0 - soff_[0];
     const int ns = (int) sbx_.size();
-    gr_.resize(5 * (size_t) ns);
-    gp_.resize(5 * (size_t) ns);
     double *r = gr_.data() + s, *ir = r + ns, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
     double *p = gp_.data() + 5 * (size_t) s;
     static_geometry(qa, na, sbx_.data() + s, sby_.data() + s, sbz_.data() + s, r, ir, ex, ey, ez);
@@ -1046,7 +1046,7 @@ template <class Phi> class ClusterGauss {
   // the static terms by column (reset()): their atoms' coordinates, lj/cut
   // coefficients and special factors (Phi names them: PhiNamesLJ; zeros for
   // the others); static_terms()' scratch (r, 1/r, e by column; phi^(k) in
-  // rows of each member's count; static_field_cols()' coefficients)
+  // rows of each member's count; static_field()'s coefficients)
   std::vector<double> sbx_, sby_, sbz_, sfl_;
   std::vector<const double *> slj_;
   std::vector<int> sother_, sooff_;    // a member's static terms not lj/cut (index in its terms)
@@ -1118,21 +1118,14 @@ template <class Phi> class ClusterGauss {
   {
     if (soff_[i] == soff_[i + 1]) return;
     const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    static_field_cols(i, w, ar, ww, k, pf, v3);
-  }
-  // static_field()'s sums from the columns of the last forces()
-  // (static_terms()): the per-term coefficients four at a time
-  // (hs_lj_terms.h), then the sums in term order (-3 % of mcva's
-  // instructions on the 4000 fluid, where one loop's eleven sums and
-  // temporaries had spilled to the stack)
-  void static_field_cols(int i, const double *w, const double *ar, double ww, double *k, double *pf,
-                       double *v3) const
-  {
+    // the per-term coefficients four at a time from the columns of the
+    // last forces() (static_terms(), hs_lj_terms.h), then the sums in term
+    // order (-3 % of mcva's instructions on the 4000 fluid, where one loop's
+    // eleven sums and temporaries had spilled to the stack)
     const int t0 = soff_[i], na = soff_[i + 1] - t0, s = t0 - soff_[0];
     const int ns = (int) sbx_.size();
     const double *ir = gr_.data() + ns + s, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
     const double *p = gp_.data() + 5 * (size_t) s;
-    gq_.resize(8 * (size_t) ns);
     double *o = gq_.data();
     static_field_terms(na, p + na, p + 2 * na, p + 3 * na, ir, ex, ey, ez, w, ar, ww, c_, o);
     double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
@@ -1149,18 +1142,11 @@ template <class Phi> class ClusterGauss {
       Cs += o[4 * na + t];
       const int pt = terms_[t0 + t].partner;
       if (pf && pt >= 0) {
+        // phi' e + c (grad + V_t'' a_rel)
         const double ke = o[5 * na + t], kw = o[6 * na + t], ka = o[7 * na + t];
         for (int d = 0; d < 3; d++) pf[3 * pt + d] += ke * e[d] + kw * w[d] + ka * ar[d];
       }
     }
-    static_field_add(i, w, ar, Bs, Cs, Ue, Ge, He, k, v3);
-  }
-
-  // the sums of member i's static terms into its field (and v3)
-  void static_field_add(int i, const double *w, const double *ar, double Bs, double Cs,
-                        const double *Ue, const double *Ge, const double *He, double *k,
-                        double *v3) const
-  {
     const int m = 3 * n_;
     const double im = im_[i];
     for (int d = 0; d < 3; d++) {

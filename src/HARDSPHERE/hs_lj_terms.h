@@ -12,8 +12,8 @@
    The *_scalar() functions are the reference; the *_avx2() ones do four
    terms per instruction with the same operations in the same order (no
    fused multiply-add: the package is built without -mfma), so that every
-   lane gives the scalar result's bits; static_geometry() and lj_phi() pick
-   one at run time, as hs_near.h does. Arrays are structure-of-arrays (bx,
+   lane gives the scalar result's bits; static_geometry(), lj_phi() and
+   static_field_terms() pick one at run time (hs_near.h's has_avx2()). Arrays are structure-of-arrays (bx,
    by, bz: the static atoms' coordinates; ir, ex, ey, ez: the outputs; p:
    five rows of n, p + k n holding phi^(k)).
 
@@ -24,11 +24,11 @@
 #define LMP_HS_LJ_TERMS_H
 
 #include "hs_ljcut.h"
+#include "hs_near.h"
 
 #include <cmath>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
+#ifdef HS_NEAR_AVX2    // (hs_near.h's intrinsics and has_avx2())
 #define HS_LJ_TERMS_AVX2 1
 #endif
 
@@ -55,14 +55,23 @@ inline void static_geometry_scalar(const double *q, int n, const double *bx, con
 // phi^(k)(r[t]) for k <= order (order 2..4; higher k: 0) of the lj/cut term
 // with coefficients c[t] (lj1..lj4, offset) and special factor fl[t], as
 // lj_cut_phi04(c[t], fl[t], r r, r, order, .)
+// (rows of length stride: the AVX2 versions' last terms go into their rows)
+namespace detail {
+  inline void lj_phi_rows(const double *r, int n, const double *const *c, const double *fl,
+                          int order, double *p, int stride)
+  {
+    for (int t = 0; t < n; t++) {
+      double d[5];
+      lj_cut_phi04(c[t], fl[t], r[t] * r[t], r[t], order, d);
+      for (int k = 0; k < 5; k++) p[k * stride + t] = d[k];
+    }
+  }
+}    // namespace detail
+
 inline void lj_phi_scalar(const double *r, int n, const double *const *c, const double *fl,
                           int order, double *p)
 {
-  for (int t = 0; t < n; t++) {
-    double d[5];
-    lj_cut_phi04(c[t], fl[t], r[t] * r[t], r[t], order, d);
-    for (int k = 0; k < 5; k++) p[k * n + t] = d[k];
-  }
+  detail::lj_phi_rows(r, n, c, fl, order, p, n);
 }
 
 // the per-term coefficients of a member's static field (ClusterGauss::
@@ -70,27 +79,38 @@ inline void lj_phi_scalar(const double *r, int n, const double *const *c, const 
 // (p1, p2, p3), 1/r and e by column, the member's w and a_rel (w, ar), ww =
 // |w|^2 and H~'s c, into eight rows of n: A s, ce, A sa, B, cAs2 (the
 // field's sums) and ke, kw, ka (the partner's force, ke e + kw w + ka ar)
+namespace detail {
+  inline void static_field_rows(int n, const double *p1, const double *p2, const double *p3,
+                                const double *ir, const double *ex, const double *ey,
+                                const double *ez, const double *w, const double *ar, double ww,
+                                double c, double *out, int stride)
+  {
+    const int m = stride;
+    for (int t = 0; t < n; t++) {
+      const double B = p1[t] * ir[t], A = p2[t] - B;
+      const double Bp = A * ir[t], Ap = p3[t] - Bp;
+      const double s = ex[t] * w[0] + ey[t] * w[1] + ez[t] * w[2];
+      const double sa = ex[t] * ar[0] + ey[t] * ar[1] + ez[t] * ar[2];
+      const double cAs2 = 2.0 * A * s * ir[t];
+      const double ce = Ap * s * s + Bp * ww - cAs2 * s;
+      out[t] = A * s;
+      out[m + t] = ce;
+      out[2 * m + t] = A * sa;
+      out[3 * m + t] = B;
+      out[4 * m + t] = cAs2;
+      out[5 * m + t] = p1[t] + c * (ce + A * sa);
+      out[6 * m + t] = c * cAs2;
+      out[7 * m + t] = c * B;
+    }
+  }
+}    // namespace detail
+
 inline void static_field_terms_scalar(int n, const double *p1, const double *p2,
                                       const double *p3, const double *ir, const double *ex,
                                       const double *ey, const double *ez, const double *w,
                                       const double *ar, double ww, double c, double *out)
 {
-  for (int t = 0; t < n; t++) {
-    const double B = p1[t] * ir[t], A = p2[t] - B;
-    const double Bp = A * ir[t], Ap = p3[t] - Bp;
-    const double s = ex[t] * w[0] + ey[t] * w[1] + ez[t] * w[2];
-    const double sa = ex[t] * ar[0] + ey[t] * ar[1] + ez[t] * ar[2];
-    const double cAs2 = 2.0 * A * s * ir[t];
-    const double ce = Ap * s * s + Bp * ww - cAs2 * s;
-    out[t] = A * s;
-    out[n + t] = ce;
-    out[2 * n + t] = A * sa;
-    out[3 * n + t] = B;
-    out[4 * n + t] = cAs2;
-    out[5 * n + t] = p1[t] + c * (ce + A * sa);
-    out[6 * n + t] = c * cAs2;
-    out[7 * n + t] = c * B;
-  }
+  detail::static_field_rows(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out, n);
 }
 
 #ifdef HS_LJ_TERMS_AVX2
@@ -130,16 +150,10 @@ __attribute__((target("avx2"))) inline void static_field_terms_avx2(
     _mm256_storeu_pd(out + 7 * n + t, _mm256_mul_pd(vc, B));
   }
   // (the rest one by one, into the same rows of n)
-  for (; t < n; t++) {
-    double o[8];
-    static_field_terms_scalar(1, p1 + t, p2 + t, p3 + t, ir + t, ex + t, ey + t, ez + t, w, ar,
-                              ww, c, o);
-    for (int k = 0; k < 8; k++) out[k * n + t] = o[k];
-  }
+  detail::static_field_rows(n - t, p1 + t, p2 + t, p3 + t, ir + t, ex + t, ey + t, ez + t, w, ar,
+                            ww, c, out + t, n);
 }
-#endif
 
-#ifdef HS_LJ_TERMS_AVX2
 __attribute__((target("avx2"))) inline void static_geometry_avx2(const double *q, int n,
                                                                  const double *bx,
                                                                  const double *by,
@@ -217,11 +231,7 @@ __attribute__((target("avx2"))) inline void lj_phi_avx2(const double *r, int n,
     _mm256_storeu_pd(p + 4 * n + t, d4);
   }
   // (the rest one by one, into the same rows of n)
-  for (; t < n; t++) {
-    double d[5];
-    lj_cut_phi04(c[t], fl[t], r[t] * r[t], r[t], order, d);
-    for (int k = 0; k < 5; k++) p[k * n + t] = d[k];
-  }
+  detail::lj_phi_rows(r + t, n - t, c + t, fl + t, order, p + t, n);
 }
 #endif
 
@@ -231,8 +241,7 @@ inline void static_geometry(const double *q, int n, const double *bx, const doub
                             double *ez)
 {
 #ifdef HS_LJ_TERMS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return static_geometry_avx2(q, n, bx, by, bz, r, ir, ex, ey, ez);
+  if (has_avx2()) return static_geometry_avx2(q, n, bx, by, bz, r, ir, ex, ey, ez);
 #endif
   static_geometry_scalar(q, n, bx, by, bz, r, ir, ex, ey, ez);
 }
@@ -243,8 +252,7 @@ inline void static_field_terms(int n, const double *p1, const double *p2, const 
                                double c, double *out)
 {
 #ifdef HS_LJ_TERMS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return static_field_terms_avx2(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out);
+  if (has_avx2()) return static_field_terms_avx2(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out);
 #endif
   static_field_terms_scalar(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out);
 }
@@ -253,8 +261,7 @@ inline void lj_phi(const double *r, int n, const double *const *c, const double 
                    double *p)
 {
 #ifdef HS_LJ_TERMS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return lj_phi_avx2(r, n, c, fl, order, p);
+  if (has_avx2()) return lj_phi_avx2(r, n, c, fl, order, p);
 #endif
   lj_phi_scalar(r, n, c, fl, order, p);
 }

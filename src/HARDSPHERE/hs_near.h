@@ -46,6 +46,14 @@ inline int near_scalar(const int *jlist, int n, int mask, const double *x, doubl
 }
 
 #ifdef HS_NEAR_AVX2
+// whether this processor runs the AVX2 kernels (hs_near.h, hs_screen.h,
+// hs_lj_terms.h pick theirs by it), asked once
+inline bool has_avx2()
+{
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+
 namespace detail {
   // byte shuffles that move the int lanes selected by a 4-bit mask to the
   // front, in order
@@ -121,8 +129,7 @@ inline int near(const int *jlist, int n, int mask, const double *x, double xi, d
                 double zi, double cut2, int *out)
 {
 #ifdef HS_NEAR_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return near_avx2(jlist, n, mask, x, xi, yi, zi, cut2, out);
+  if (has_avx2()) return near_avx2(jlist, n, mask, x, xi, yi, zi, cut2, out);
 #endif
   return near_scalar(jlist, n, mask, x, xi, yi, zi, cut2, out);
 }

@@ -208,8 +208,7 @@ __attribute__((target("avx2"))) inline void kick_clear_avx2(const KickScreen &k,
 inline void kick_clear(const KickScreen &k, int i0, int i1, std::vector<Unscreened> &todo)
 {
 #ifdef HS_SCREEN_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) {
+  if (has_avx2()) {
     kick_clear_avx2(k, i0, i1, todo);
     return;
   }
