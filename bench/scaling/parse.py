@@ -22,7 +22,9 @@ def parse(path):
     m = re.search(r"^BENCH collisions (\S+) force_evals (\S+)", txt, re.M)
     coll, fev = (float(m.group(1)), float(m.group(2))) if m else (np.nan, np.nan)
     cpu = re.findall(r"([\d.]+)% CPU use", txt)
-    return dict(tps=float(t) / int(n), n=int(n), natoms=int(nat), coll=coll / int(n),
+    # (in.run's warmup: an untimed run of the same process before the timed one)
+    warm = int(loops[0][2]) if len(loops) > 1 else 0
+    return dict(tps=float(t) / int(n), n=int(n), warm=warm, natoms=int(nat), coll=coll / int(n),
                 fev=fev / int(n), cpu=float(cpu[-1]) if cpu else np.nan)
 
 runs = {}    # (system, N) -> contender -> repeat -> result
@@ -70,7 +72,9 @@ for key in sorted(runs, key=lambda k: (k[0] != "fluid", k[1])):
         else:
             cpc_s = "- | -"
         cpu = min(reps[k]["cpu"] for k in ks)
-        L.append(f"| {key[0]} | {key[1]} | {name} | {len(ks)} | {reps[ks[0]]['n']} | "
+        w = reps[ks[0]]["warm"]
+        steps = f"{reps[ks[0]]['n']}" + (f" (after {w})" if w else "")
+        L.append(f"| {key[0]} | {key[1]} | {name} | {len(ks)} | {steps} | "
                  f"{1e3*np.median(t):.3f} ({1e3*t.min():.3f}..{1e3*t.max():.3f}) | "
                  f"{np.median(rat):.3f} ({rat.min():.3f}..{rat.max():.3f}) | "
                  f"{coll:.3g} | {fev:.3g} | {cpc_s} | {cpu:.0f} |")
@@ -79,7 +83,8 @@ L += ["",
       "median over repeats. cost/collision: (median time per step - "
       f"{base}'s) / collisions per step. Collisions from f_hs[1], extra force "
       "evaluations from f_hs[5] (cumulative over the timed run; the fix is defined "
-      "fresh in each run). CPU use below ~95% means the shared machine took cycles "
+      "fresh in each run). steps/run (after W): the timed run followed W untimed steps "
+      "in the same process (run.sh's WARMUP). CPU use below ~95% means the shared machine took cycles "
       "from that run."]
 text = "\n".join(L)
 open(out, "w").write(text + "\n")

@@ -10,7 +10,11 @@
 #
 # Variables: SIZES (fluid atom counts, 4 x cells^3), MELT (melt atom count, a
 # multiple of 2000; 0 = no melt), REPEATS, STEPS (timed steps of a baseline run;
-# default 2e6/N, at least 20), NICE (nice level, 10), CONTENDERS (file),
+# default 2e6/N, at least 20), WARMUP (untimed steps before each timed run, in
+# the same process, default 10: a run's first steps fault in and grow the
+# engine's arrays and caches, ~1 s at 256000 atoms, which a 20-step timed run
+# carried as ~15 % of cva's time there and a 500-step run at 4000 atoms as ~2 %;
+# WARMUP=0: the figures of before 2026-12-03 17:30 UTC), NICE (nice level, 10), CONTENDERS (file),
 # RESULTS (the table, default results.md), LOGS (default scratch/logs), BINARIES: other builds of lmp to
 # compare in the same run, "KEY=PATH ..."; a contender named NAME@KEY runs
 # with that binary (before/after a change, ratios within one repeat):
@@ -22,6 +26,7 @@ LMP=${LMP:-$ROOT/build/lmp}
 SIZES=${SIZES:-"4000 32000 256000"}
 MELT=${MELT:-4000}
 REPEATS=${REPEATS:-3}
+WARMUP=${WARMUP:-10}
 NICE=${NICE:-10}
 CONTENDERS=$(realpath "${CONTENDERS:-$HERE/contenders.txt}")
 RESULTS=$(realpath -m "${RESULTS:-$HERE/results.md}")
@@ -84,7 +89,7 @@ if [ "${PARSE_ONLY:-0}" != 1 ]; then
         log=$LOGS/log.$sname.$N.$k.$name
         echo "[$(date +%T)] $sname N=$N repeat $k: $name ($n steps)"
         nice -n "$NICE" "$(lmp_of "$name")" -screen none -in "$HERE/in.run" -var system "$sname" -var data "$data" -var steps "$n" \
-          -var counts $counts -var fixcmd "$fixcmd" -log "$log"
+          -var warmup "$WARMUP" -var counts $counts -var fixcmd "$fixcmd" -log "$log"
         grep -E "^Loop time|^BENCH" "$log" | tr '\n' ' '; echo
       done < "$CONTENDERS"
     done
