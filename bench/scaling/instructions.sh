@@ -19,6 +19,8 @@
 # cache (this VM reports a 256 MB L3, in which every array fits) and reports
 # its read and write misses: the memory traffic of the passes over all atoms,
 # which instruction counts do not see (about 2x slower).
+# OUT=DIR puts callgrind's files there (default scratch/callgrind): two builds
+# measured at once, each with its own OUT, do not overwrite each other's.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -32,7 +34,7 @@ CACHEOPTS=()
 [ "$CACHE" = 1 ] && CACHEOPTS=(--cache-sim=yes --LL=16777216,16,64)
 DATA=$HERE/scratch/fluid.$N.data
 [ -f "$DATA" ] || { echo "no $DATA: run SIZES=$N REPEATS=1 bash bench/scaling/run.sh first"; exit 1; }
-OUT=$HERE/scratch/callgrind
+OUT=${OUT:-$HERE/scratch/callgrind}
 mkdir -p "$OUT"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 for name in $CONTENDERS; do
