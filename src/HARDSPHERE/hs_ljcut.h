@@ -99,27 +99,33 @@ inline void lj_cut_phi04(const double *c, double fl, double rsq, double r, int o
 // tally (Pair::eng_vdwl, from 0) is returned: per pair within the cutoff
 // evdwl = factor_lj (r6inv (lj3 r6inv - lj4) - offset), added as
 // Pair::ev_tally() adds it (whole with newton_pair, else half for each
-// atom below nlocal), in list order; without EFLAG 0
+// atom below nlocal), in list order; without EFLAG 0. x and f are the
+// rows' storage, atom i at 3 i (LAMMPS' per-atom 2d arrays are one block, as
+// its OPT styles read them): no load of a row pointer per entry, a random
+// read a pointer array's cache line costs on top of the row's
 template <int MASK, int SB, bool EFLAG = false>
 inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
-                            int *const *firstneigh, const double *const *x, double *const *f,
+                            int *const *firstneigh, const double *x, double *f,
                             const int *type, const double *special_lj, int nlocal,
                             bool newton_pair, const double *const *cutsq, const LJCutTable &t)
 {
   double eng = 0.0;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
-    const double xtmp = x[i][0], ytmp = x[i][1], ztmp = x[i][2];
+    const double *xi = x + 3 * (size_t) i;
+    double *fi = f + 3 * (size_t) i;
+    const double xtmp = xi[0], ytmp = xi[1], ztmp = xi[2];
     const int itype = type[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     const double *cuti = cutsq[itype];
     const double *ci = t.coef + (size_t) t.stride * itype * t.ntp1;
-    double fx = f[i][0], fy = f[i][1], fz = f[i][2];
+    double fx = fi[0], fy = fi[1], fz = fi[2];
     for (int jj = 0; jj < jnum; jj++) {
       const int jr = jlist[jj];
       const int j = jr & MASK;
-      const double delx = xtmp - x[j][0], dely = ytmp - x[j][1], delz = ztmp - x[j][2];
+      const double *xj = x + 3 * (size_t) j;
+      const double delx = xtmp - xj[0], dely = ytmp - xj[1], delz = ztmp - xj[2];
       const double rsq = delx * delx + dely * dely + delz * delz;
       const int jtype = type[j];
       if (rsq < cuti[jtype]) {
@@ -133,9 +139,10 @@ inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
         fy += dely * fpair;
         fz += delz * fpair;
         if (newton_pair || j < nlocal) {
-          f[j][0] -= delx * fpair;
-          f[j][1] -= dely * fpair;
-          f[j][2] -= delz * fpair;
+          double *fj = f + 3 * (size_t) j;
+          fj[0] -= delx * fpair;
+          fj[1] -= dely * fpair;
+          fj[2] -= delz * fpair;
         }
         if (EFLAG) {
           double evdwl = r6inv * (c[2] * r6inv - c[3]) - c[4];
@@ -150,9 +157,9 @@ inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
         }
       }
     }
-    f[i][0] = fx;
-    f[i][1] = fy;
-    f[i][2] = fz;
+    fi[0] = fx;
+    fi[1] = fy;
+    fi[2] = fz;
   }
   return eng;
 }

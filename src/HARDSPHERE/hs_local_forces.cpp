@@ -1188,7 +1188,7 @@ void HSLocalForces::pair_forces(NeighList *L, int eflag)
   double eng = 0.0;
   if (eflag) {
     eng = HardSphere::lj_cut_forces<NEIGHMASK, SBBITS, true>(
-        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
+        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x[0], atom->f[0], atom->type,
         force->special_lj, atom->nlocal, newton, pair->cutsq, lj_);
     // (as compute(1, 0) leaves them: its ev_setup() zeroes both, ev_tally()
     // adds a zero Coulomb energy)
@@ -1196,7 +1196,7 @@ void HSLocalForces::pair_forces(NeighList *L, int eflag)
     pair->eng_coul = 0.0;
   } else
     HardSphere::lj_cut_forces<NEIGHMASK, SBBITS>(
-        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x, atom->f, atom->type,
+        L->inum, L->ilist, L->numneigh, L->firstneigh, atom->x[0], atom->f[0], atom->type,
         force->special_lj, atom->nlocal, newton, pair->cutsq, lj_);
   if (state == 1) return;
   // the first evaluation of the run: compute() again from the same zero

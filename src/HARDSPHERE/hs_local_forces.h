@@ -351,7 +351,9 @@ class HSLocalForces : protected Pointers {
   {
     if (zeroed_[i] == epoch_) return;
     zeroed_[i] = epoch_;
-    fl_[i][0] = fl_[i][1] = fl_[i][2] = 0.0;
+    // (row i of the block, as lj_cut_forces() reads it: no row pointer load)
+    double *fi = fl_[0] + 3 * (size_t) i;
+    fi[0] = fi[1] = fi[2] = 0.0;
     zero_list_.push_back(i);
   }
   // pair hybrid (hs_local_forces.cpp, "pair hybrid")

@@ -120,11 +120,11 @@ double kernel(System &b, bool newton, bool energy = false)
   t.ntp1 = b.ntypes + 1;
   if (energy)
     return HardSphere::lj_cut_forces<MASK, SB, true>(
-        (int) b.ilist.size(), b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.x.data(),
-        b.f.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
+        (int) b.ilist.size(), b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
+        b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
   return HardSphere::lj_cut_forces<MASK, SB>((int) b.ilist.size(), b.ilist.data(),
-                                             b.numneigh.data(), b.firstneigh.data(), b.x.data(),
-                                             b.f.data(), b.type.data(), b.special, b.nlocal,
+                                             b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
+                                             b.fs.data(), b.type.data(), b.special, b.nlocal,
                                              newton, b.cutsq.data(), t);
 }
 
