@@ -92,6 +92,36 @@ inline void lj_cut_phi04(const double *c, double fl, double rsq, double r, int o
   if (order >= 4) phi[4] = (32760.0 * c12 + 3024.0 * c6) * (r2inv * r2inv);
 }
 
+// entry jr of a row of atom i (xi: its position; cuti, ci: its rows of
+// cutoffs and coefficients): true within the cutoff, with del = xi - xj,
+// PairLJCut::compute()'s fpair and with EFLAG its evdwl, operation for
+// operation (lj_cut_forces() and lj_cut_row_force() share it)
+template <int MASK, int SB, bool EFLAG>
+inline bool lj_cut_entry(const double *xi, int jr, const double *x, const int *type,
+                         const double *special_lj, const double *cuti, const double *ci,
+                         int stride, double del[3], double &fpair, double &evdwl)
+{
+  const int j = jr & MASK;
+  const double *xj = x + 3 * (size_t) j;
+  del[0] = xi[0] - xj[0];
+  del[1] = xi[1] - xj[1];
+  del[2] = xi[2] - xj[2];
+  const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+  const int jtype = type[j];
+  if (!(rsq < cuti[jtype])) return false;
+  const double factor_lj = special_lj[jr >> SB & 3];
+  const double *c = ci + (size_t) stride * jtype;
+  const double r2inv = 1.0 / rsq;
+  const double r6inv = r2inv * r2inv * r2inv;
+  const double forcelj = r6inv * (c[0] * r6inv - c[1]);
+  fpair = factor_lj * forcelj * r2inv;
+  if (EFLAG) {
+    evdwl = r6inv * (c[2] * r6inv - c[3]) - c[4];
+    evdwl *= factor_lj;
+  }
+  return true;
+}
+
 // PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
 // entries carry the special bits above SB (factor special_lj[j >> SB & 3])
 // and the index in MASK (LAMMPS' SBBITS and NEIGHMASK); f[j] -= only if
@@ -112,9 +142,9 @@ inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
   double eng = 0.0;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
-    const double *xi = x + 3 * (size_t) i;
+    // (i's position by value: the stores to f[j] could alias x)
+    const double xi[3] = {x[3 * (size_t) i], x[3 * (size_t) i + 1], x[3 * (size_t) i + 2]};
     double *fi = f + 3 * (size_t) i;
-    const double xtmp = xi[0], ytmp = xi[1], ztmp = xi[2];
     const int itype = type[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
@@ -123,37 +153,27 @@ inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
     double fx = fi[0], fy = fi[1], fz = fi[2];
     for (int jj = 0; jj < jnum; jj++) {
       const int jr = jlist[jj];
+      double del[3], fpair, evdwl;
+      if (!lj_cut_entry<MASK, SB, EFLAG>(xi, jr, x, type, special_lj, cuti, ci, t.stride, del,
+                                         fpair, evdwl))
+        continue;
+      fx += del[0] * fpair;
+      fy += del[1] * fpair;
+      fz += del[2] * fpair;
       const int j = jr & MASK;
-      const double *xj = x + 3 * (size_t) j;
-      const double delx = xtmp - xj[0], dely = ytmp - xj[1], delz = ztmp - xj[2];
-      const double rsq = delx * delx + dely * dely + delz * delz;
-      const int jtype = type[j];
-      if (rsq < cuti[jtype]) {
-        const double factor_lj = special_lj[jr >> SB & 3];
-        const double *c = ci + (size_t) t.stride * jtype;
-        const double r2inv = 1.0 / rsq;
-        const double r6inv = r2inv * r2inv * r2inv;
-        const double forcelj = r6inv * (c[0] * r6inv - c[1]);
-        const double fpair = factor_lj * forcelj * r2inv;
-        fx += delx * fpair;
-        fy += dely * fpair;
-        fz += delz * fpair;
-        if (newton_pair || j < nlocal) {
-          double *fj = f + 3 * (size_t) j;
-          fj[0] -= delx * fpair;
-          fj[1] -= dely * fpair;
-          fj[2] -= delz * fpair;
-        }
-        if (EFLAG) {
-          double evdwl = r6inv * (c[2] * r6inv - c[3]) - c[4];
-          evdwl *= factor_lj;
-          if (newton_pair)
-            eng += evdwl;
-          else {
-            const double half = 0.5 * evdwl;
-            if (i < nlocal) eng += half;
-            if (j < nlocal) eng += half;
-          }
+      if (newton_pair || j < nlocal) {
+        double *fj = f + 3 * (size_t) j;
+        fj[0] -= del[0] * fpair;
+        fj[1] -= del[1] * fpair;
+        fj[2] -= del[2] * fpair;
+      }
+      if (EFLAG) {
+        if (newton_pair)
+          eng += evdwl;
+        else {
+          const double half = 0.5 * evdwl;
+          if (i < nlocal) eng += half;
+          if (j < nlocal) eng += half;
         }
       }
     }
@@ -162,6 +182,35 @@ inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
     fi[2] = fz;
   }
   return eng;
+}
+
+// the force on atom i (position xi, type itype) of the terms with the n
+// entries ent[0..n) of its row (raw, as lj_cut_forces() reads them), summed
+// from zero in entry order: the row of i that lj_cut_forces() leaves from a
+// zeroed force when no other row's entry is i. EFLAG: their energy added to
+// eng in the same order, as lj_cut_forces() tallies it with newton_pair on
+template <int MASK, int SB, bool EFLAG = false>
+inline void lj_cut_row_force(const double xi[3], int itype, const int *ent, int n, const double *x,
+                             const int *type, const double *special_lj,
+                             const double *const *cutsq, const LJCutTable &t, double out[3],
+                             double &eng)
+{
+  const double *cuti = cutsq[itype];
+  const double *ci = t.coef + (size_t) t.stride * itype * t.ntp1;
+  double fx = 0.0, fy = 0.0, fz = 0.0;
+  for (int k = 0; k < n; k++) {
+    double del[3], fpair, evdwl;
+    if (!lj_cut_entry<MASK, SB, EFLAG>(xi, ent[k], x, type, special_lj, cuti, ci, t.stride, del,
+                                       fpair, evdwl))
+      continue;
+    fx += del[0] * fpair;
+    fy += del[1] * fpair;
+    fz += del[2] * fpair;
+    if (EFLAG) eng += evdwl;
+  }
+  out[0] = fx;
+  out[1] = fy;
+  out[2] = fz;
 }
 
 }    // namespace HardSphere

@@ -1622,32 +1622,46 @@ void HSLocalEngine::cross_at_mid()
 
 // the cross-term forces on one cluster's members (from all their cross
 // terms at the members' current positions) and its cross neighbours
-void HSLocalEngine::cross_forces(const Run &r, std::vector<Vec> &out)
+void HSLocalEngine::cross_forces(const Run &r, std::vector<Vec> &out, std::vector<int> *others)
 {
   const int nm = (int) r.members.size();
   locf->set_labels(lab.data(), HSLocalForces::CROSS);
-  vc(r.members.data(), nm);
+  out.resize(nm);
+  // straight from the members' rows where that gives the evaluation's bits
+  // (counted as the restricted evaluation it stands for)
+  bool direct = false;
+  if (others) {
+    others->clear();
+    locf->set_reference(sys->xref);
+    direct = locf->cross_rows(r.members.data(), nm, reinterpret_cast<double(*)[3]>(out.data()),
+                              *others);
+    if (direct) ncompute_here += 1.0;
+  }
+  if (!direct) vc(r.members.data(), nm);
   locf->set_labels(lab.data());
   double **fl = locf->forces();
-  out.resize(nm);
   double fc[3] = {0.0, 0.0, 0.0};
   for (int k = 0; k < nm; k++) {
     const int i = r.members[k];
     // fix gravity's constant force rides with the cross force: a constant
     // force in each half of the members' flows (cross_at_start())
     if (!gravity.empty()) const_force(i, fc);
-    out[k] = {fl[i][0] + fc[0], fl[i][1] + fc[1], fl[i][2] + fc[2]};
+    const double *fi = direct ? out[k].data() : fl[i];
+    out[k] = {fi[0] + fc[0], fi[1] + fc[1], fi[2] + fc[2]};
   }
+  if (others && !direct)
+    for (int t : locf->touched()) others->push_back(lab[t]);
 }
 
 void HSLocalEngine::cross_of(Run &r)
 {
   std::vector<Vec> &fn = scratch_fx;
-  cross_forces(r, fn);
+  std::vector<int> &others = scratch_others;
+  cross_forces(r, fn, &others);
   const int key = lab[r.members[0]];
   r.xnbrs.clear();
-  for (int t : locf->touched())
-    if (lab[t] >= 0 && lab[t] != key) r.xnbrs.push_back((tagint) idtag[lab[t]]);
+  for (int l : others)
+    if (l >= 0 && l != key) r.xnbrs.push_back((tagint) idtag[l]);
   std::sort(r.xnbrs.begin(), r.xnbrs.end());
   r.xnbrs.erase(std::unique(r.xnbrs.begin(), r.xnbrs.end()), r.xnbrs.end());
   const bool changed = fn != r.fx;
@@ -1711,7 +1725,7 @@ bool HSLocalEngine::cross_at_end()
       std::sort(keys.begin(), keys.end());
       for (tagint key : keys) {
         Run &r = *run_of(key);
-        cross_forces(r, r.fx1);
+        cross_forces(r, r.fx1, &scratch_others);
         r.b_done = false;
         workB.push_back(key);
         redo = 1;

@@ -513,6 +513,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<int> near_pairs, near_walls;    // near misses on fix nve's lines
   // scratch of flow(), kept to avoid allocations
   std::vector<Vec> scratch_env, scratch_fk, scratch_fk1, scratch_fc, scratch_fx;
+  std::vector<int> scratch_others;    // cross_forces()' other labels
   std::vector<Vec> scratch_xs, scratch_sv, scratch_sx;    // flow(): the method's energies
   std::vector<int> scratch_mi;
   // flow(): one copy per atom of a cluster's environment, by the slot of
@@ -538,7 +539,10 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   uint32_t xepoch = 0;
   void cross_of(Run &r);
   // the cross terms' forces on a run's members at their copies' positions
-  void cross_forces(const Run &r, std::vector<Vec> &out);
+  // others: the labels of the other clusters in its cross terms (the
+  // restricted evaluation's touched() otherwise; then only where the
+  // caller reads that instead: HSLocalForces::cross_rows())
+  void cross_forces(const Run &r, std::vector<Vec> &out, std::vector<int> *others = nullptr);
   void cross_at_start(Run &r, const std::vector<Vec> &fk, const std::vector<int> &mi);
   void cross_at_start_evaluated(Run &r);
   std::vector<std::pair<int, Vec>> scratch_away;

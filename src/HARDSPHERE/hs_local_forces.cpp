@@ -588,6 +588,72 @@ void HSLocalForces::compute_rows(const int *c, int nc, bool record_terms)
   evaluate(c, nc, record_terms);
 }
 
+bool HSLocalForces::cross_rows(const int *c, int nc, double (*f)[3], std::vector<int> &labels)
+{
+  // what evaluate() does in this case, term for term (rows, mode CROSS, no
+  // pair hybrid, lj/cut's kernel verified): it keeps the entries of C's rows
+  // whose atom is labelled >= 0 and otherwise than the row's (another
+  // cluster's member; a pair within C has one label), sums each row's terms
+  // from a zeroed force in entry order (no other row holds a copy of C:
+  // those entries are C's own pairs, left out) and folds nothing into C's
+  // copies; with energy, the kernel's tally in C's tag order plus the
+  // bonded styles' zero on their empty lists
+  NeighList *L = pair_list();
+  const int state = keep_energy_ ? lj_estate_ : lj_state_;
+  if (!initialized_ || !exact() || hybrid_ || !L || !label_ || !lj_.coef || state != 1 ||
+      !force->pair || !force->pair->compute_flag || ref_ncalls_ != list_epoch() ||
+      cells_ncalls_ != list_epoch())
+    return false;
+  if (!rows_unsupported().empty()) return false;
+  ctag_.clear();
+  for (int k = 0; k < nc; k++) {
+    int len;
+    if (!rows_cache_.built(c[k], len)) return false;    // (evaluate() would build it)
+    ctag_.emplace_back(atom->tag[c[k]], k);
+  }
+  std::sort(ctag_.begin(), ctag_.end());
+  const double *x = atom->x[0];
+  const int *type = atom->type;
+  double eng = 0.0;
+  constexpr int AHEAD = HardSphere::PREFETCH_AHEAD;
+  for (const auto &ta : ctag_) {
+    const int a = c[ta.second], la = label_[a];
+    int len;
+    const std::pair<tagint, int> *row = rows_cache_.built(a, len);
+    kept_.clear();
+    for (int k = 0; k < len; k++) {
+      if (k + AHEAD < len) __builtin_prefetch(label_ + (row[k + AHEAD].second & NEIGHMASK));
+      const int raw = row[k].second;
+      const int lj = label_[raw & NEIGHMASK];
+      if (la >= 0 && lj >= 0 && lj != la) {
+        kept_.push_back(raw);
+        labels.push_back(lj);
+      }
+    }
+    const double xa[3] = {x[3 * (size_t) a], x[3 * (size_t) a + 1], x[3 * (size_t) a + 2]};
+    if (keep_energy_)
+      HardSphere::lj_cut_row_force<NEIGHMASK, SBBITS, true>(
+          xa, type[a], kept_.data(), (int) kept_.size(), x, type,
+          force->special_lj, force->pair->cutsq, lj_, f[ta.second], eng);
+    else
+      HardSphere::lj_cut_row_force<NEIGHMASK, SBBITS>(
+          xa, type[a], kept_.data(), (int) kept_.size(), x, type,
+          force->special_lj, force->pair->cutsq, lj_, f[ta.second], eng);
+  }
+  if (keep_energy_) {
+    // (run_styles(): the pair's tally, its zero Coulomb part, the bonded
+    // styles' zero)
+    energy_ = 0.0;
+    energy_ += eng + 0.0;
+    bool present[4];
+    presence(present);
+    for (int b = 0; b < 4; b++)
+      if (present[b]) energy_ += 0.0;
+  }
+  ncalls += 1.0;
+  return true;
+}
+
 void HSLocalForces::compute(const int *c, int nc, bool record_terms)
 {
   rows_ = false;

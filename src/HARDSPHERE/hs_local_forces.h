@@ -172,6 +172,18 @@ class HSLocalForces : protected Pointers {
   void set_reference(double **xb);
   // record_terms: term_local() etc. list the terms evaluated (each once)
   void compute_rows(const int *c, int nc, bool record_terms = false);
+  // the cross terms of C = c[0..nc) straight from C's rows (built since
+  // the list build): with labels set, the pair terms of a copy of C with a
+  // copy labelled otherwise (>= 0), what compute_rows() in mode CROSS gives
+  // C's copies, bit for bit, without restricted lists, stamps or folds:
+  // f[k] is c[k]'s force, labels gets the other label of every such entry
+  // (within the cutoff or not: the atoms compute_rows() would touch), and
+  // energy() is theirs with keep_energy(). Only where lj/cut's kernel is in
+  // use (C's members' terms in row order from a zero force); false, with
+  // nothing done, elsewhere (the caller evaluates). A cluster's cross forces
+  // are asked for ~1.6 times a step, most of them zero: 23 % of a cva
+  // step's restricted evaluations (bench/scaling/README.md)
+  bool cross_rows(const int *c, int nc, double (*f)[3], std::vector<int> &labels);
   // contact neighbours from the rows' own scan (the local engine's contact
   // candidates, HSLocalEngine::crow(), asked for right after a member's
   // row): while set, building the row of a also lists every copy j of an
@@ -343,6 +355,7 @@ class HSLocalForces : protected Pointers {
   std::vector<uint32_t> tstamp_;      // per topology term: taken in this call
   std::vector<int> fold_;    // pairs j, k
   std::vector<std::pair<tagint, int>> ctag_;
+  std::vector<int> kept_;    // cross_rows()' scratch
   std::vector<char> fold_src_;    // all 0 between calls
   void evaluate(const int *c, int nc, bool record_terms);
   // copy i's force row to zero, once per evaluation (inline: ~6.5 million

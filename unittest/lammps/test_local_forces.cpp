@@ -841,6 +841,41 @@ TEST(LocalForcesRows, ExclusionsAsLAMMPSListBuild)
 // recompute() after a move; the table built here as PairLJCut::init_one()
 // builds its lj1 and lj2. A wrong table (lj1 one part in 1e12 off) is
 // refused at the first evaluation, whose forces are then compute()'s
+// lj/cut's kernel table of the input's coefficients, written here from
+// epsilon and sigma (as PairLJCut::init_one() builds lj1..lj4 and the
+// offset); wrong: two of them off by 1e-12 (the kernel must be refused).
+// coef holds the table; t.coef null if the style has no epsilon or sigma
+HardSphere::LJCutTable lj_table(LAMMPS_NS::LAMMPS *lmp, std::vector<double> &coef, bool wrong)
+{
+  auto *pair = lmp->force->pair;
+  const int nt = lmp->atom->ntypes, ntp1 = nt + 1;
+  int dim = 0;
+  auto **eps = (double **) pair->extract("epsilon", dim);
+  auto **sig = (double **) pair->extract("sigma", dim);
+  HardSphere::LJCutTable t;
+  if (!eps || !sig) return t;
+  coef.assign(7 * ntp1 * ntp1, 0.0);
+  for (int it = 1; it <= nt; it++)
+    for (int jt = 1; jt <= nt; jt++) {
+      const int lo = std::min(it, jt), hi = std::max(it, jt);
+      coef[7 * (it * ntp1 + jt)] = 48.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
+      coef[7 * (it * ntp1 + jt) + 1] = 24.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
+      // (energy: the inputs have pair_modify shift yes, as init_one() builds it)
+      coef[7 * (it * ntp1 + jt) + 2] = 4.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
+      coef[7 * (it * ntp1 + jt) + 3] = 4.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
+      const double ratio = sig[lo][hi] / sqrt(pair->cutsq[lo][hi]);
+      coef[7 * (it * ntp1 + jt) + 4] = 4.0 * eps[lo][hi] * (pow(ratio, 12.0) - pow(ratio, 6.0));
+      if (wrong) {
+        coef[7 * (it * ntp1 + jt)] *= 1.0 + 1e-12;
+        coef[7 * (it * ntp1 + jt) + 4] *= 1.0 + 1e-12;
+      }
+    }
+  t.coef = coef.data();
+  t.stride = 7;
+  t.ntp1 = ntp1;
+  return t;
+}
+
 TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
 {
   const std::string data = melt_data(scratch_name("melt_ljk.data"));
@@ -849,32 +884,9 @@ TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
       HSLammps h;
       h.lines(melt ? melt_input(data, true) : fluid_input(true));
       auto *atom = h.lmp->atom;
-      auto *pair = h.lmp->force->pair;
-      const int nt = atom->ntypes, ntp1 = nt + 1;
-      int dim = 0;
-      auto **eps = (double **) pair->extract("epsilon", dim);
-      auto **sig = (double **) pair->extract("sigma", dim);
-      ASSERT_TRUE(eps && sig);
-      std::vector<double> coef(7 * ntp1 * ntp1, 0.0);
-      for (int it = 1; it <= nt; it++)
-        for (int jt = 1; jt <= nt; jt++) {
-          const int lo = std::min(it, jt), hi = std::max(it, jt);
-          coef[7 * (it * ntp1 + jt)] = 48.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
-          coef[7 * (it * ntp1 + jt) + 1] = 24.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
-          // (energy: both inputs have pair_modify shift yes, as init_one() builds it)
-          coef[7 * (it * ntp1 + jt) + 2] = 4.0 * eps[lo][hi] * pow(sig[lo][hi], 12.0);
-          coef[7 * (it * ntp1 + jt) + 3] = 4.0 * eps[lo][hi] * pow(sig[lo][hi], 6.0);
-          const double ratio = sig[lo][hi] / sqrt(pair->cutsq[lo][hi]);
-          coef[7 * (it * ntp1 + jt) + 4] = 4.0 * eps[lo][hi] * (pow(ratio, 12.0) - pow(ratio, 6.0));
-          if (wrong) {
-            coef[7 * (it * ntp1 + jt)] *= 1.0 + 1e-12;
-            coef[7 * (it * ntp1 + jt) + 4] *= 1.0 + 1e-12;
-          }
-        }
-      HardSphere::LJCutTable t;
-      t.coef = coef.data();
-      t.stride = 7;
-      t.ntp1 = ntp1;
+      std::vector<double> coef;
+      const HardSphere::LJCutTable t = lj_table(h.lmp, coef, wrong);
+      ASSERT_TRUE(t.coef);
       HSLocalForces a(h.lmp, "test"), b(h.lmp, "test");
       a.init();
       b.init();
@@ -938,6 +950,94 @@ TEST(LocalForcesRows, LJKernelSameBitsAsCompute)
           EXPECT_EQ(0, memcmp(&ra, &rb, sizeof(double))) << what << " recompute";
         }
     }
+  remove(data.c_str());
+}
+
+// cross_rows(): the cross terms of C straight from its rows are what
+// compute_rows() gives C's copies in mode CROSS, to the bit (forces, and
+// the energy with keep_energy()), the other clusters' labels those of the
+// atoms it touched; where lj/cut's kernel is not in use it does nothing and
+// says so. C (label 0) among atoms of two other clusters (labels 1, 2)
+// and unlabelled ones, in the fluid and the melt (special bonds)
+TEST(LocalForcesRows, CrossRowsSameBitsAsCrossEvaluation)
+{
+  const std::string data = melt_data(scratch_name("melt_cross.data"));
+  for (bool melt : {false, true}) {
+    HSLammps h;
+    h.lines(melt ? melt_input(data, true) : fluid_input(true));
+    auto *atom = h.lmp->atom;
+    std::vector<double> coef;
+    const HardSphere::LJCutTable t = lj_table(h.lmp, coef, false);
+    ASSERT_TRUE(t.coef);
+    HSLocalForces plain(h.lmp, "test"), b(h.lmp, "test");
+    plain.init();
+    b.init();
+    b.set_lj_table(t);
+    Reference ref(h.lmp);
+    plain.set_reference(ref.get());
+    b.set_reference(ref.get());
+    const int nall = atom->nlocal + atom->nghost;
+    std::vector<int> lab(nall, -1);
+    int nonzero = 0, others_seen = 0;
+    for (bool energy : {false, true}) {
+      b.keep_energy(energy);
+      for (int n : {1, 2, 8})
+        for (unsigned seed = 1; seed <= 4; seed++) {
+          const std::string what = std::string(melt ? "melt" : "fluid") + " |C| " +
+              std::to_string(n) + " seed " + std::to_string(seed) + (energy ? " energy" : "");
+          // C, then 200 atoms of the others (all of an atom's copies labelled)
+          auto pool = random_c(h.lmp, n + 200, seed * 7 + n, seed == 2);
+          const std::vector<int> c(pool.begin(), pool.begin() + n);
+          std::fill(lab.begin(), lab.end(), -1);
+          for (size_t k = 0; k < pool.size(); k++)
+            for (int j = pool[k]; j >= 0; j = atom->sametag[j])
+              lab[j] = (int) k < n ? 0 : 1 + (int) (k % 2);
+          // the kernel verified on a first evaluation with forces
+          b.set_labels(nullptr);
+          b.compute_rows(c.data(), n);
+          ASSERT_EQ(b.lj_kernel(), 1) << what;
+          b.set_labels(lab.data(), HSLocalForces::CROSS);
+          b.compute_rows(c.data(), n);
+          if (energy) ASSERT_EQ(b.lj_energy_kernel(), 1) << what;
+          std::vector<std::array<double, 3>> want(n);
+          double **fb = b.forces();
+          for (int k = 0; k < n; k++) want[k] = {fb[c[k]][0], fb[c[k]][1], fb[c[k]][2]};
+          std::set<int> want_labels;
+          for (int j : b.touched())
+            if (lab[j] > 0) want_labels.insert(lab[j]);
+          const double want_e = b.energy();
+          std::vector<std::array<double, 3>> got(n, {-1.0, -1.0, -1.0});
+          std::vector<int> labels;
+          ASSERT_TRUE(b.cross_rows(c.data(), n, reinterpret_cast<double(*)[3]>(got.data()),
+                                   labels))
+              << what;
+          for (int k = 0; k < n; k++) {
+            EXPECT_EQ(0, memcmp(want[k].data(), got[k].data(), 3 * sizeof(double)))
+                << what << " tag " << atom->tag[c[k]] << ": " << want[k][0] << " vs "
+                << got[k][0];
+            nonzero += got[k][0] != 0.0;
+          }
+          EXPECT_EQ(std::set<int>(labels.begin(), labels.end()), want_labels) << what;
+          others_seen += (int) want_labels.size();
+          if (energy) {
+            const double e = b.energy();
+            EXPECT_EQ(0, memcmp(&e, &want_e, sizeof(double))) << what << ": " << e << " vs "
+                                                               << want_e;
+          }
+          // without the kernel: nothing done
+          plain.set_labels(lab.data(), HSLocalForces::CROSS);
+          plain.compute_rows(c.data(), n);
+          labels.clear();
+          EXPECT_FALSE(plain.cross_rows(c.data(), n, reinterpret_cast<double(*)[3]>(got.data()),
+                                        labels))
+              << what;
+          EXPECT_TRUE(labels.empty()) << what;
+        }
+    }
+    // the cases had cross terms, in force and in neighbours
+    EXPECT_GT(nonzero, 10);
+    EXPECT_GT(others_seen, 10);
+  }
   remove(data.c_str());
 }
 
