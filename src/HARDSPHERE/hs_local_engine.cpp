@@ -1630,6 +1630,7 @@ void HSLocalEngine::cross_forces(const Run &r, std::vector<Vec> &out, std::vecto
   // straight from the members' rows where that gives the evaluation's bits
   // (counted as the restricted evaluation it stands for)
   bool direct = false;
+  static_assert(sizeof(Vec) == 3 * sizeof(double), "a Vec is three contiguous doubles");
   if (others) {
     others->clear();
     locf->set_reference(sys->xref);
