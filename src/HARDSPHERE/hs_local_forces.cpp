@@ -596,8 +596,7 @@ bool HSLocalForces::cross_rows(const int *c, int nc, double (*f)[3], std::vector
   // cluster's member; a pair within C has one label), sums each row's terms
   // from a zeroed force in entry order (no other row holds a copy of C:
   // those entries are C's own pairs, left out) and folds nothing into C's
-  // copies; with energy, the kernel's tally in C's tag order plus the
-  // bonded styles' zero on their empty lists
+  // copies; with energy, the kernel's tally in C's tag order
   NeighList *L = pair_list();
   const int state = keep_energy_ ? lj_estate_ : lj_state_;
   if (!initialized_ || !exact() || hybrid_ || !L || !label_ || !lj_.coef || state != 1 ||
@@ -640,16 +639,10 @@ bool HSLocalForces::cross_rows(const int *c, int nc, double (*f)[3], std::vector
           xa, type[a], kept_.data(), (int) kept_.size(), x, type,
           force->special_lj, force->pair->cutsq, lj_, f[ta.second], eng);
   }
-  if (keep_energy_) {
-    // (run_styles(): the pair's tally, its zero Coulomb part, the bonded
-    // styles' zero)
-    energy_ = 0.0;
-    energy_ += eng + 0.0;
-    bool present[4];
-    presence(present);
-    for (int b = 0; b < 4; b++)
-      if (present[b]) energy_ += 0.0;
-  }
+  // (run_styles() sums 0 + the pair's tally + its zero Coulomb part + the
+  // bonded styles' zeros from their empty lists: eng + 0.0, the same bits,
+  // a -0.0 made +0.0)
+  if (keep_energy_) energy_ = eng + 0.0;
   ncalls += 1.0;
   return true;
 }
