@@ -152,3 +152,49 @@ TEST(CellRows, FilledOncePerBuild)
     EXPECT_EQ(fills, 3) << "each row filled once per build";
   }
 }
+
+// for_each_within(): exactly the candidates whose squared distance (the
+// same double operations, forced one at a time) is within cut2, in the
+// candidates' order; with stretches longer than its 64-point chunks (a
+// grid of one cell) and of every length mod 4
+TEST(CellGrid, WithinKeepsTheCandidatesWithinTheCutInOrder)
+{
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 300; trial++) {
+    const int n = 1 + (int) (U(rng) * 500);
+    // half the trials on a lattice of spacing 0.25: distances equal to the
+    // cut to the last bit
+    const bool lattice = trial % 2 == 0;
+    const double L = trial % 5 == 0 ? 1.0 : 2.0 + 10.0 * U(rng);
+    std::vector<P> pts(n);
+    for (auto &p : pts)
+      for (int d = 0; d < 3; d++) {
+        const double v = L * U(rng);
+        p[d] = lattice ? 0.25 * std::floor(v / 0.25) : v;
+      }
+    const double cut = trial % 5 == 0 ? 5.0 : 0.25 * (1 + trial % 12);
+    CellGrid g;
+    g.build(pts, n, cut, 1 + trial % 4);
+    for (int k = 0; k < 20; k++) {
+      const P &q = pts[(size_t) (U(rng) * n) % n];
+      const double cut2 = cut * cut;
+      std::vector<int> want, got;
+      g.for_each_candidate(q.data(), [&](int j, const double *xj) {
+        volatile double dx = q[0] - xj[0], dy = q[1] - xj[1], dz = q[2] - xj[2];
+        volatile double a = dx * dx, b = dy * dy, c = dz * dz;
+        volatile double s = a + b;
+        volatile double d2 = s + c;
+        if (d2 <= cut2) want.push_back(j);
+      });
+      g.for_each_within(q.data(), cut2, [&](int j, const double *xj) {
+        EXPECT_EQ(xj[0], pts[j][0]);
+        EXPECT_EQ(xj[1], pts[j][1]);
+        EXPECT_EQ(xj[2], pts[j][2]);
+        got.push_back(j);
+      });
+      ASSERT_EQ(got, want) << "trial " << trial << " query " << k;
+      ASSERT_FALSE(want.empty());    // (the query point itself)
+    }
+  }
+}
