@@ -1419,7 +1419,6 @@ void HSLocalForces::run_styles(NeighList *L, const bool present[4], bool first)
     for (int j : zero_list_)
       if (!src[j]) touched_owned_.push_back(j);
     for (size_t k = 0; k < fold_.size(); k += 2) src[fold_[k]] = 0;
-    std::sort(touched_owned_.begin(), touched_owned_.end());
     return;
   }
   // ---- ghosts' forces to their owners, the touched owned atoms
