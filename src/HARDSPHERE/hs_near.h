@@ -12,8 +12,6 @@
    list bit for bit: the same subtractions, products and sums in the same
    order (dx*dx + dy*dy, then + dz*dz; no fused multiply-add), the same <=
    test, the kept indices in list order. near() picks one at run time.
-   near_block() is the same filter over consecutive rows (hs_cells.h's
-   points of a stretch of cells, for the local engine's on-demand rows).
 
    LAMMPS-free (unit-tested alone: unittest/math/test_near.cpp).
 ------------------------------------------------------------------------- */
@@ -42,22 +40,6 @@ inline int near_scalar(const int *jlist, int n, int mask, const double *x, doubl
     const double *xj = x + 3 * (size_t) j;
     const double dx = xi - xj[0], dy = yi - xj[1], dz = zi - xj[2];
     out[m] = j;    // (branch-free: kept or overwritten by the next)
-    m += (dx * dx + dy * dy + dz * dz <= cut2);
-  }
-  return m;
-}
-
-// the points of one contiguous block p[3k..3k+2] (k < n) within sqrt(cut2)
-// of (xi, yi, zi): their offsets k, in order, written to out (room for
-// n + 4 entries); returns their number (the same test as near_scalar())
-inline int near_block_scalar(const double *p, int n, double xi, double yi, double zi, double cut2,
-                             int *out)
-{
-  int m = 0;
-  for (int k = 0; k < n; k++) {
-    const double *xj = p + 3 * (size_t) k;
-    const double dx = xi - xj[0], dy = yi - xj[1], dz = zi - xj[2];
-    out[m] = k;
     m += (dx * dx + dy * dy + dz * dz <= cut2);
   }
   return m;
@@ -140,46 +122,7 @@ __attribute__((target("avx2"))) inline int near_avx2(const int *jlist, int n, in
   }
   return m + near_scalar(jlist + k, n - k, mask, x, xi, yi, zi, cut2, out + m);
 }
-
-// near_block_scalar() four points at a time (as near_avx2(), the rows
-// consecutive)
-__attribute__((target("avx2"))) inline int near_block_avx2(const double *p, int n, double xi,
-                                                           double yi, double zi, double cut2,
-                                                           int *out)
-{
-  const detail::NearLUT &lut = detail::near_lut();
-  const __m256d vx = _mm256_set1_pd(xi), vy = _mm256_set1_pd(yi), vz = _mm256_set1_pd(zi);
-  const __m256d vc = _mm256_set1_pd(cut2);
-  int m = 0, k = 0;
-  for (; k + 4 <= n; k += 4) {
-    const double *p0 = p + 3 * (size_t) k;
-    __m256d px, py, pz;
-    detail::rows4(p0, p0 + 3, p0 + 6, p0 + 9, px, py, pz);
-    const __m256d dx = _mm256_sub_pd(vx, px), dy = _mm256_sub_pd(vy, py),
-                  dz = _mm256_sub_pd(vz, pz);
-    const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                     _mm256_mul_pd(dz, dz));
-    const int bits = _mm256_movemask_pd(_mm256_cmp_pd(d2, vc, _CMP_LE_OQ));
-    const __m128i ks = _mm_setr_epi32(k, k + 1, k + 2, k + 3);
-    const __m128i sh = _mm_load_si128((const __m128i *) lut.b[bits]);
-    _mm_storeu_si128((__m128i *) (out + m), _mm_shuffle_epi8(ks, sh));
-    m += __builtin_popcount(bits);
-  }
-  const int t = near_block_scalar(p + 3 * (size_t) k, n - k, xi, yi, zi, cut2, out + m);
-  for (int q = m; q < m + t; q++) out[q] += k;
-  return m + t;
-}
 #endif
-
-// near_block_avx2() where the processor has AVX2, else near_block_scalar()
-inline int near_block(const double *p, int n, double xi, double yi, double zi, double cut2,
-                      int *out)
-{
-#ifdef HS_NEAR_AVX2
-  if (has_avx2()) return near_block_avx2(p, n, xi, yi, zi, cut2, out);
-#endif
-  return near_block_scalar(p, n, xi, yi, zi, cut2, out);
-}
 
 // near_avx2() where the processor has AVX2, else near_scalar()
 inline int near(const int *jlist, int n, int mask, const double *x, double xi, double yi,

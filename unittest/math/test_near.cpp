@@ -12,7 +12,6 @@
 #include "gtest/gtest.h"
 
 #include <cmath>
-#include <algorithm>
 #include <cstdlib>
 #include <random>
 #include <vector>
@@ -120,36 +119,4 @@ TEST(Near, DispatchGivesTheScalarList)
   b.resize(nb);
   EXPECT_EQ(a, b);
   EXPECT_GT(na, 10);
-}
-
-// near_block(): the same filter over consecutive rows. Against the reference
-// (the block as a list of its own rows, in order), and the AVX2 version
-// against the scalar one offset for offset, for blocks of every length
-// mod 4 whose last row ends the allocation
-TEST(Near, BlockMatchesTheReferenceAndAVX2TheScalar)
-{
-  std::mt19937 g(11);
-  for (int trial = 0; trial < 2000; trial++) {
-    const int n = trial % 71;    // empty blocks too
-    Case c = make_case(g, std::max(n, 1), 0, 1.5 + (trial % 3));
-    std::vector<double> x(c.x.begin(), c.x.begin() + 3 * (size_t) n);
-    x.shrink_to_fit();
-    std::vector<int> self(n);
-    for (int k = 0; k < n; k++) self[k] = k;
-    const double xi = 0.25 * (trial % 7), yi = 0.25 * (trial % 5), zi = 0.25 * (trial % 3);
-    const double cut2 = 0.0625 * (trial % 23);
-    std::vector<int> a(n + 4), b(n + 4), d(n + 4);
-    const int na = HardSphere::near_block_scalar(x.data(), n, xi, yi, zi, cut2, a.data());
-    a.resize(na);
-    ASSERT_EQ(a, reference(self, x, xi, yi, zi, cut2)) << "trial " << trial;
-    const int nd = HardSphere::near_block(x.data(), n, xi, yi, zi, cut2, d.data());
-    d.resize(nd);
-    ASSERT_EQ(a, d) << "trial " << trial;
-#ifdef HS_NEAR_AVX2
-    if (!__builtin_cpu_supports("avx2")) continue;
-    const int nb = HardSphere::near_block_avx2(x.data(), n, xi, yi, zi, cut2, b.data());
-    b.resize(nb);
-    ASSERT_EQ(a, b) << "trial " << trial;
-#endif
-  }
 }
