@@ -21,8 +21,6 @@
 #ifndef LMP_HS_CELLS_H
 #define LMP_HS_CELLS_H
 
-#include "hs_near.h"
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -99,50 +97,6 @@ class CellGrid {
   // build. The caller tests distances.
   template <class F> void for_each_candidate(const double *q, F fn) const
   {
-    for_each_stretch(q, [&](int ks, int ke) {
-      for (int k = ks; k < ke; k++) fn(idx_[k], &pos_[3 * (size_t) k]);
-    });
-  }
-
-  // the candidates whose build position xj is within sqrt(cut2) of q (dx =
-  // q[0] - xj[0], ...; dx*dx + dy*dy, then + dz*dz, <= cut2: a caller's own
-  // test of the same arithmetic keeps each of them), fn(j, xj) in the order
-  // of for_each_candidate(). The test runs branch-free, four points at a
-  // time where the processor has AVX2 (hs_near.h): ~3 in 4 candidates are
-  // beyond the cutoff, a branch per candidate mispredicted often
-  template <class F> void for_each_within(const double *q, double cut2, F fn) const
-  {
-    // the candidates' slots gathered across stretches (a stretch holds ~8
-    // points on the local engine's grids: too few to filter alone), then
-    // filtered a batch at a time
-    constexpr int BATCH = 256;
-    int slots[BATCH], kept[BATCH + 4];
-    int ns = 0;
-    auto flush = [&]() {
-      const int m = near(slots, ns, ~0, pos_.data(), q[0], q[1], q[2], cut2, kept);
-      for (int i = 0; i < m; i++) fn(idx_[kept[i]], &pos_[3 * (size_t) kept[i]]);
-      ns = 0;
-    };
-    for_each_stretch(q, [&](int ks, int ke) {
-      for (int k = ks; k < ke; k++) {
-        slots[ns] = k;
-        if (++ns == BATCH) flush();
-      }
-    });
-    if (ns) flush();
-  }
-
- private:
-  int n_ = 0, sub_ = 1;
-  int nc_[3] = {1, 1, 1};
-  double lo_[3] = {0.0, 0.0, 0.0}, hi_[3] = {0.0, 0.0, 0.0}, inv_[3] = {0.0, 0.0, 0.0};
-  std::vector<int> start_, idx_;    // cell -> its points (CSR), in cell order
-  std::vector<double> pos_;          // their positions at the build
-
-  // the stretches of points [ks, ke) in the cells within sub cells of q's,
-  // g(ks, ke) for each
-  template <class G> void for_each_stretch(const double *q, G g) const
-  {
     if (n_ == 0) return;
     int c[3];
     for (int d = 0; d < 3; d++) c[d] = axis_cell(q[d], d);
@@ -160,7 +114,8 @@ class CellGrid {
     int ks[MAXS], ke[MAXS];
     int ns = 0;
     auto read_batch = [&]() {
-      for (int q = 0; q < ns; q++) g(ks[q], ke[q]);
+      for (int q = 0; q < ns; q++)
+        for (int k = ks[q]; k < ke[q]; k++) fn(idx_[k], &pos_[3 * (size_t) k]);
       ns = 0;
     };
     for (int a = a0; a <= a1; a++)
@@ -176,6 +131,13 @@ class CellGrid {
       }
     read_batch();
   }
+
+ private:
+  int n_ = 0, sub_ = 1;
+  int nc_[3] = {1, 1, 1};
+  double lo_[3] = {0.0, 0.0, 0.0}, hi_[3] = {0.0, 0.0, 0.0}, inv_[3] = {0.0, 0.0, 0.0};
+  std::vector<int> start_, idx_;    // cell -> its points (CSR), in cell order
+  std::vector<double> pos_;          // their positions at the build
 
   // a position outside the grid's box (a point that moved since the build,
   // or a query) goes to the nearest boundary cell: the cells beyond the

@@ -439,7 +439,7 @@ const int *HSLocalEngine::crow(int a, int &n)
     const double cut2 = F.list_cutoff * F.list_cutoff;
     const double *xa = F.xref[a];
     const size_t s0 = out.size();
-    crows.grid.for_each_within(xa, cut2, [&](int j, const double *xj) {
+    crows.grid.for_each_candidate(xa, [&](int j, const double *xj) {
       const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
       // (bonded partners too: the fix adds those LAMMPS' lists leave out)
       if (dx * dx + dy * dy + dz * dz > cut2) return;

@@ -491,8 +491,7 @@ void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out)
     }
     out.emplace_back(tj, (code ? j ^ (code << SBBITS) : j) | (nj ? NEAR : 0));
   };
-  // (the grid's branch-free filter first: ~3 in 4 candidates are beyond it)
-  rows_cache_.grid.for_each_within(xa, cut2, scan);
+  rows_cache_.grid.for_each_candidate(xa, scan);
   std::sort(out.begin() + start, out.end(),
             [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
               return p.first != q.first ? p.first < q.first
