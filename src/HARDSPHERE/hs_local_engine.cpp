@@ -612,6 +612,11 @@ double HSLocalEngine::max_all(double v)
 // every rank's hits, sorted and unique (the same list on every rank)
 void HSLocalEngine::gather_hits(std::vector<Hit> &hits)
 {
+  if (nprocs == 1) {    // (what unpack_runs() makes of this rank's own)
+    ncollective += 1.0;
+    sort_unique(hits);
+    return;
+  }
   start_packets(hits);
   allgather(recvbuf);
   unpack_runs(hits, nullptr);
@@ -747,6 +752,11 @@ void HSLocalEngine::unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arr
         r.b_done = true;
     }
   }
+  sort_unique(hits);
+}
+
+void HSLocalEngine::sort_unique(std::vector<Hit> &hits)
+{
   std::sort(hits.begin(), hits.end());
   hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
 }
@@ -772,6 +782,16 @@ void HSLocalEngine::share_half(const std::vector<Hit> &hits, const std::vector<t
                                bool first_half, std::vector<Hit> &gathered,
                                std::vector<tagint> &arrived)
 {
+  // one rank: every packet would be this rank's own run, which
+  // unpack_runs() skips; the packing (~1 % of a cva step at 32000 atoms)
+  // and the gather's copy are left out, the result is the same
+  if (nprocs == 1) {
+    ncollective += 1.0;
+    gathered = hits;
+    sort_unique(gathered);
+    arrived = ran;
+    return;
+  }
   start_packets(hits);
   for (tagint key : ran) {
     pack_run(*run_of(key), first_half);

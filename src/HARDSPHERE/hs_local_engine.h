@@ -579,6 +579,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
                   std::vector<Hit> &gathered, std::vector<tagint> &arrived);
   void pack_run(const Run &r, bool first_half);
   void unpack_runs(std::vector<Hit> &hits, std::vector<tagint> *arrived);
+  static void sort_unique(std::vector<Hit> &hits);
   void place_members(const Run &r);
   double max_all(double v);
 
