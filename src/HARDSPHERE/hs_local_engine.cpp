@@ -579,6 +579,25 @@ void HSLocalEngine::set_x(int i, const double *xn)
   }
 }
 
+// both at once: one walk over i's copies (a member's every sub-step)
+void HSLocalEngine::set_xv(int i, const double *xn, const double *vn)
+{
+  double **x = atom->x, **v = atom->v;
+  const double d[3] = {xn[0] - x[i][0], xn[1] - x[i][1], xn[2] - x[i][2]};
+  for (int k = atom->map(atom->tag[i]); k >= 0; k = atom->sametag[k]) {
+    v[k][0] = vn[0];
+    v[k][1] = vn[1];
+    v[k][2] = vn[2];
+    if (k == i) continue;
+    x[k][0] += d[0];
+    x[k][1] += d[1];
+    x[k][2] += d[2];
+  }
+  x[i][0] = xn[0];
+  x[i][1] = xn[1];
+  x[i][2] = xn[2];
+}
+
 void HSLocalEngine::set_v(int i, const double *vn)
 {
   double **v = atom->v;
@@ -2157,8 +2176,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         vn[dd] = v[i][dd] + dtfm * (fk[mi[k]][dd] + fc[k][dd]);
         xn[dd] = x[i][dd] + d * vn[dd];
       }
-      set_v(i, vn);
-      set_x(i, xn);
+      set_xv(i, xn, vn);
     }
   };
 
@@ -2208,8 +2226,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       } else
         s.kh = kinetic();
       for (int k = 0; k < nm; k++) {
-        set_x(M[k], sx[k].data());
-        set_v(M[k], sv[k].data());
+        set_xv(M[k], sx[k].data(), sv[k].data());
       }
       return s;
     };
@@ -2270,8 +2287,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         }
         segs[k].push_back(sg);
       }
-      set_x(M[k], &job.xend[3 * k]);
-      set_v(M[k], &job.vend[3 * k]);
+      set_xv(M[k], &job.xend[3 * k], &job.vend[3 * k]);
     }
     for (size_t q = 0; q < pk.size(); q++)
       for (int dd = 0; dd < 3; dd++) dv[pk[q]][dd] += job.dvp[3 * q + dd];
@@ -2427,8 +2443,7 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         const double dtfm = F.dtf / F.mass_of(i);
         for (int d = 0; d < 3; d++) r.ve[k][d] -= dtfm * riding(i, d);
       }
-      set_x(i, r.xm[k].data());
-      set_v(i, r.vm[k].data());
+      set_xv(i, r.xm[k].data(), r.vm[k].data());
     }
     r.b_done = true;
     if (provisional) r.dxp = r.dxe;
@@ -3380,8 +3395,7 @@ int HSLocalEngine::step_clusters()
       if (l < 0 || l >= nlocal) continue;
       const double xn[3] = {x0[l][0] + r.dxe[k][0], x0[l][1] + r.dxe[k][1],
                             x0[l][2] + r.dxe[k][2]};
-      set_x(l, xn);
-      set_v(l, r.ve[k].data());
+      set_xv(l, xn, r.ve[k].data());
       view_members[c].push_back(l);
     }
     for (int h = 0; h < 2; h++) {

@@ -454,6 +454,7 @@ class HSLocalEngine : public HSStepEngine, public HSStepView, public HSTypes {
   std::vector<double> awayv;    // predict_all(): path bound + distance from the list build
   void set_x(int i, const double *xn);
   void set_v(int i, const double *vn);
+  void set_xv(int i, const double *xn, const double *vn);
   void predict_all(std::vector<Hit> &hits);
   // the first guess's tests of one pair within reach, or of a wall
   enum { GUESS_NONE = 0, GUESS_NEAR = 1, GUESS_HIT = 2 };
