@@ -564,48 +564,40 @@ void HSLocalEngine::build_adjacency()
    xn, resp. give them velocity vn
 ------------------------------------------------------------------------- */
 
-void HSLocalEngine::set_x(int i, const double *xn)
-{
-  double **x = atom->x;
-  const double d[3] = {xn[0] - x[i][0], xn[1] - x[i][1], xn[2] - x[i][2]};
-  x[i][0] = xn[0];
-  x[i][1] = xn[1];
-  x[i][2] = xn[2];
-  for (int k = atom->map(atom->tag[i]); k >= 0; k = atom->sametag[k]) {
-    if (k == i) continue;
-    x[k][0] += d[0];
-    x[k][1] += d[1];
-    x[k][2] += d[2];
-  }
-}
-
-// both at once: one walk over i's copies (a member's every sub-step)
-void HSLocalEngine::set_xv(int i, const double *xn, const double *vn)
+// every copy of atom i to position xn (the others keep their image
+// offsets) and velocity vn, as SET_X and SET_V say (fixed at compile time:
+// the walk is on every sub-step's path). One walk over the copies sets
+// both (a member's every sub-step)
+template <bool SET_X, bool SET_V>
+static void put_copies(Atom *atom, int i, const double *xn, const double *vn)
 {
   double **x = atom->x, **v = atom->v;
-  const double d[3] = {xn[0] - x[i][0], xn[1] - x[i][1], xn[2] - x[i][2]};
+  double d[3] = {0.0, 0.0, 0.0};
+  if (SET_X)
+    for (int e = 0; e < 3; e++) d[e] = xn[e] - x[i][e];
   for (int k = atom->map(atom->tag[i]); k >= 0; k = atom->sametag[k]) {
-    v[k][0] = vn[0];
-    v[k][1] = vn[1];
-    v[k][2] = vn[2];
-    if (k == i) continue;
-    x[k][0] += d[0];
-    x[k][1] += d[1];
-    x[k][2] += d[2];
+    if (SET_V)
+      for (int e = 0; e < 3; e++) v[k][e] = vn[e];
+    if (SET_X && k != i)
+      for (int e = 0; e < 3; e++) x[k][e] += d[e];
   }
-  x[i][0] = xn[0];
-  x[i][1] = xn[1];
-  x[i][2] = xn[2];
+  if (SET_X)
+    for (int e = 0; e < 3; e++) x[i][e] = xn[e];
+}
+
+void HSLocalEngine::set_x(int i, const double *xn)
+{
+  put_copies<true, false>(atom, i, xn, nullptr);
 }
 
 void HSLocalEngine::set_v(int i, const double *vn)
 {
-  double **v = atom->v;
-  for (int k = atom->map(atom->tag[i]); k >= 0; k = atom->sametag[k]) {
-    v[k][0] = vn[0];
-    v[k][1] = vn[1];
-    v[k][2] = vn[2];
-  }
+  put_copies<false, true>(atom, i, nullptr, vn);
+}
+
+void HSLocalEngine::set_xv(int i, const double *xn, const double *vn)
+{
+  put_copies<true, true>(atom, i, xn, vn);
 }
 
 /* ----------------------------------------------------------------------
