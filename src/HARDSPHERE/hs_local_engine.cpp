@@ -2807,6 +2807,26 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
   // full: if every line deviates from fix nve's by less than LINE_MARGIN / 2
   // of the contact distance (on every rank), only the pairs predict_all()
   // listed as near misses and the pairs with a member can touch
+  // the pairs to check, in batches (as predict_all()'s): a pair's other
+  // copy is anywhere in memory, its rows (mid, x0, wq) fetched while the
+  // batch fills; checked in the order queued, as one at a time would
+  constexpr int BATCH = 32;
+  int batch[BATCH];
+  int nb = 0;
+  const std::vector<int> &cand = F.cand;
+  auto flush = [&]() {
+    for (int b = 0; b < nb; b++) check_pair(batch[b], hits);
+    nb = 0;
+  };
+  auto queue = [&](int p) {
+    for (int l : {cand[2 * p], cand[2 * p + 1]}) {
+      __builtin_prefetch(&mid[l]);
+      HardSphere::prefetch_row(x0[0], 3, l);
+      HardSphere::prefetch_row(wq[0], 4, l);
+    }
+    batch[nb++] = p;
+    if (nb == BATCH) flush();
+  };
   bool lists = false;
   if (full) {
     // (this rank's largest deviation, from h2_velocities(true) just before)
@@ -2826,21 +2846,26 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
     for (int l : mid_set) consider(l, true);
     bump_epoch(pepoch, pstamp);
     for (int p : near_pairs) pstamp[p] = pepoch;    // checked below, with act's
-    for (int p : near_pairs) check_pair(p, hits);
+    for (int p : near_pairs) queue(p);
+    flush();
     for (int i : near_walls)
       if (!is_member(i)) check_walls(i, hits);
   } else
     bump_epoch(pepoch, pstamp);
 
   for (int i : act) {
-    if (!is_member(i) && i < nlocal) check_walls(i, hits);
+    if (!F.walls.empty() && !is_member(i) && i < nlocal) {
+      flush();    // (the walls' hits after the pairs queued before them)
+      check_walls(i, hits);
+    }
     for (int e = adj_off[i]; e < adj_off[i + 1]; e++) {
       const int p = adj[e];
       if (pstamp[p] == pepoch) continue;
       pstamp[p] = pepoch;
-      check_pair(p, hits);
+      queue(p);
     }
   }
+  flush();
 }
 
 // the position of copy l at the start of Phi_H2 (members wait at their mid
