@@ -913,9 +913,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
   // partners' rows all over memory: at 256000 atoms each read of x[j] was a
   // miss, the loop's hottest line) are tested in batches, their x[j]
   // fetched while the batch fills; in the order of the pairs, as before
-  constexpr int BATCH = 32;
-  int batch[BATCH];
-  int nb = 0;
+  HardSphere::Batch<32> batch;
   auto test = [&](int p) {
     const int i = cand[2 * p], j = cand[2 * p + 1];
     const double sigma = F.radius_of(i) + F.radius_of(j);
@@ -938,13 +936,9 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     // fluid's pairs, without reading the copies' positions
     if (slack[p] > av[i] + av[j]) continue;
     __builtin_prefetch(x[j]);
-    batch[nb++] = p;
-    if (nb == BATCH) {
-      for (int b = 0; b < nb; b++) test(batch[b]);
-      nb = 0;
-    }
+    batch.push(p, test);
   }
-  for (int b = 0; b < nb; b++) test(batch[b]);
+  batch.flush(test);
 }
 
 // the first guess's test of a pair within reach of each other's paths (dq,
@@ -2804,29 +2798,24 @@ void HSLocalEngine::h2_check(bool full, std::vector<Hit> &hits)
                  F.style_name, atom->tag[i], reach, skin);
     act.push_back(i);
   };
-  // full: if every line deviates from fix nve's by less than LINE_MARGIN / 2
-  // of the contact distance (on every rank), only the pairs predict_all()
-  // listed as near misses and the pairs with a member can touch
   // the pairs to check, in batches (as predict_all()'s): a pair's other
   // copy is anywhere in memory, its rows (mid, x0, wq) fetched while the
   // batch fills; checked in the order queued, as one at a time would
-  constexpr int BATCH = 32;
-  int batch[BATCH];
-  int nb = 0;
+  HardSphere::Batch<32> batch;
   const std::vector<int> &cand = F.cand;
-  auto flush = [&]() {
-    for (int b = 0; b < nb; b++) check_pair(batch[b], hits);
-    nb = 0;
-  };
+  auto check = [&](int p) { check_pair(p, hits); };
+  auto flush = [&]() { batch.flush(check); };
   auto queue = [&](int p) {
     for (int l : {cand[2 * p], cand[2 * p + 1]}) {
       __builtin_prefetch(&mid[l]);
       HardSphere::prefetch_row(x0[0], 3, l);
       HardSphere::prefetch_row(wq[0], 4, l);
     }
-    batch[nb++] = p;
-    if (nb == BATCH) flush();
+    batch.push(p, check);
   };
+  // full: if every line deviates from fix nve's by less than LINE_MARGIN / 2
+  // of the contact distance (on every rank), only the pairs predict_all()
+  // listed as near misses and the pairs with a member can touch
   bool lists = false;
   if (full) {
     // (this rank's largest deviation, from h2_velocities(true) just before)

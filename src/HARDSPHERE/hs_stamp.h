@@ -3,8 +3,8 @@
    current epoch into their stamp, so "seen in this pass" needs no clearing
    between passes; the stamps are cleared only when the counter wraps. And
    the memory-order helpers of the local engine: RowSet, a bitmap that
-   reads listed rows back in index order, and prefetch_row() for loops
-   whose order is fixed; RowLists, per-row lists in one flat array;
+   reads listed rows back in index order, prefetch_row() for loops
+   whose order is fixed, and Batch, a loop's items tested a batch at a time; RowLists, per-row lists in one flat array;
    sort_by_row(), pairs in std::sort's order by per-row counts;
    capacity_bytes() for memory_usage(). LAMMPS-free.
 ------------------------------------------------------------------------- */
@@ -120,6 +120,29 @@ template <class V> class RowLists {
 // is fixed (sums in key or tag order) ask for the row this many entries
 // on while they work on the current one, so the misses overlap
 constexpr int PREFETCH_AHEAD = 8;
+// a loop whose test reads rows all over memory and branches on them (a
+// mispredicted branch takes the misses one at a time): the caller
+// prefetches an item's rows as it queues it, and the test runs on up to N
+// queued items at once, in the order queued. flush() before anything that
+// must come after the items queued so far, and at the loop's end
+template <int N> class Batch {
+ public:
+  template <class F> void push(int item, F test)
+  {
+    items_[n_++] = item;
+    if (n_ == N) flush(test);
+  }
+  template <class F> void flush(F test)
+  {
+    for (int b = 0; b < n_; b++) test(items_[b]);
+    n_ = 0;
+  }
+
+ private:
+  int items_[N];
+  int n_ = 0;
+};
+
 // row i of a contiguous ncol-column array (LAMMPS' memory->create(): row i
 // at base + ncol i), by its offset: a[i] would first load a row pointer
 // from another place, a second miss where rows are taken at random

@@ -139,3 +139,28 @@ TEST(Stamp, SortByRowIsStdSortOrder)
       for (int c : count) ASSERT_EQ(c, 0) << "counts not left at zero";
     }
 }
+
+// Batch: every item tested once, in the order pushed; a test runs only
+// when a batch fills or at flush() (a wall's check in between sees the
+// pairs queued before it already tested)
+TEST(Stamp, BatchTestsInOrderOnFillAndFlush)
+{
+  HardSphere::Batch<4> b;
+  std::vector<int> got;
+  auto test = [&](int v) { got.push_back(v); };
+  for (int v = 0; v < 3; v++) b.push(v, test);
+  EXPECT_TRUE(got.empty());
+  b.push(3, test);    // fills
+  EXPECT_EQ(got, (std::vector<int>{0, 1, 2, 3}));
+  b.push(4, test);
+  b.push(5, test);
+  b.flush(test);
+  EXPECT_EQ(got, (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  b.flush(test);    // empty: nothing again
+  EXPECT_EQ(got.size(), 6u);
+  for (int v = 6; v < 17; v++) b.push(v, test);
+  b.flush(test);
+  std::vector<int> want(17);
+  for (int v = 0; v < 17; v++) want[v] = v;
+  EXPECT_EQ(got, want);
+}
