@@ -935,7 +935,7 @@ void HSLocalEngine::predict_all(std::vector<Hit> &hits)
     // rounded test, which would skip the pair too): most of a dense
     // fluid's pairs, without reading the copies' positions
     if (slack[p] > av[i] + av[j]) continue;
-    __builtin_prefetch(x[j]);
+    HardSphere::prefetch_row(x[0], 3, j);    // (not x[j]: no row pointer to load first)
     batch.push(p, test);
   }
   batch.flush(test);

@@ -3,8 +3,9 @@
    current epoch into their stamp, so "seen in this pass" needs no clearing
    between passes; the stamps are cleared only when the counter wraps. And
    the memory-order helpers of the local engine: RowSet, a bitmap that
-   reads listed rows back in index order, prefetch_row() for loops
-   whose order is fixed, and Batch, a loop's items tested a batch at a time; RowLists, per-row lists in one flat array;
+   reads listed rows back in index order; prefetch_row() for loops
+   whose order is fixed; Batch, a loop's items tested a batch at a time;
+   RowLists, per-row lists in one flat array;
    sort_by_row(), pairs in std::sort's order by per-row counts;
    capacity_bytes() for memory_usage(). LAMMPS-free.
 ------------------------------------------------------------------------- */
