@@ -184,7 +184,13 @@ template <int M = Eigen::Dynamic> class LeadingStageLU {
     mu_ = h * Cx(GaussLegendre2::a11, b());
     M_ = (-(mu_ * mu_)) * QP_.template cast<Cx>();
     M_.diagonal().array() += 1.0;
-    lu_.compute(M_);
+    // PartialPivLU::compute()'s own factorisation (Eigen 3.3, 3.4), without
+    // the l1 norm it also takes for rcond(), never asked here: 36 complex
+    // abs() (hypot) a 6 x 6 matrix, ~1 % of mcva's instructions
+    lu_ = M_;
+    tr_.resize(m_);
+    typename Eigen::Transpositions<M, M, int>::StorageIndex nswaps;
+    Eigen::internal::partial_lu_inplace(lu_, tr_, nswaps);
   }
   // D = (I - h A (x) J0)^-1 R, R and D of 2N = 4m (the two stages' blocks)
   void solve(const Vec &R, Vec &D)
@@ -200,7 +206,10 @@ template <int M = Eigen::Dynamic> class LeadingStageLU {
     }
     t_.noalias() = Q_ * sq_;
     t_ = sv_ + mu_ * t_;
-    xv_ = lu_.solve(t_);
+    // (PartialPivLU::solve()'s steps: P t, then L and U in place)
+    xv_ = tr_ * t_;
+    lu_.template triangularView<Eigen::UnitLower>().solveInPlace(xv_);
+    lu_.template triangularView<Eigen::Upper>().solveInPlace(xv_);
     xq_.noalias() = P_ * xv_;
     xq_ = sq_ + mu_ * xq_;
     const double d1 = 2.0 * GL::a12, d2 = -2.0 * b();
@@ -217,8 +226,8 @@ template <int M = Eigen::Dynamic> class LeadingStageLU {
   static double b() { return std::sqrt(-GaussLegendre2::a12 * GaussLegendre2::a21); }
   int m_ = 0;
   Eigen::Matrix<double, M, M> QP_;
-  CMat P_, Q_, M_;
-  Eigen::PartialPivLU<CMat> lu_;
+  CMat P_, Q_, M_, lu_;
+  Eigen::Transpositions<M, M, int> tr_;
   CVec sq_, sv_, t_, xq_, xv_;
   Cx mu_;
 };
@@ -405,7 +414,9 @@ template <class Phi> class ClusterGauss {
     a.resize(m);
     Mat &K = Kout ? *Kout : sK_;
     if (J || Kout) K.setZero(m, m);
-    forces(q, V, F.data(), (J || Kout) ? &K : nullptr, J ? 4 : 3);
+    // (the static terms' values in pc_ only for the Jacobian's loop below:
+    // without J, static_field() reads them by column)
+    forces(q, V, F.data(), (J || Kout) ? &K : nullptr, J ? 4 : 3, J != nullptr);
     for (int i = 0; i < n_; i++)
       for (int d = 0; d < 3; d++) a[3 * i + d] = im_[i] * F[3 * i + d];
     for (int i = 0; i < n_; i++)
@@ -815,7 +826,7 @@ template <class Phi> class ClusterGauss {
     const double *q = y, *v = y + m;
     double V = 0.0;
     std::vector<double> F(m, 0.0), a(m);
-    forces(q, V, F.data(), nullptr, 3);
+    forces(q, V, F.data(), nullptr, 3, true);
     for (int r = 0; r < m; r++) a[r] = im_[r / 3] * F[r];
     for (size_t ti = 0; ti < terms_.size(); ti++) {
       const ClusterTerm &t = terms_[ti];
@@ -918,8 +929,11 @@ template <class Phi> class ClusterGauss {
 
   // V, F = -grad V (fc included) and V'' (K) at positions q; each term's
   // phi^(k), k <= order, and the geometry kept in pc_ for term_field_at()
-  // at the same q
-  void forces(const double *q, double &V, double *F, Mat *K, int order) const
+  // at the same q (the static terms' only with keep_static: the copy was
+  // ~3 % of mcva's instructions, and only field()'s Jacobian and
+  // partner_forces() read it)
+  void forces(const double *q, double &V, double *F, Mat *K, int order,
+              bool keep_static = false) const
   {
     pc_.resize(terms_.size());
     V = 0.0;
@@ -967,7 +981,7 @@ template <class Phi> class ClusterGauss {
     }
     // each member's static terms: their V_t'' summed into one block
     // (static_terms())
-    for (int a = 0; a < n_; a++) static_terms(a, q + 3 * a, V, F, K, order);
+    for (int a = 0; a < n_; a++) static_terms(a, q + 3 * a, V, F, K, order, keep_static);
   }
 
   // forces()' part of member a's static terms (at qa), in passes whose
@@ -978,7 +992,8 @@ template <class Phi> class ClusterGauss {
   // the 4000 fluid), the other terms' phi^(k) by phi_() after them, then
   // the sums; each term's values kept in pc_ for term_field_at(),
   // partner_forces() and the Jacobian
-  void static_terms(int a, const double *qa, double &V, double *F, Mat *K, int order) const
+  void static_terms(int a, const double *qa, double &V, double *F, Mat *K, int order,
+                    bool keep) const
   {
     const int t0 = soff_[a], na = soff_[a + 1] - t0, s = t0 - soff_[0];
     const int ns = (int) sbx_.size();
@@ -995,16 +1010,20 @@ template <class Phi> class ClusterGauss {
     double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
     double Fa[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < na; k++) {
-      TermAt &at = pc_[t0 + k];
-      for (int j = 0; j < 5; j++) at.p[j] = p[j * na + k];
-      at.ir = ir[k];
+      if (keep) {
+        TermAt &at = pc_[t0 + k];
+        for (int j = 0; j < 5; j++) at.p[j] = p[j * na + k];
+        at.ir = ir[k];
+        at.e[0] = ex[k];
+        at.e[1] = ey[k];
+        at.e[2] = ez[k];
+      }
       const double e[3] = {ex[k], ey[k], ez[k]};
-      for (int d = 0; d < 3; d++) at.e[d] = e[d];
-      const double p1 = at.p[1];
-      V += at.p[0];
+      const double p1 = p[na + k];
+      V += p[k];
       for (int d = 0; d < 3; d++) Fa[d] -= p1 * e[d];
       if (!K) continue;
-      const double B = p1 * at.ir, A = at.p[2] - B;
+      const double B = p1 * ir[k], A = p[2 * na + k] - B;
       Hs[0] += A * e[0] * e[0];
       Hs[1] += A * e[1] * e[1];
       Hs[2] += A * e[2] * e[2];
