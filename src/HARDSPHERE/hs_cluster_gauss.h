@@ -341,7 +341,7 @@ template <class Phi> class ClusterGauss {
     }
     gr_.resize(5 * (size_t) ns);
     gp_.resize(5 * (size_t) ns);
-    gq_.resize(8 * (size_t) ns);
+    gq_.resize(STATIC_FIELD_ROWS * (size_t) ns);
     // the terms' lj/cut coefficients where the Phi names them (PhiNamesLJ);
     // a term of another form (a bond, or every term of a Phi that names
     // none) takes zero coefficients in the batch and its own phi_() after
@@ -1149,23 +1149,24 @@ template <class Phi> class ClusterGauss {
     static_field_terms(na, p + na, p + 2 * na, p + 3 * na, ir, ex, ey, ez, w, ar, ww, c_, o);
     double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
            He[3] = {0.0, 0.0, 0.0};
+    // (the products come by column from static_field_terms(): here only
+    // the sums, in term order, and the partners' forces scattered)
     for (int t = 0; t < na; t++) {
-      const double e[3] = {ex[t], ey[t], ez[t]};
-      const double As = o[t], ce = o[na + t], Asa = o[2 * na + t];
       for (int d = 0; d < 3; d++) {
-        Ue[d] += As * e[d];
-        Ge[d] += ce * e[d];
-        He[d] += Asa * e[d];
+        Ue[d] += o[d * na + t];
+        Ge[d] += o[(3 + d) * na + t];
+        He[d] += o[(6 + d) * na + t];
       }
-      Bs += o[3 * na + t];
-      Cs += o[4 * na + t];
-      const int pt = terms_[t0 + t].partner;
-      if (pf && pt >= 0) {
-        // phi' e + c (grad + V_t'' a_rel)
-        const double ke = o[5 * na + t], kw = o[6 * na + t], ka = o[7 * na + t];
-        for (int d = 0; d < 3; d++) pf[3 * pt + d] += ke * e[d] + kw * w[d] + ka * ar[d];
-      }
+      Bs += o[9 * na + t];
+      Cs += o[10 * na + t];
     }
+    if (pf)
+      for (int t = 0; t < na; t++) {
+        const int pt = terms_[t0 + t].partner;
+        // phi' e + c (grad + V_t'' a_rel)
+        if (pt >= 0)
+          for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[(11 + d) * na + t];
+      }
     const int m = 3 * n_;
     const double im = im_[i];
     for (int d = 0; d < 3; d++) {

@@ -352,7 +352,7 @@ TEST(LJTerms, StaticFieldTermsMatchReference)
       ez[t] = e[2] / std::sqrt(s);
     }
     for (auto [fn, name] : fns) {
-      std::vector<double> out(8 * n);
+      std::vector<double> out(STATIC_FIELD_ROWS * n);
       fn(n, p1.data(), p2.data(), p3.data(), ir.data(), ex.data(), ey.data(), ez.data(), w, ar,
          ww, c, out.data());
       for (int t = 0; t < n; t++) {
@@ -362,11 +362,20 @@ TEST(LJTerms, StaticFieldTermsMatchReference)
         const double sa = op(op(op(ex[t] * ar[0]) + op(ey[t] * ar[1])) + op(ez[t] * ar[2]));
         const double cAs2 = op(op(op(2.0 * A) * s) * ir[t]);
         const double ce = op(op(op(op(Ap * s) * s) + op(Bp * ww)) - op(cAs2 * s));
-        const double Asa = op(A * sa);
-        const double ref[8] = {op(A * s), ce,           Asa,
-                               B,         cAs2,         op(p1[t] + op(c * op(ce + Asa))),
-                               op(c * cAs2), op(c * B)};
-        for (int k = 0; k < 8; k++)
+        const double Asa = op(A * sa), As = op(A * s);
+        const double ke = op(p1[t] + op(c * op(ce + Asa))), kw = op(c * cAs2), ka = op(c * B);
+        const double e[3] = {ex[t], ey[t], ez[t]};
+        double ref[STATIC_FIELD_ROWS];
+        for (int d = 0; d < 3; d++) {
+          ref[d] = op(As * e[d]);
+          ref[3 + d] = op(ce * e[d]);
+          ref[6 + d] = op(Asa * e[d]);
+          ref[11 + d] = op(op(op(ke * e[d]) + op(kw * w[d])) + op(ka * ar[d]));
+        }
+        ref[9] = B;
+        ref[10] = cAs2;
+        static_assert(STATIC_FIELD_ROWS == 14, "the rows listed here");
+        for (int k = 0; k < STATIC_FIELD_ROWS; k++)
           EXPECT_TRUE(same_bits(out[k * n + t], ref[k]))
               << name << " n " << n << " term " << t << " row " << k;
       }
