@@ -384,7 +384,7 @@ template <class Phi> class ClusterGauss {
     double V = 0.0;
     std::vector<double> F(3 * n_, 0.0);
     Mat K = Mat::Zero(3 * n_, 3 * n_);
-    forces(q, V, F.data(), &K, 2);
+    forces(q, V, F.data(), &K, 2, false);
     double T = 0.0, vKv = 0.0, g2 = 0.0;
     Eigen::Map<const Vec> vv(v, 3 * n_);
     vKv = vv.dot(K * vv);
@@ -855,7 +855,7 @@ template <class Phi> class ClusterGauss {
     double V = 0.0;
     std::vector<double> F(m, 0.0);
     Mat K = Mat::Zero(m, m);
-    forces(y, V, F.data(), &K, 2);
+    forces(y, V, F.data(), &K, 2, false);
     Eigen::Map<const Vec> uu(u, m), vv(y + m, m);
     Vec w(m);
     for (int r = 0; r < m; r++) w[r] = im_[r / 3] * u[r];
@@ -933,7 +933,7 @@ template <class Phi> class ClusterGauss {
   // ~3 % of mcva's instructions, and only field()'s Jacobian and
   // partner_forces() read it)
   void forces(const double *q, double &V, double *F, Mat *K, int order,
-              bool keep_static = false) const
+              bool keep_static) const
   {
     pc_.resize(terms_.size());
     V = 0.0;
@@ -1010,15 +1010,13 @@ template <class Phi> class ClusterGauss {
     double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
     double Fa[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < na; k++) {
+      const double e[3] = {ex[k], ey[k], ez[k]};
       if (keep) {
         TermAt &at = pc_[t0 + k];
         for (int j = 0; j < 5; j++) at.p[j] = p[j * na + k];
         at.ir = ir[k];
-        at.e[0] = ex[k];
-        at.e[1] = ey[k];
-        at.e[2] = ez[k];
+        for (int d = 0; d < 3; d++) at.e[d] = e[d];
       }
-      const double e[3] = {ex[k], ey[k], ez[k]};
       const double p1 = p[na + k];
       V += p[k];
       for (int d = 0; d < 3; d++) Fa[d] -= p1 * e[d];
@@ -1153,19 +1151,19 @@ template <class Phi> class ClusterGauss {
     // the sums, in term order, and the partners' forces scattered)
     for (int t = 0; t < na; t++) {
       for (int d = 0; d < 3; d++) {
-        Ue[d] += o[d * na + t];
-        Ge[d] += o[(3 + d) * na + t];
-        He[d] += o[(6 + d) * na + t];
+        Ue[d] += o[(SF_AS_E + d) * na + t];
+        Ge[d] += o[(SF_CE_E + d) * na + t];
+        He[d] += o[(SF_ASA_E + d) * na + t];
       }
-      Bs += o[9 * na + t];
-      Cs += o[10 * na + t];
+      Bs += o[SF_B * na + t];
+      Cs += o[SF_CAS2 * na + t];
     }
     if (pf)
       for (int t = 0; t < na; t++) {
         const int pt = terms_[t0 + t].partner;
         // phi' e + c (grad + V_t'' a_rel)
         if (pt >= 0)
-          for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[(11 + d) * na + t];
+          for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[(SF_PARTNER + d) * na + t];
       }
     const int m = 3 * n_;
     const double im = im_[i];

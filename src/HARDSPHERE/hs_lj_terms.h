@@ -77,11 +77,20 @@ inline void lj_phi_scalar(const double *r, int n, const double *const *c, const 
 // the per-term coefficients of a member's static field (ClusterGauss::
 // static_field()'s arithmetic, any radial term): from phi', phi'', phi'''
 // (p1, p2, p3), 1/r and e by column, the member's w and a_rel (w, ar), ww =
-// |w|^2 and H~'s c, into STATIC_FIELD_ROWS rows of n: A s e, ce e, A sa e
-// (rows 0-2, 3-5, 6-8 by component), B, cAs2 (the field's sums take only
-// additions, in term order) and the partner's force ke e + kw w + ka ar
-// (rows 11-13; ke = phi' + c (ce + A sa), kw = c cAs2, ka = c B)
-constexpr int STATIC_FIELD_ROWS = 14;
+// |w|^2 and H~'s c, into STATIC_FIELD_ROWS rows of n, first rows below:
+// A s e, ce e, A sa e (three rows each, by component), B, cAs2 (the
+// field's sums take only additions, in term order) and the partner's force
+// ke e + kw w + ka ar (three rows; ke = phi' + c (ce + A sa), kw = c cAs2,
+// ka = c B)
+enum StaticFieldRow : int {
+  SF_AS_E = 0,
+  SF_CE_E = 3,
+  SF_ASA_E = 6,
+  SF_B = 9,
+  SF_CAS2 = 10,
+  SF_PARTNER = 11,
+  STATIC_FIELD_ROWS = 14
+};
 namespace detail {
   inline void static_field_rows(int n, const double *p1, const double *p2, const double *p3,
                                 const double *ir, const double *ex, const double *ey,
@@ -100,13 +109,13 @@ namespace detail {
       const double ke = p1[t] + c * (ce + Asa), kw = c * cAs2, ka = c * B;
       const double e[3] = {ex[t], ey[t], ez[t]};
       for (int d = 0; d < 3; d++) {
-        out[d * m + t] = As * e[d];
-        out[(3 + d) * m + t] = ce * e[d];
-        out[(6 + d) * m + t] = Asa * e[d];
-        out[(11 + d) * m + t] = ke * e[d] + kw * w[d] + ka * ar[d];
+        out[(SF_AS_E + d) * m + t] = As * e[d];
+        out[(SF_CE_E + d) * m + t] = ce * e[d];
+        out[(SF_ASA_E + d) * m + t] = Asa * e[d];
+        out[(SF_PARTNER + d) * m + t] = ke * e[d] + kw * w[d] + ka * ar[d];
       }
-      out[9 * m + t] = B;
-      out[10 * m + t] = cAs2;
+      out[SF_B * m + t] = B;
+      out[SF_CAS2 * m + t] = cAs2;
     }
   }
 }    // namespace detail
@@ -149,16 +158,16 @@ __attribute__((target("avx2"))) inline void static_field_terms_avx2(
     const __m256d kw = _mm256_mul_pd(vc, cAs2), ka = _mm256_mul_pd(vc, B);
     const __m256d E[3] = {X, Y, Z}, W[3] = {w0, w1, w2}, AR[3] = {a0, a1, a2};
     for (int d = 0; d < 3; d++) {
-      _mm256_storeu_pd(out + d * n + t, _mm256_mul_pd(As, E[d]));
-      _mm256_storeu_pd(out + (3 + d) * n + t, _mm256_mul_pd(ce, E[d]));
-      _mm256_storeu_pd(out + (6 + d) * n + t, _mm256_mul_pd(Asa, E[d]));
-      _mm256_storeu_pd(out + (11 + d) * n + t,
+      _mm256_storeu_pd(out + (SF_AS_E + d) * n + t, _mm256_mul_pd(As, E[d]));
+      _mm256_storeu_pd(out + (SF_CE_E + d) * n + t, _mm256_mul_pd(ce, E[d]));
+      _mm256_storeu_pd(out + (SF_ASA_E + d) * n + t, _mm256_mul_pd(Asa, E[d]));
+      _mm256_storeu_pd(out + (SF_PARTNER + d) * n + t,
                        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ke, E[d]),
                                                    _mm256_mul_pd(kw, W[d])),
                                      _mm256_mul_pd(ka, AR[d])));
     }
-    _mm256_storeu_pd(out + 9 * n + t, B);
-    _mm256_storeu_pd(out + 10 * n + t, cAs2);
+    _mm256_storeu_pd(out + SF_B * n + t, B);
+    _mm256_storeu_pd(out + SF_CAS2 * n + t, cAs2);
   }
   // (the rest one by one, into the same rows of n)
   detail::static_field_rows(n - t, p1 + t, p2 + t, p3 + t, ir + t, ex + t, ey + t, ez + t, w, ar,

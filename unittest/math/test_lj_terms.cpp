@@ -367,13 +367,13 @@ TEST(LJTerms, StaticFieldTermsMatchReference)
         const double e[3] = {ex[t], ey[t], ez[t]};
         double ref[STATIC_FIELD_ROWS];
         for (int d = 0; d < 3; d++) {
-          ref[d] = op(As * e[d]);
-          ref[3 + d] = op(ce * e[d]);
-          ref[6 + d] = op(Asa * e[d]);
-          ref[11 + d] = op(op(op(ke * e[d]) + op(kw * w[d])) + op(ka * ar[d]));
+          ref[SF_AS_E + d] = op(As * e[d]);
+          ref[SF_CE_E + d] = op(ce * e[d]);
+          ref[SF_ASA_E + d] = op(Asa * e[d]);
+          ref[SF_PARTNER + d] = op(op(op(ke * e[d]) + op(kw * w[d])) + op(ka * ar[d]));
         }
-        ref[9] = B;
-        ref[10] = cAs2;
+        ref[SF_B] = B;
+        ref[SF_CAS2] = cAs2;
         static_assert(STATIC_FIELD_ROWS == 14, "the rows listed here");
         for (int k = 0; k < STATIC_FIELD_ROWS; k++)
           EXPECT_TRUE(same_bits(out[k * n + t], ref[k]))
