@@ -176,8 +176,8 @@ template <int M = Eigen::Dynamic> class LeadingStageLU {
     const auto P = J0.block(0, m_, m_, m_);
     const auto Q = J0.block(m_, 0, m_, m_);
     QP_.noalias() = Q * P;
-    P_ = P.template cast<Cx>();
-    Q_ = Q.template cast<Cx>();
+    P_ = P;
+    Q_ = Q;
   }
   void factor(double h)
   {
@@ -225,8 +225,10 @@ template <int M = Eigen::Dynamic> class LeadingStageLU {
  private:
   static double b() { return std::sqrt(-GaussLegendre2::a12 * GaussLegendre2::a21); }
   int m_ = 0;
-  Eigen::Matrix<double, M, M> QP_;
-  CMat P_, Q_, M_, lu_;
+  // P and Q stay real: their products with the complex stage vectors are
+  // real x complex (Eigen's mixed product), half the multiplications
+  Eigen::Matrix<double, M, M> QP_, P_, Q_;
+  CMat M_, lu_;
   Eigen::Transpositions<M, M, int> tr_;
   CVec sq_, sv_, t_, xq_, xv_;
   Cx mu_;
@@ -341,7 +343,7 @@ template <class Phi> class ClusterGauss {
     }
     gr_.resize(5 * (size_t) ns);
     gp_.resize(5 * (size_t) ns);
-    gq_.resize(STATIC_FIELD_ROWS * (size_t) ns);
+    gq_.resize(3 * (size_t) ns);    // (the partners' forces by component)
     // the terms' lj/cut coefficients where the Phi names them (PhiNamesLJ);
     // a term of another form (a bond, or every term of a Phi that names
     // none) takes zero coefficients in the batch and its own phi_() after
@@ -1007,20 +1009,30 @@ template <class Phi> class ClusterGauss {
       phi_(terms_[t0 + k].kind, r[k], order, d);
       for (int j = 0; j < 5; j++) p[j * na + k] = d[j];
     }
+    if (keep)
+      for (int k = 0; k < na; k++) {
+        TermAt &at = pc_[t0 + k];
+        for (int j = 0; j < 5; j++) at.p[j] = p[j * na + k];
+        at.ir = ir[k];
+        at.e[0] = ex[k];
+        at.e[1] = ey[k];
+        at.e[2] = ez[k];
+      }
+    if (!K) {
+      // (V and the force, each in term order, four terms at a time)
+      double acc[4] = {V, 0.0, 0.0, 0.0};
+      static_force_sums(na, p, p + na, ex, ey, ez, acc);
+      V = acc[0];
+      for (int d = 0; d < 3; d++) F[3 * a + d] += acc[1 + d];
+      return;
+    }
     double Hs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, Bs = 0.0;    // (xx yy zz xy xz yz)
     double Fa[3] = {0.0, 0.0, 0.0};
     for (int k = 0; k < na; k++) {
       const double e[3] = {ex[k], ey[k], ez[k]};
-      if (keep) {
-        TermAt &at = pc_[t0 + k];
-        for (int j = 0; j < 5; j++) at.p[j] = p[j * na + k];
-        at.ir = ir[k];
-        for (int d = 0; d < 3; d++) at.e[d] = e[d];
-      }
       const double p1 = p[na + k];
       V += p[k];
       for (int d = 0; d < 3; d++) Fa[d] -= p1 * e[d];
-      if (!K) continue;
       const double B = p1 * ir[k], A = p[2 * na + k] - B;
       Hs[0] += A * e[0] * e[0];
       Hs[1] += A * e[1] * e[1];
@@ -1031,7 +1043,7 @@ template <class Phi> class ClusterGauss {
       Bs += B;
     }
     for (int d = 0; d < 3; d++) F[3 * a + d] += Fa[d];
-    if (!K || na == 0) return;
+    if (na == 0) return;
     auto blk = K->block<3, 3>(3 * a, 3 * a);
     blk(0, 0) += Hs[0] + Bs;
     blk(1, 1) += Hs[1] + Bs;
@@ -1063,7 +1075,7 @@ template <class Phi> class ClusterGauss {
   // the static terms by column (reset()): their atoms' coordinates, lj/cut
   // coefficients and special factors (Phi names them: PhiNamesLJ; zeros for
   // the others); static_terms()' scratch (r, 1/r, e by column; phi^(k) in
-  // rows of each member's count; static_field()'s coefficients)
+  // rows of each member's count; static_field()'s partner forces)
   std::vector<double> sbx_, sby_, sbz_, sfl_;
   std::vector<const double *> slj_;
   std::vector<int> sother_, sooff_;    // a member's static terms not lj/cut (index in its terms)
@@ -1135,36 +1147,28 @@ template <class Phi> class ClusterGauss {
   {
     if (soff_[i] == soff_[i + 1]) return;
     const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    // the per-term coefficients four at a time from the columns of the
-    // last forces() (static_terms(), hs_lj_terms.h), then the sums in term
-    // order (-3 % of mcva's instructions on the 4000 fluid, where one loop's
-    // eleven sums and temporaries had spilled to the stack)
+    // the sums, each in term order, four terms at a time from the columns
+    // of the last forces() (static_terms(), hs_lj_terms.h), with the
+    // partners' forces by column if asked, then scattered (eleven sums
+    // from stored rows, one term at a time, were 6 % of mcva's instructions
+    // at 32000 atoms)
     const int t0 = soff_[i], na = soff_[i + 1] - t0, s = t0 - soff_[0];
     const int ns = (int) sbx_.size();
     const double *ir = gr_.data() + ns + s, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
     const double *p = gp_.data() + 5 * (size_t) s;
     double *o = gq_.data();
-    static_field_terms(na, p + na, p + 2 * na, p + 3 * na, ir, ex, ey, ez, w, ar, ww, c_, o);
-    double Bs = 0.0, Cs = 0.0, Ue[3] = {0.0, 0.0, 0.0}, Ge[3] = {0.0, 0.0, 0.0},
-           He[3] = {0.0, 0.0, 0.0};
-    // (the products come by column from static_field_terms(): here only
-    // the sums, in term order, and the partners' forces scattered)
-    for (int t = 0; t < na; t++) {
-      for (int d = 0; d < 3; d++) {
-        Ue[d] += o[(SF_AS_E + d) * na + t];
-        Ge[d] += o[(SF_CE_E + d) * na + t];
-        He[d] += o[(SF_ASA_E + d) * na + t];
-      }
-      Bs += o[SF_B * na + t];
-      Cs += o[SF_CAS2 * na + t];
-    }
+    double S[STATIC_FIELD_SUMS] = {};
+    static_field_terms(na, p + na, p + 2 * na, p + 3 * na, ir, ex, ey, ez, w, ar, ww, c_, S,
+                       pf ? o : nullptr);
     if (pf)
       for (int t = 0; t < na; t++) {
         const int pt = terms_[t0 + t].partner;
         // phi' e + c (grad + V_t'' a_rel)
         if (pt >= 0)
-          for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[(SF_PARTNER + d) * na + t];
+          for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[d * na + t];
       }
+    const double Bs = S[SF_B], Cs = S[SF_CAS2];
+    const double *Ue = S + SF_AS_E, *Ge = S + SF_CE_E, *He = S + SF_ASA_E;
     const int m = 3 * n_;
     const double im = im_[i];
     for (int d = 0; d < 3; d++) {

@@ -12,10 +12,12 @@
    The *_scalar() functions are the reference; the *_avx2() ones do four
    terms per instruction with the same operations in the same order (no
    fused multiply-add: the package is built without -mfma), so that every
-   lane gives the scalar result's bits; static_geometry(), lj_phi() and
-   static_field_terms() pick one at run time (hs_near.h's has_avx2()). Arrays are structure-of-arrays (bx,
-   by, bz: the static atoms' coordinates; ir, ex, ey, ez: the outputs; p:
-   five rows of n, p + k n holding phi^(k)).
+   lane gives the scalar result's bits; the sums over terms
+   (static_field_terms(), static_force_sums()) add each sum's terms in term
+   order, four sums to a register after a 4 x 4 transpose. The dispatchers
+   pick one at run time (hs_near.h's has_avx2()). Arrays are
+   structure-of-arrays (bx, by, bz: the static atoms' coordinates; ir, ex,
+   ey, ez: the outputs; p: five rows of n, p + k n holding phi^(k)).
 
    LAMMPS-free (unit-tested alone: unittest/math/test_lj_terms.cpp).
 ------------------------------------------------------------------------- */
@@ -74,28 +76,27 @@ inline void lj_phi_scalar(const double *r, int n, const double *const *c, const 
   detail::lj_phi_rows(r, n, c, fl, order, p, n);
 }
 
-// the per-term coefficients of a member's static field (ClusterGauss::
-// static_field()'s arithmetic, any radial term): from phi', phi'', phi'''
-// (p1, p2, p3), 1/r and e by column, the member's w and a_rel (w, ar), ww =
-// |w|^2 and H~'s c, into STATIC_FIELD_ROWS rows of n, first rows below:
-// A s e, ce e, A sa e (three rows each, by component), B, cAs2 (the
-// field's sums take only additions, in term order) and the partner's force
-// ke e + kw w + ka ar (three rows; ke = phi' + c (ce + A sa), kw = c cAs2,
-// ka = c B)
-enum StaticFieldRow : int {
+// a member's static field (ClusterGauss::static_field()'s arithmetic, any
+// radial term) from phi', phi'', phi''' (p1, p2, p3), 1/r and e by column,
+// the member's w and a_rel (w, ar), ww = |w|^2 and H~'s c: the sums over its
+// n terms, each added in term order to sums[] (the field takes only these:
+// sum A s e, sum B, sum ce e, sum cAs2, sum A sa e, at the indices below;
+// index 11 is padding), and, if partner is not null, each term's force on
+// its partner ke e + kw w + ka ar into three rows of n by component (ke =
+// phi' + c (ce + A sa), kw = c cAs2, ka = c B)
+enum StaticFieldSum : int {
   SF_AS_E = 0,
-  SF_CE_E = 3,
-  SF_ASA_E = 6,
-  SF_B = 9,
-  SF_CAS2 = 10,
-  SF_PARTNER = 11,
-  STATIC_FIELD_ROWS = 14
+  SF_B = 3,
+  SF_CE_E = 4,
+  SF_CAS2 = 7,
+  SF_ASA_E = 8,
+  STATIC_FIELD_SUMS = 12
 };
 namespace detail {
   inline void static_field_rows(int n, const double *p1, const double *p2, const double *p3,
                                 const double *ir, const double *ex, const double *ey,
                                 const double *ez, const double *w, const double *ar, double ww,
-                                double c, double *out, int stride)
+                                double c, double *sums, double *partner, int stride)
   {
     const int m = stride;
     for (int t = 0; t < n; t++) {
@@ -106,16 +107,18 @@ namespace detail {
       const double cAs2 = 2.0 * A * s * ir[t];
       const double ce = Ap * s * s + Bp * ww - cAs2 * s;
       const double As = A * s, Asa = A * sa;
-      const double ke = p1[t] + c * (ce + Asa), kw = c * cAs2, ka = c * B;
       const double e[3] = {ex[t], ey[t], ez[t]};
       for (int d = 0; d < 3; d++) {
-        out[(SF_AS_E + d) * m + t] = As * e[d];
-        out[(SF_CE_E + d) * m + t] = ce * e[d];
-        out[(SF_ASA_E + d) * m + t] = Asa * e[d];
-        out[(SF_PARTNER + d) * m + t] = ke * e[d] + kw * w[d] + ka * ar[d];
+        sums[SF_AS_E + d] += As * e[d];
+        sums[SF_CE_E + d] += ce * e[d];
+        sums[SF_ASA_E + d] += Asa * e[d];
       }
-      out[SF_B * m + t] = B;
-      out[SF_CAS2 * m + t] = cAs2;
+      sums[SF_B] += B;
+      sums[SF_CAS2] += cAs2;
+      if (partner) {
+        const double ke = p1[t] + c * (ce + Asa), kw = c * cAs2, ka = c * B;
+        for (int d = 0; d < 3; d++) partner[d * m + t] = ke * e[d] + kw * w[d] + ka * ar[d];
+      }
     }
   }
 }    // namespace detail
@@ -123,21 +126,42 @@ namespace detail {
 inline void static_field_terms_scalar(int n, const double *p1, const double *p2,
                                       const double *p3, const double *ir, const double *ex,
                                       const double *ey, const double *ez, const double *w,
-                                      const double *ar, double ww, double c, double *out)
+                                      const double *ar, double ww, double c, double *sums,
+                                      double *partner)
 {
-  detail::static_field_rows(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out, n);
+  detail::static_field_rows(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, sums, partner, n);
 }
 
 #ifdef HS_LJ_TERMS_AVX2
+namespace detail {
+  // acc += the columns of the 4 x 4 block (r0 r1 r2 r3) one after another:
+  // lane k adds rk[0], rk[1], rk[2], rk[3] in that order, each lane's sum in
+  // term order as the scalar loop adds it (a transpose, no reordering)
+  __attribute__((target("avx2"))) inline __m256d add_columns(__m256d acc, __m256d r0,
+                                                             __m256d r1, __m256d r2, __m256d r3)
+  {
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    acc = _mm256_add_pd(acc, _mm256_permute2f128_pd(t0, t2, 0x20));
+    acc = _mm256_add_pd(acc, _mm256_permute2f128_pd(t1, t3, 0x20));
+    acc = _mm256_add_pd(acc, _mm256_permute2f128_pd(t0, t2, 0x31));
+    return _mm256_add_pd(acc, _mm256_permute2f128_pd(t1, t3, 0x31));
+  }
+}    // namespace detail
+
 __attribute__((target("avx2"))) inline void static_field_terms_avx2(
     int n, const double *p1, const double *p2, const double *p3, const double *ir,
     const double *ex, const double *ey, const double *ez, const double *w, const double *ar,
-    double ww, double c, double *out)
+    double ww, double c, double *sums, double *partner)
 {
   const __m256d w0 = _mm256_set1_pd(w[0]), w1 = _mm256_set1_pd(w[1]), w2 = _mm256_set1_pd(w[2]);
   const __m256d a0 = _mm256_set1_pd(ar[0]), a1 = _mm256_set1_pd(ar[1]),
                 a2 = _mm256_set1_pd(ar[2]);
   const __m256d vww = _mm256_set1_pd(ww), vc = _mm256_set1_pd(c), two = _mm256_set1_pd(2.0);
+  const __m256d zero = _mm256_setzero_pd();
+  // the sums four to a register, in the order of the StaticFieldSum indices
+  __m256d s0 = _mm256_loadu_pd(sums), s1 = _mm256_loadu_pd(sums + 4),
+          s2 = _mm256_loadu_pd(sums + 8);
   int t = 0;
   for (; t + 4 <= n; t += 4) {
     const __m256d i = _mm256_loadu_pd(ir + t), P1 = _mm256_loadu_pd(p1 + t);
@@ -154,24 +178,29 @@ __attribute__((target("avx2"))) inline void static_field_terms_avx2(
         _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(Ap, s), s), _mm256_mul_pd(Bp, vww)),
         _mm256_mul_pd(cAs2, s));
     const __m256d Asa = _mm256_mul_pd(A, sa), As = _mm256_mul_pd(A, s);
-    const __m256d ke = _mm256_add_pd(P1, _mm256_mul_pd(vc, _mm256_add_pd(ce, Asa)));
-    const __m256d kw = _mm256_mul_pd(vc, cAs2), ka = _mm256_mul_pd(vc, B);
-    const __m256d E[3] = {X, Y, Z}, W[3] = {w0, w1, w2}, AR[3] = {a0, a1, a2};
-    for (int d = 0; d < 3; d++) {
-      _mm256_storeu_pd(out + (SF_AS_E + d) * n + t, _mm256_mul_pd(As, E[d]));
-      _mm256_storeu_pd(out + (SF_CE_E + d) * n + t, _mm256_mul_pd(ce, E[d]));
-      _mm256_storeu_pd(out + (SF_ASA_E + d) * n + t, _mm256_mul_pd(Asa, E[d]));
-      _mm256_storeu_pd(out + (SF_PARTNER + d) * n + t,
-                       _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ke, E[d]),
-                                                   _mm256_mul_pd(kw, W[d])),
-                                     _mm256_mul_pd(ka, AR[d])));
+    s0 = detail::add_columns(s0, _mm256_mul_pd(As, X), _mm256_mul_pd(As, Y),
+                             _mm256_mul_pd(As, Z), B);
+    s1 = detail::add_columns(s1, _mm256_mul_pd(ce, X), _mm256_mul_pd(ce, Y),
+                             _mm256_mul_pd(ce, Z), cAs2);
+    s2 = detail::add_columns(s2, _mm256_mul_pd(Asa, X), _mm256_mul_pd(Asa, Y),
+                             _mm256_mul_pd(Asa, Z), zero);
+    if (partner) {
+      const __m256d ke = _mm256_add_pd(P1, _mm256_mul_pd(vc, _mm256_add_pd(ce, Asa)));
+      const __m256d kw = _mm256_mul_pd(vc, cAs2), ka = _mm256_mul_pd(vc, B);
+      const __m256d E[3] = {X, Y, Z}, W[3] = {w0, w1, w2}, AR[3] = {a0, a1, a2};
+      for (int d = 0; d < 3; d++)
+        _mm256_storeu_pd(partner + d * n + t,
+                         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ke, E[d]),
+                                                     _mm256_mul_pd(kw, W[d])),
+                                       _mm256_mul_pd(ka, AR[d])));
     }
-    _mm256_storeu_pd(out + SF_B * n + t, B);
-    _mm256_storeu_pd(out + SF_CAS2 * n + t, cAs2);
   }
-  // (the rest one by one, into the same rows of n)
+  _mm256_storeu_pd(sums, s0);
+  _mm256_storeu_pd(sums + 4, s1);
+  _mm256_storeu_pd(sums + 8, s2);
+  // (the rest one by one, continuing the sums; partner rows of n)
   detail::static_field_rows(n - t, p1 + t, p2 + t, p3 + t, ir + t, ex + t, ey + t, ez + t, w, ar,
-                            ww, c, out + t, n);
+                            ww, c, sums, partner ? partner + t : nullptr, n);
 }
 
 __attribute__((target("avx2"))) inline void static_geometry_avx2(const double *q, int n,
@@ -269,12 +298,13 @@ inline void static_geometry(const double *q, int n, const double *bx, const doub
 inline void static_field_terms(int n, const double *p1, const double *p2, const double *p3,
                                const double *ir, const double *ex, const double *ey,
                                const double *ez, const double *w, const double *ar, double ww,
-                               double c, double *out)
+                               double c, double *sums, double *partner)
 {
 #ifdef HS_LJ_TERMS_AVX2
-  if (has_avx2()) return static_field_terms_avx2(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out);
+  if (has_avx2())
+    return static_field_terms_avx2(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, sums, partner);
 #endif
-  static_field_terms_scalar(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, out);
+  static_field_terms_scalar(n, p1, p2, p3, ir, ex, ey, ez, w, ar, ww, c, sums, partner);
 }
 
 inline void lj_phi(const double *r, int n, const double *const *c, const double *fl, int order,
@@ -284,6 +314,62 @@ inline void lj_phi(const double *r, int n, const double *const *c, const double 
   if (has_avx2()) return lj_phi_avx2(r, n, c, fl, order, p);
 #endif
   lj_phi_scalar(r, n, c, fl, order, p);
+}
+
+// a member's static terms' energy and force (ClusterGauss::static_terms()
+// without the Jacobian) from phi, phi' (p0, p1) and e by column, each
+// continued in term order from its value in acc: acc[0] += phi, acc[1 + d]
+// -= phi' e_d
+inline void static_force_sums_scalar(int n, const double *p0, const double *p1,
+                                     const double *ex, const double *ey, const double *ez,
+                                     double *acc)
+{
+  for (int t = 0; t < n; t++) {
+    acc[0] += p0[t];
+    acc[1] -= p1[t] * ex[t];
+    acc[2] -= p1[t] * ey[t];
+    acc[3] -= p1[t] * ez[t];
+  }
+}
+
+#ifdef HS_LJ_TERMS_AVX2
+__attribute__((target("avx2"))) inline void static_force_sums_avx2(int n, const double *p0,
+                                                                   const double *p1,
+                                                                   const double *ex,
+                                                                   const double *ey,
+                                                                   const double *ez,
+                                                                   double *acc)
+{
+  // acc[0] + phi as acc[0] - (-phi) (the same bits: x - y is x + (-y)), so
+  // that all four lanes subtract their columns in term order
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  __m256d a = _mm256_loadu_pd(acc);
+  int t = 0;
+  for (; t + 4 <= n; t += 4) {
+    const __m256d P1 = _mm256_loadu_pd(p1 + t);
+    const __m256d r0 = _mm256_xor_pd(_mm256_loadu_pd(p0 + t), sign);
+    const __m256d r1 = _mm256_mul_pd(P1, _mm256_loadu_pd(ex + t));
+    const __m256d r2 = _mm256_mul_pd(P1, _mm256_loadu_pd(ey + t));
+    const __m256d r3 = _mm256_mul_pd(P1, _mm256_loadu_pd(ez + t));
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t0, t2, 0x20));
+    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t1, t3, 0x20));
+    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t0, t2, 0x31));
+    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t1, t3, 0x31));
+  }
+  _mm256_storeu_pd(acc, a);
+  static_force_sums_scalar(n - t, p0 + t, p1 + t, ex + t, ey + t, ez + t, acc);
+}
+#endif
+
+inline void static_force_sums(int n, const double *p0, const double *p1, const double *ex,
+                              const double *ey, const double *ez, double *acc)
+{
+#ifdef HS_LJ_TERMS_AVX2
+  if (has_avx2()) return static_force_sums_avx2(n, p0, p1, ex, ey, ez, acc);
+#endif
+  static_force_sums_scalar(n, p0, p1, ex, ey, ez, acc);
 }
 
 }    // namespace HardSphere

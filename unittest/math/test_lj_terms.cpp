@@ -318,9 +318,10 @@ TEST(LJTerms, ClusterGaussSameBitsBatchedOrNot)
   for (int r = 0; r < N; r++) EXPECT_TRUE(same_bits(ya[r], yb[r])) << "step " << r;
 }
 
-// the static field's per-term coefficients (ClusterGauss::static_field()'s
-// arithmetic) against a reference with every operation forced, in the same
-// order, for every length mod 4
+// a member's static field (ClusterGauss::static_field()'s arithmetic):
+// its sums and its partners' forces against a reference with every
+// operation forced, in the same order (each sum from its start value in term
+// order), for every length mod 4, with and without the partners' rows
 TEST(LJTerms, StaticFieldTermsMatchReference)
 {
   std::mt19937 g(15);
@@ -329,7 +330,7 @@ TEST(LJTerms, StaticFieldTermsMatchReference)
   const double ww = op(op(op(w[0] * w[0]) + op(w[1] * w[1])) + op(w[2] * w[2]));
   using Fn = void (*)(int, const double *, const double *, const double *, const double *,
                       const double *, const double *, const double *, const double *,
-                      const double *, double, double, double *);
+                      const double *, double, double, double *, double *);
   std::vector<std::pair<Fn, const char *>> fns = {{static_field_terms_scalar, "scalar"},
                                                   {static_field_terms, "dispatch"}};
 #ifdef HS_LJ_TERMS_AVX2
@@ -351,34 +352,87 @@ TEST(LJTerms, StaticFieldTermsMatchReference)
       ey[t] = e[1] / std::sqrt(s);
       ez[t] = e[2] / std::sqrt(s);
     }
-    for (auto [fn, name] : fns) {
-      std::vector<double> out(STATIC_FIELD_ROWS * n);
-      fn(n, p1.data(), p2.data(), p3.data(), ir.data(), ex.data(), ey.data(), ez.data(), w, ar,
-         ww, c, out.data());
-      for (int t = 0; t < n; t++) {
-        const double B = op(p1[t] * ir[t]), A = op(p2[t] - B);
-        const double Bp = op(A * ir[t]), Ap = op(p3[t] - Bp);
-        const double s = op(op(op(ex[t] * w[0]) + op(ey[t] * w[1])) + op(ez[t] * w[2]));
-        const double sa = op(op(op(ex[t] * ar[0]) + op(ey[t] * ar[1])) + op(ez[t] * ar[2]));
-        const double cAs2 = op(op(op(2.0 * A) * s) * ir[t]);
-        const double ce = op(op(op(op(Ap * s) * s) + op(Bp * ww)) - op(cAs2 * s));
-        const double Asa = op(A * sa), As = op(A * s);
-        const double ke = op(p1[t] + op(c * op(ce + Asa))), kw = op(c * cAs2), ka = op(c * B);
-        const double e[3] = {ex[t], ey[t], ez[t]};
-        double ref[STATIC_FIELD_ROWS];
-        for (int d = 0; d < 3; d++) {
-          ref[SF_AS_E + d] = op(As * e[d]);
-          ref[SF_CE_E + d] = op(ce * e[d]);
-          ref[SF_ASA_E + d] = op(Asa * e[d]);
-          ref[SF_PARTNER + d] = op(op(op(ke * e[d]) + op(kw * w[d])) + op(ka * ar[d]));
-        }
-        ref[SF_B] = B;
-        ref[SF_CAS2] = cAs2;
-        static_assert(STATIC_FIELD_ROWS == 14, "the rows listed here");
-        for (int k = 0; k < STATIC_FIELD_ROWS; k++)
-          EXPECT_TRUE(same_bits(out[k * n + t], ref[k]))
-              << name << " n " << n << " term " << t << " row " << k;
+    // start values of the sums: a caller's running sums continue
+    double start[STATIC_FIELD_SUMS];
+    for (double &v : start) v = U(g);
+    // the reference: per term the products, added to each sum in term order
+    double ref_sum[STATIC_FIELD_SUMS];
+    std::copy(start, start + STATIC_FIELD_SUMS, ref_sum);
+    std::vector<double> ref_partner(3 * n);
+    for (int t = 0; t < n; t++) {
+      const double B = op(p1[t] * ir[t]), A = op(p2[t] - B);
+      const double Bp = op(A * ir[t]), Ap = op(p3[t] - Bp);
+      const double s = op(op(op(ex[t] * w[0]) + op(ey[t] * w[1])) + op(ez[t] * w[2]));
+      const double sa = op(op(op(ex[t] * ar[0]) + op(ey[t] * ar[1])) + op(ez[t] * ar[2]));
+      const double cAs2 = op(op(op(2.0 * A) * s) * ir[t]);
+      const double ce = op(op(op(op(Ap * s) * s) + op(Bp * ww)) - op(cAs2 * s));
+      const double Asa = op(A * sa), As = op(A * s);
+      const double ke = op(p1[t] + op(c * op(ce + Asa))), kw = op(c * cAs2), ka = op(c * B);
+      const double e[3] = {ex[t], ey[t], ez[t]};
+      for (int d = 0; d < 3; d++) {
+        ref_sum[SF_AS_E + d] = op(ref_sum[SF_AS_E + d] + op(As * e[d]));
+        ref_sum[SF_CE_E + d] = op(ref_sum[SF_CE_E + d] + op(ce * e[d]));
+        ref_sum[SF_ASA_E + d] = op(ref_sum[SF_ASA_E + d] + op(Asa * e[d]));
+        ref_partner[d * n + t] = op(op(op(ke * e[d]) + op(kw * w[d])) + op(ka * ar[d]));
       }
+      ref_sum[SF_B] = op(ref_sum[SF_B] + B);
+      ref_sum[SF_CAS2] = op(ref_sum[SF_CAS2] + cAs2);
+    }
+    const int used[11] = {SF_AS_E,  SF_AS_E + 1,  SF_AS_E + 2,  SF_B,         SF_CE_E,    SF_CE_E + 1,
+                          SF_CE_E + 2, SF_CAS2, SF_ASA_E, SF_ASA_E + 1, SF_ASA_E + 2};
+    for (auto [fn, name] : fns)
+      for (bool with_partner : {true, false}) {
+        double sum[STATIC_FIELD_SUMS];
+        std::copy(start, start + STATIC_FIELD_SUMS, sum);
+        std::vector<double> partner(3 * n, -7.0);
+        fn(n, p1.data(), p2.data(), p3.data(), ir.data(), ex.data(), ey.data(), ez.data(), w,
+           ar, ww, c, sum, with_partner ? partner.data() : nullptr);
+        for (int k : used)
+          EXPECT_TRUE(same_bits(sum[k], ref_sum[k])) << name << " n " << n << " sum " << k;
+        for (int k = 0; k < 3 * n; k++)
+          EXPECT_TRUE(same_bits(partner[k], with_partner ? ref_partner[k] : -7.0))
+              << name << " n " << n << " partner row " << k / std::max(n, 1) << " term "
+              << k % std::max(n, 1) << (with_partner ? "" : " (not asked: untouched)");
+      }
+  }
+}
+
+// a member's static terms' energy and force (ClusterGauss::static_terms()
+// without the Jacobian) against the sums with every operation forced, each
+// continued in term order from its start value, for every length mod 4
+TEST(LJTerms, StaticForceSumsMatchReference)
+{
+  std::mt19937 g(16);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  using Fn = void (*)(int, const double *, const double *, const double *, const double *,
+                      const double *, double *);
+  std::vector<std::pair<Fn, const char *>> fns = {{static_force_sums_scalar, "scalar"},
+                                                  {static_force_sums, "dispatch"}};
+#ifdef HS_LJ_TERMS_AVX2
+  if (__builtin_cpu_supports("avx2")) fns.emplace_back(static_force_sums_avx2, "avx2");
+#endif
+  for (int n = 0; n <= 13; n++) {
+    std::vector<double> p0(n), p1(n), ex(n), ey(n), ez(n);
+    for (int t = 0; t < n; t++) {
+      p0[t] = 3.0 * U(g);
+      p1[t] = 50.0 * U(g);
+      ex[t] = U(g);
+      ey[t] = U(g);
+      ez[t] = U(g);
+    }
+    const double start[4] = {U(g), U(g), U(g), U(g)};
+    double ref[4] = {start[0], start[1], start[2], start[3]};
+    for (int t = 0; t < n; t++) {
+      ref[0] = op(ref[0] + p0[t]);
+      ref[1] = op(ref[1] - op(p1[t] * ex[t]));
+      ref[2] = op(ref[2] - op(p1[t] * ey[t]));
+      ref[3] = op(ref[3] - op(p1[t] * ez[t]));
+    }
+    for (auto [fn, name] : fns) {
+      double acc[4] = {start[0], start[1], start[2], start[3]};
+      fn(n, p0.data(), p1.data(), ex.data(), ey.data(), ez.data(), acc);
+      for (int k = 0; k < 4; k++)
+        EXPECT_TRUE(same_bits(acc[k], ref[k])) << name << " n " << n << " sum " << k;
     }
   }
 }
