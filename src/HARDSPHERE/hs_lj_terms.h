@@ -340,23 +340,17 @@ __attribute__((target("avx2"))) inline void static_force_sums_avx2(int n, const 
                                                                    const double *ez,
                                                                    double *acc)
 {
-  // acc[0] + phi as acc[0] - (-phi) (the same bits: x - y is x + (-y)), so
-  // that all four lanes subtract their columns in term order
+  // acc[1 + d] - phi' e_d as acc[1 + d] + (-phi' e_d) (the same bits: x - y
+  // is x + (-y)), so that all four lanes add their columns in term order
   const __m256d sign = _mm256_set1_pd(-0.0);
   __m256d a = _mm256_loadu_pd(acc);
   int t = 0;
   for (; t + 4 <= n; t += 4) {
     const __m256d P1 = _mm256_loadu_pd(p1 + t);
-    const __m256d r0 = _mm256_xor_pd(_mm256_loadu_pd(p0 + t), sign);
-    const __m256d r1 = _mm256_mul_pd(P1, _mm256_loadu_pd(ex + t));
-    const __m256d r2 = _mm256_mul_pd(P1, _mm256_loadu_pd(ey + t));
-    const __m256d r3 = _mm256_mul_pd(P1, _mm256_loadu_pd(ez + t));
-    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
-    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
-    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t0, t2, 0x20));
-    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t1, t3, 0x20));
-    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t0, t2, 0x31));
-    a = _mm256_sub_pd(a, _mm256_permute2f128_pd(t1, t3, 0x31));
+    a = detail::add_columns(a, _mm256_loadu_pd(p0 + t),
+                            _mm256_xor_pd(_mm256_mul_pd(P1, _mm256_loadu_pd(ex + t)), sign),
+                            _mm256_xor_pd(_mm256_mul_pd(P1, _mm256_loadu_pd(ey + t)), sign),
+                            _mm256_xor_pd(_mm256_mul_pd(P1, _mm256_loadu_pd(ez + t)), sign));
   }
   _mm256_storeu_pd(acc, a);
   static_force_sums_scalar(n - t, p0 + t, p1 + t, ex + t, ey + t, ez + t, acc);
