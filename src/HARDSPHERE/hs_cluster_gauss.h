@@ -344,6 +344,8 @@ template <class Phi> class ClusterGauss {
     gr_.resize(5 * (size_t) ns);
     gp_.resize(5 * (size_t) ns);
     gq_.resize(3 * (size_t) ns);    // (the partners' forces by component)
+    gq1_.resize(3 * (size_t) ns);
+    gq2_.resize(3 * (size_t) ns);
     // the terms' lj/cut coefficients where the Phi names them (PhiNamesLJ);
     // a term of another form (a bond, or every term of a Phi that names
     // none) takes zero coefficients in the batch and its own phi_() after
@@ -405,8 +407,11 @@ template <class Phi> class ClusterGauss {
   // v3 (if not null, J null; 3n): M^-1 V'''[v, v] added (the terms'
   // grad(w^T V_t'' w), which the modified field computes anyway; step()'s
   // predictor)
+  // prows (if not null, J and pf null; 3 x the static terms): the static
+  // terms' partner forces by column, for add_partner_rows() (step()'s
+  // stages: only the last iteration's are scattered)
   void field(const double *y, double *k, Mat *J = nullptr, double *pf = nullptr,
-             Mat *Kout = nullptr, double *v3 = nullptr) const
+             Mat *Kout = nullptr, double *v3 = nullptr, double *prows = nullptr) const
   {
     const int m = 3 * n_;
     const double *q = y, *v = y + m;
@@ -437,7 +442,8 @@ template <class Phi> class ClusterGauss {
     // (without J: the static terms by member, static_field())
     const size_t nt = J ? terms_.size() : (size_t) soff_[0];
     if (!J)
-      for (int i = 0; i < n_; i++) static_field(i, v + 3 * i, a.data() + 3 * i, k, pf, v3);
+      for (int i = 0; i < n_; i++)
+        static_field(i, v + 3 * i, a.data() + 3 * i, k, pf, v3, prows);
     for (size_t ti = 0; ti < nt; ti++) {
       const ClusterTerm &t = terms_[ti];
       const TermAt &at = pc_[ti];
@@ -716,6 +722,7 @@ template <class Phi> class ClusterGauss {
     D.resize(2 * N);
     Mat &J1 = ss_.J1, &J2 = ss_.J2;
     double prev = std::numeric_limits<double>::infinity();
+    bool rows_pending = false;    // (gq1_, gq2_ hold an iteration's partner rows)
     for (int it = 0; it < opt.maxit; it++) {
       Y1 = y + h * (GL::a11 * K1 + GL::a12 * K2);
       Y2 = y + h * (GL::a21 * K1 + GL::a22 * K2);
@@ -724,14 +731,21 @@ template <class Phi> class ClusterGauss {
       // which only the last iteration's are read of: not in a cold start's
       // first iteration, which stops the solve only if already below tol,
       // and then one more iteration takes them; 8.5 % of a collisional
-      // step's instructions on the 4000 fluid were the partners' forces)
+      // step's instructions on the 4000 fluid were the partners' forces).
+      // Without J, each stage's pass leaves its static terms' partner rows
+      // (gq1_, gq2_) and only the last iteration's are added up, after the
+      // loop, in the same order (the scatters of the iterations before the
+      // last were 0.6 % of mcva's instructions at 32000 atoms)
       double *p1 = nullptr, *p2 = nullptr;
       const bool pf_skipped = detail && np_ > 0 && !opt.full && !warm && it == 0;
       if (detail && np_ > 0 && !pf_skipped) {
-        detail->pf1.assign(3 * np_, 0.0);
-        detail->pf2.assign(3 * np_, 0.0);
-        p1 = detail->pf1.data();
-        p2 = detail->pf2.data();
+        if (opt.full) {
+          detail->pf1.assign(3 * np_, 0.0);
+          detail->pf2.assign(3 * np_, 0.0);
+          p1 = detail->pf1.data();
+          p2 = detail->pf2.data();
+        } else
+          rows_pending = true;
       }
       if (opt.full) {
         field(Y1.data(), f1.data(), &J1, p1);
@@ -740,8 +754,11 @@ template <class Phi> class ClusterGauss {
         factor(J1, J2, h);
         lu_ok_ = false;
       } else {
-        field(Y1.data(), f1.data(), nullptr, p1);
-        field(Y2.data(), f2.data(), nullptr, p2);
+        const bool rows = detail && np_ > 0 && !pf_skipped;
+        field(Y1.data(), f1.data(), nullptr, nullptr, nullptr, nullptr,
+              rows ? gq1_.data() : nullptr);
+        field(Y2.data(), f2.data(), nullptr, nullptr, nullptr, nullptr,
+              rows ? gq2_.data() : nullptr);
       }
       st.fields += 2;
       R.head(N) = K1 - f1;
@@ -795,6 +812,12 @@ template <class Phi> class ClusterGauss {
         break;
       }
       prev = res;
+    }
+    if (rows_pending) {    // (the last iteration's stage passes' partner forces)
+      detail->pf1.assign(3 * np_, 0.0);
+      detail->pf2.assign(3 * np_, 0.0);
+      add_partner_rows(gq1_.data(), detail->pf1.data());
+      add_partner_rows(gq2_.data(), detail->pf2.data());
     }
     Eigen::Map<Vec>(y1, N) = y + h * (GL::b1 * K1 + GL::b2 * K2);
     if (!opt.full && st.converged) {
@@ -1080,6 +1103,7 @@ template <class Phi> class ClusterGauss {
   std::vector<const double *> slj_;
   std::vector<int> sother_, sooff_;    // a member's static terms not lj/cut (index in its terms)
   mutable std::vector<double> gr_, gp_, gq_;
+  mutable std::vector<double> gq1_, gq2_;    // step()'s stages' partner rows (field()'s prows)
 
   // one term's part of the field, before the inverse mass (member a's; b's is
   // its negative): o[0..2] = 2c V_t'' w, o[3..5] = -c (grad_x (w^T V_t'' w)
@@ -1143,7 +1167,7 @@ template <class Phi> class ClusterGauss {
   // for V_t'' a_rel and grad(w^T V_t'' w)), of v3 and of their partners'
   // forces (add_partner()'s), at the positions of the last forces()
   void static_field(int i, const double *w, const double *ar, double *k, double *pf,
-                    double *v3) const
+                    double *v3, double *prows = nullptr) const
   {
     if (soff_[i] == soff_[i + 1]) return;
     const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
@@ -1156,17 +1180,11 @@ template <class Phi> class ClusterGauss {
     const int ns = (int) sbx_.size();
     const double *ir = gr_.data() + ns + s, *ex = ir + ns, *ey = ex + ns, *ez = ey + ns;
     const double *p = gp_.data() + 5 * (size_t) s;
-    double *o = gq_.data();
+    double *o = prows ? prows + 3 * (size_t) s : gq_.data();
     double S[STATIC_FIELD_SUMS] = {};
     static_field_terms(na, p + na, p + 2 * na, p + 3 * na, ir, ex, ey, ez, w, ar, ww, c_, S,
-                       pf ? o : nullptr);
-    if (pf)
-      for (int t = 0; t < na; t++) {
-        const int pt = terms_[t0 + t].partner;
-        // phi' e + c (grad + V_t'' a_rel)
-        if (pt >= 0)
-          for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[d * na + t];
-      }
+                       (pf || prows) ? o : nullptr);
+    if (pf) scatter_partner_rows(i, o, pf);
     const double Bs = S[SF_B], Cs = S[SF_CAS2];
     const double *Ue = S + SF_AS_E, *Ge = S + SF_CE_E, *He = S + SF_ASA_E;
     const int m = 3 * n_;
@@ -1177,6 +1195,26 @@ template <class Phi> class ClusterGauss {
       k[m + 3 * i + d] += im * (-c_ * (grad + He[d] + Bs * ar[d]));
       if (v3) v3[3 * i + d] += im * grad;
     }
+  }
+
+  // member i's static terms' partner forces (rows o: 3 of its term count,
+  // static_field_terms()') added to pf, term by term
+  void scatter_partner_rows(int i, const double *o, double *pf) const
+  {
+    const int t0 = soff_[i], na = soff_[i + 1] - t0;
+    for (int t = 0; t < na; t++) {
+      const int pt = terms_[t0 + t].partner;
+      // phi' e + c (grad + V_t'' a_rel)
+      if (pt >= 0)
+        for (int d = 0; d < 3; d++) pf[3 * pt + d] += o[d * na + t];
+    }
+  }
+  // all members' rows (field()'s prows) added to pf, in field()'s order:
+  // the same sums as field() with pf
+  void add_partner_rows(const double *prows, double *pf) const
+  {
+    for (int i = 0; i < n_; i++)
+      scatter_partner_rows(i, prows + 3 * (size_t) (soff_[i] - soff_[0]), pf);
   }
 
   // a static term's force on its partner: minus its part of the member's
