@@ -738,15 +738,14 @@ template <class Phi> class ClusterGauss {
       // last were 0.6 % of mcva's instructions at 32000 atoms)
       double *p1 = nullptr, *p2 = nullptr;
       const bool pf_skipped = detail && np_ > 0 && !opt.full && !warm && it == 0;
-      if (detail && np_ > 0 && !pf_skipped) {
-        if (opt.full) {
-          detail->pf1.assign(3 * np_, 0.0);
-          detail->pf2.assign(3 * np_, 0.0);
-          p1 = detail->pf1.data();
-          p2 = detail->pf2.data();
-        } else
-          rows_pending = true;
+      const bool want_pf = detail && np_ > 0 && !pf_skipped;
+      if (want_pf && opt.full) {
+        detail->pf1.assign(3 * np_, 0.0);
+        detail->pf2.assign(3 * np_, 0.0);
+        p1 = detail->pf1.data();
+        p2 = detail->pf2.data();
       }
+      if (want_pf && !opt.full) rows_pending = true;
       if (opt.full) {
         field(Y1.data(), f1.data(), &J1, p1);
         field(Y2.data(), f2.data(), &J2, p2);
@@ -754,11 +753,10 @@ template <class Phi> class ClusterGauss {
         factor(J1, J2, h);
         lu_ok_ = false;
       } else {
-        const bool rows = detail && np_ > 0 && !pf_skipped;
         field(Y1.data(), f1.data(), nullptr, nullptr, nullptr, nullptr,
-              rows ? gq1_.data() : nullptr);
+              want_pf ? gq1_.data() : nullptr);
         field(Y2.data(), f2.data(), nullptr, nullptr, nullptr, nullptr,
-              rows ? gq2_.data() : nullptr);
+              want_pf ? gq2_.data() : nullptr);
       }
       st.fields += 2;
       R.head(N) = K1 - f1;
