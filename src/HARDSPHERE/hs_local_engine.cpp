@@ -2204,6 +2204,18 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   double t = 0.0;
   FlowView view;
   double Vnow = 0.0;
+  // the last trial's sub-step (vci): a root is the impulse of the root
+  // solve's last trial, bit for bit, so the sub-step after the contact is
+  // that trial's: its contact search, and its end evaluation, which the
+  // restricted forces still hold (the trial restores x and v only)
+  bool kept = false, kept_eval = false, reuse = false, reuse_eval = false;
+  Impulse kept_imp;
+  Next kept_nb;
+  auto same_impulse = [](const Impulse &a, const Impulse &b) {
+    return a.type == b.type && a.itag == b.itag && a.jtag == b.jtag && a.wall == b.wall &&
+        a.apply == b.apply && a.reflect == b.reflect && a.J[0] == b.J[0] && a.J[1] == b.J[1] &&
+        a.J[2] == b.J[2];
+  };
   if (energies) {
     Vnow = same_start ? r.eB : potential();    // (at the start x = xs)
     view.last = {0.0, kinetic(), Vnow, Vnow};
@@ -2228,6 +2240,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         s.v1 = potential();
       } else
         s.kh = kinetic();
+      kept = true;
+      kept_eval = s.tau > 0.0;
+      kept_imp = ti;
+      kept_nb = nb;
       for (int k = 0; k < nm; k++) {
         set_xv(M[k], sx[k].data(), sv[k].data());
       }
@@ -2323,7 +2339,8 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
   bigint nsub = 0;
   while (!method_ran) {
     const double tau = h - t;
-    const Next b = search(tau);
+    const Next b = reuse ? kept_nb : search(tau);
+    reuse = false;
     const bool hit = b.t <= tau;
     if (hit && b.bstatic) {    // a non-member: it joins C, the cluster is redone
       hits.push_back({tag[b.bli], tag[b.blj]});
@@ -2350,8 +2367,11 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
       kick_drift(d);
       if (provisional && !hit) break;    // (above)
       const double kh = energies ? kinetic() : 0.0;
-      locf->recompute();    // the same terms: their restricted lists again
-      ncompute_here += 1.0;
+      if (!reuse_eval) {
+        locf->recompute();    // the same terms: their restricted lists again
+        ncompute_here += 1.0;
+      }
+      reuse_eval = false;
       fl = locf->forces();
       // the new forces, and in the same pass the partners, which stay put
       // and take V_C's momentum (trapezoid over the sub-step)
@@ -2409,6 +2429,10 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
     if (imp.apply) meth.modify_impulse_in_flow(imp, view);
     if (imp.apply) F.add_impulse_virial(imp);
     F.apply_impulse(imp);
+    // (the state is the last trial's after its impulse: trials restore it)
+    reuse = kept && same_impulse(imp, kept_imp);
+    reuse_eval = reuse && kept_eval;
+    kept = false;
     if (imp.apply) {
       if (b.bwall >= 0) F.ncoll_wall += 1.0;
       else F.ncoll_pair += 1.0;
