@@ -21,6 +21,7 @@
 
 #include "hs_types.h"
 
+#include <cmath>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -68,9 +69,14 @@ class HSFlowView {
   // first half kick (= (q_end - q_start) / tau); v0, v1 the flow's
   // potential at its start and end. tau = 0: no sub-step (a contact at the
   // flow's start or at the instant of the last contact): kh the kinetic
-  // energy now, v0 = v1 the potential now
+  // energy now, v0 = v1 the potential now. A trial's dkh and dv1: the
+  // derivatives of kh and v1 in lambda for the impulse lambda imp at lambda
+  // = 1, with the sub-step's length held (NaN where it is not: the trial's
+  // sub-step ends at a contact, whose time moves with the impulse, or has
+  // length 0)
   struct Substep {
     double tau, kh, v0, v1;
+    double dkh = NAN, dv1 = NAN;
   };
   // the last sub-step taken (at a contact: the one that led to it)
   virtual const Substep &last_substep() const = 0;

@@ -2238,6 +2238,25 @@ bool HSLocalEngine::flow(Run &r, double h, bool first_half, std::vector<Hit> &hi
         locf->recompute();
         ncompute_here += 1.0;
         s.v1 = potential();
+        // d/dlambda of kh and v1 for the impulse lambda J (the sub-step's
+        // length held: not where it ends at a contact): the members' v_h
+        // and q_end move by +-J/m and +-tau J/m (i: +, j: -), so dkh =
+        // mvv2e (v_h,i - v_h,j) . J and dv1 = -sum (f + f_X) . dq_end
+        if (nb.t > h - t) {
+          double **fe = locf->forces();
+          s.dkh = s.dv1 = 0.0;
+          for (int k = 0; k < nm; k++) {
+            const int i = M[k];
+            const double sg = tag[i] == ti.itag ? 1.0 :
+                (ti.type == PAIR_EVENT && tag[i] == ti.jtag) ? -1.0 : 0.0;
+            if (sg == 0.0) continue;
+            const double dq = sg * s.tau / F.mass_of(i);
+            for (int dd = 0; dd < 3; dd++) {
+              s.dkh += sg * force->mvv2e * v[i][dd] * ti.J[dd];
+              s.dv1 -= (fe[i][dd] + fc[k][dd]) * dq * ti.J[dd];
+            }
+          }
+        }
       } else
         s.kh = kinetic();
       kept = true;

@@ -245,7 +245,10 @@ void HSMethodVCI::modify_impulse(Impulse &imp)
 
   solve(
       imp, slope,
-      [&](double s, double &scale, double &tau2) { return trial(imp, s, scale, tau2); },
+      [&](double s, double &scale, double &tau2, double &dF) {
+        dF = std::numeric_limits<double>::quiet_NaN();
+        return trial(imp, s, scale, tau2);
+      },
       held(J2 > 0.0 ? sum * sum / J2 : 0.0, gn), all, true);
 }
 
@@ -274,8 +277,8 @@ void HSMethodVCI::solve(Impulse &imp, double slope, const Eval &eval, bool is_he
     t.n[1] += 1.0;
     return;
   }
-  double scale1, tau2;
-  const double f1 = eval(1.0, scale1, tau2);
+  double scale1, tau2, df1;
+  const double f1 = eval(1.0, scale1, tau2, df1);
   if (tau2 == 0.0) {
     // the next contact is at the same instant: no sub-step after this one
     // whose E_d could be matched; E_d^+ degenerates to H(q_c, p+), which
@@ -289,12 +292,13 @@ void HSMethodVCI::solve(Impulse &imp, double slope, const Eval &eval, bool is_he
   // same instant: s = 1/2 under an attraction) has no E_d^+ to match: it
   // is not a root (it used to be taken as one when |F| was within the
   // tolerance, i.e. for v_n ~ 1e-7)
-  auto F = [&](double s, double &scale) {
+  auto F = [&](double s, double &scale, double &dF) {
     double t2;
-    const double f = eval(s, scale, t2);
+    const double f = eval(s, scale, t2, dF);
     return t2 > 0.0 ? f : std::numeric_limits<double>::quiet_NaN();
   };
-  const HardSphere::VciRoot r = HardSphere::vci_root(F, f1, scale1, slope, SMIN, SMAX, MAXIT);
+  const HardSphere::VciRoot r = HardSphere::vci_root(
+      F, f1, scale1, slope, SMIN, SMAX, MAXIT, 64.0 * std::numeric_limits<double>::epsilon(), df1);
   t.n[3] += r.evals;
   t.mx[0] = MAX(t.mx[0], (double) r.evals);
   if (r.status == HardSphere::VCI_NOT_CONVERGED) {
@@ -365,9 +369,11 @@ void HSMethodVCI::modify_impulse_in_flow(Impulse &imp, HSFlowView &fv)
 
   solve(
       imp, slope,
-      [&](double s, double &scale, double &tau2) {
+      [&](double s, double &scale, double &tau2, double &dF) {
         const HSFlowView::Substep n = fv.trial(scaled(imp, s));
         tau2 = n.tau;
+        // (the trial's impulse is s J: d/ds = d/dlambda / s)
+        dF = n.tau > 0.0 ? (n.dkh + 0.5 * n.dv1) / s : std::numeric_limits<double>::quiet_NaN();
         scale = n.kh + 0.5 * (fabs(n.v0) + fabs(n.v1)) + fabs(Etarget);
         return n.tau > 0.0 ? n.kh + 0.5 * (n.v0 + n.v1) - Etarget : n.kh + n.v1 - Etarget;
       },

@@ -101,8 +101,9 @@ class HSMethodVCI : public HSMethod {
   // E_d^+(s) - E_d^- of a trial sub-step (tau2: its length); stops the run
   // if the root search does not converge, warns once if there is no root
   // (elastic impulse); counts into t
-  // eval(s, scale, tau2): F(s), its scale, the trial sub-step's length
-  using Eval = std::function<double(double, double &, double &)>;
+  // eval(s, scale, tau2, dF): F(s), its scale, the trial sub-step's length,
+  // F'(s) (NaN where not known: the global form's trials)
+  using Eval = std::function<double(double, double &, double &, double &)>;
   void solve(Impulse &imp, double slope, const Eval &eval, bool is_held, Tally &t,
              bool all_ranks);
   // a held contact (hs_method_vci.cpp, HELD): J2im = (2 v_n)^2, gn its

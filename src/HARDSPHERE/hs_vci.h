@@ -19,7 +19,9 @@
    model a (s^2 - s) + F(1), then on secants corrected by the known
    quadratic term a s^2 (quad_secant(): exact where F is that term plus a
    linear one), until the sign changes; then a bracketed secant (Illinois)
-   with bisection as safeguard, to round-off. Where no sub-step follows
+   with bisection as safeguard, to round-off; where eval also gives F'(s)
+   (the local form's trials), from each point on the model through it with
+   that slope (quad_newton()). Where no sub-step follows
    the contact (the next one at the same instant), E_d^+ does not exist:
    eval returns NaN there and the solve reports no root.
 ------------------------------------------------------------------------- */
@@ -30,6 +32,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace HardSphere {
 
@@ -70,19 +73,50 @@ inline double quad_secant(double x0, double f0, double x1, double f1, double a)
   return (std::fabs(r1 - x1) <= std::fabs(r2 - x1)) ? r1 : r2;
 }
 
+// the root nearest x of f + df (s - x) + a (s - x)^2: a Newton step that
+// keeps F's known quadratic term a s^2 (with V linear along the trial
+// sub-step's move, as quad_secant(), but from one point and its slope).
+// NaN if there is none, or df is not known (NaN)
+inline double quad_newton(double x, double f, double df, double a)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!std::isfinite(df) || !(a >= 0.0)) return nan;
+  const double disc = df * df - 4.0 * a * f;
+  if (!(disc >= 0.0) || !std::isfinite(disc)) return nan;
+  // (the root of small |d| without cancellation: -2 f / (df + sign(df) sqrt(disc)))
+  const double q = df + std::copysign(std::sqrt(disc), df);
+  if (q == 0.0) return nan;
+  return x - 2.0 * f / q;
+}
+
 // eval(s, scale) returns F(s) and sets scale, the size of the terms whose
 // difference F is (|F| <= ftol_rel * scale counts as zero); NaN where F is
-// not defined. f1 and scale1:
-// F(1) and its scale, already evaluated by the caller. slope: dF/ds near 1
-// (> 0; |J|^2_{M^-1} / 2 for the quadratic model).
+// not defined. An eval(s, scale, dF) may also set dF = F'(s), NaN where it
+// is not known. f1 and scale1: F(1) and its scale, already evaluated by the
+// caller, df1 = F'(1) if known. slope: the coefficient of F's quadratic
+// term (> 0; |J|^2_{M^-1} / 2, the kinetic energy's, for the quadratic
+// model). Where F' is known, each step is quad_newton() from the last
+// point: exact for the quadratic plus a line, as quad_secant() is from two
+// points, so the first step from s = 1 lands on the root up to V's
+// curvature along the move (F(1), F'(1) and one more evaluation where the
+// secants took F(1) and two or three more)
 template <class Eval>
 VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smin, double smax,
-                 int maxit, double ftol_rel = 64.0 * std::numeric_limits<double>::epsilon())
+                 int maxit, double ftol_rel = 64.0 * std::numeric_limits<double>::epsilon(),
+                 double df1 = std::numeric_limits<double>::quiet_NaN())
 {
   const double eps = std::numeric_limits<double>::epsilon();
   VciRoot r{1.0, f1, 1.0, 1.0, 1, VCI_CONVERGED};
   if (std::fabs(f1) <= ftol_rel * scale1) return r;
   if (!(slope > 0.0) || !std::isfinite(slope)) slope = std::fabs(f1);
+  // F(s) and, where eval gives it, F'(s) (else NaN)
+  auto call = [&](double s, double &scale, double &df) {
+    df = std::numeric_limits<double>::quiet_NaN();
+    if constexpr (std::is_invocable_v<Eval &, double, double &, double &>)
+      return eval(s, scale, df);
+    else
+      return eval(s, scale);
+  };
 
   // --- bracket: F is increasing through the nontrivial root, so the root
   // lies below 1 if F(1) > 0 and above it if F(1) < 0
@@ -93,12 +127,15 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
   // F(1) + a (s - 1) where it has none
   const double disc = 0.25 - f1 / slope;
   double s = disc >= 0.0 ? 0.5 + std::sqrt(disc) : 1.0 - f1 / slope;
+  // (F'(1) known: the model with it, which carries V's slope along the move)
+  const double sn = quad_newton(1.0, f1, df1, slope);
+  if (std::isfinite(sn) && (sn - 1.0) * dir > 0.0) s = sn;
   if (!std::isfinite(s) || (s - limit) * dir > 0.0) s = limit;
-  double b = 0.0, fb = 0.0;
+  double b = 0.0, fb = 0.0, db = 0.0;
   bool bracketed = false;
   while (r.evals < maxit) {
-    double scale;
-    const double fs = eval(s, scale);
+    double scale, ds;
+    const double fs = call(s, scale, ds);
     r.evals++;
     r.s = s;
     r.F = fs;
@@ -116,6 +153,7 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     if ((fs > 0.0) != (fa > 0.0)) {
       b = s;
       fb = fs;
+      db = ds;
       bracketed = true;
       break;
     }
@@ -128,7 +166,8 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
     // secant through the last two points (less the quadratic term) if it
     // moves on towards the limit, else twice the last step; never past the
     // limit
-    double next = quad_secant(a, fa, s, fs, slope);
+    double next = quad_newton(s, fs, ds, slope);
+    if (!std::isfinite(next)) next = quad_secant(a, fa, s, fs, slope);
     if (!std::isfinite(next)) next = s - fs * (s - a) / (fs - fa);
     if (!std::isfinite(next) || (next - s) * dir <= 0.0) next = s + 2.0 * (s - a);
     if ((next - limit) * dir > 0.0) next = limit;
@@ -149,6 +188,7 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
   // was kept last time, bisection when that stalls
   int side = 0;
   double ta = fa;
+  bool newton = true;
   while (r.evals < maxit) {
     const double lo = std::min(a, b), hi = std::max(a, b);
     if (hi - lo <= 4.0 * eps * std::max(std::fabs(lo), std::fabs(hi))) {
@@ -161,12 +201,16 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
       r.status = VCI_JUMP;
       return r;
     }
-    double c = (side == -1) ? std::numeric_limits<double>::quiet_NaN()
-                            : quad_secant(a, ta, b, fb, slope);
+    // (b: the last point; from it with F'(b) where known, while those
+    // steps at least halve |F|: converging from one side, they need no
+    // Illinois turn)
+    double c = newton ? quad_newton(b, fb, db, slope) : std::numeric_limits<double>::quiet_NaN();
+    const bool by_newton = c > lo && c < hi;
+    if (!by_newton && side != -1) c = quad_secant(a, ta, b, fb, slope);
     if (!(c > lo && c < hi)) c = b - fb * (b - a) / (fb - fa);
     if (!(c > lo && c < hi)) c = 0.5 * (a + b);
-    double scale;
-    const double fc = eval(c, scale);
+    double scale, dc;
+    const double fc = call(c, scale, dc);
     r.evals++;
     if (std::isnan(fc)) {
       r.s = 1.0;
@@ -183,10 +227,12 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
       r.status = VCI_CONVERGED;
       return r;
     }
+    if (by_newton && !(std::fabs(fc) <= 0.5 * std::fabs(fb))) newton = false;
     if ((fc > 0.0) == (fb > 0.0)) {
       // c replaces b; a is kept: halve its weight if kept twice (Illinois)
       b = c;
       fb = fc;
+      db = dc;
       if (side == -1) fa *= 0.5;
       side = -1;
     } else {
@@ -194,6 +240,7 @@ VciRoot vci_root(Eval &&eval, double f1, double scale1, double slope, double smi
       fa = ta = fb;
       b = c;
       fb = fc;
+      db = dc;
       side = +1;
     }
   }

@@ -20,8 +20,8 @@
 //   form chattered before held contacts got the elastic impulse (148537
 //   collisions, an impulse weaker than elastic again and again against
 //   the wall), the local form counts as many collisions
-//   as cva (which takes the elastic impulse) within 10 %, and its energy
-//   error is cva's within 2x.
+//   as cva (which takes the elastic impulse) within 10 % from each of 8
+//   starts, and its energy error (mean over the starts) is cva's within 2x.
 
 #include "hs_chain.h"
 #include "hs_fluid.h"
@@ -58,6 +58,13 @@ TEST(VCILocal, DiscreteEnergyMatchedAtEveryContact)
   EXPECT_EQ(solved + noroot + zero, ncoll);
   EXPECT_LE(noroot, 0.02 * ncoll);
   EXPECT_GE(trials, solved);
+  // the solve steps from F(1) with F'(1) from the trial (the flow's slope:
+  // kinetic part and the forces at the sub-step's end), exact for the
+  // kinetic quadratic plus a line, so the first step leaves only V's
+  // curvature along the move, O(ds^2), and the second O(ds^4), below
+  // round-off: F(1) and two more per solved contact (secants without the
+  // slope took 3.3 here; a wrong slope takes more)
+  EXPECT_LE(trials, 3.05 * solved);
   // the flows' energies are O(10) here: 1e-11 is round-off, an unmatched
   // contact would show 1e-3
   EXPECT_LE(maxdiff, 1e-11);
@@ -103,15 +110,27 @@ TEST(VCILocal, LocalAndGlobalSampleTheSameFluid)
   hs_fluid::expect_same_fluid(sample(""), sample(" substep global"), "local", "global");
 }
 
+// (the largest |dH| of one such chaotic run is set by a few events: between
+// initial conditions vci's runs at 0.9-3.5 times cva's, with either root
+// solve, whose roots agree to 1e-9 at every contact; the mean of 8 runs is
+// the statistic: vci's within 1.6-1.7 times cva's)
 TEST(VCILocal, PendulumChainDoesNotChatterAtLargeSteps)
 {
-  const hs_chain::ChainRun v = hs_chain::run_chain("vci", 0.1, 5000.0, 1, {}, "local");
-  const hs_chain::ChainRun c = hs_chain::run_chain("cva", 0.1, 5000.0, 1, {}, "local");
-  std::printf("chain dt 0.1, T 5000: vci local %g collisions, max|dH| %.3e; cva local %g, %.3e\n",
-              v.ncoll, v.dEmax, c.ncoll, c.dEmax);
-  EXPECT_GT(c.ncoll, 1000.0);
-  EXPECT_LE(std::fabs(v.ncoll - c.ncoll), 0.1 * c.ncoll);
-  EXPECT_LE(v.dEmax, 2.0 * c.dEmax);
+  double ve = 0.0, ce = 0.0;
+  const int nseed = 8;
+  for (int seed = 1; seed <= nseed; seed++) {
+    const hs_chain::ChainRun v = hs_chain::run_chain("vci", 0.1, 5000.0, seed, {}, "local");
+    const hs_chain::ChainRun c = hs_chain::run_chain("cva", 0.1, 5000.0, seed, {}, "local");
+    std::printf("chain dt 0.1, T 5000, start %d: vci local %g collisions, max|dH| %.3e; cva "
+                "local %g, %.3e\n",
+                seed, v.ncoll, v.dEmax, c.ncoll, c.dEmax);
+    EXPECT_GT(c.ncoll, 1000.0) << seed;
+    EXPECT_LE(std::fabs(v.ncoll - c.ncoll), 0.1 * c.ncoll) << seed;
+    ve += v.dEmax / nseed;
+    ce += c.dEmax / nseed;
+  }
+  std::printf("mean max|dH|: vci local %.3e, cva local %.3e (%.2f x)\n", ve, ce, ve / ce);
+  EXPECT_LE(ve, 2.0 * ce);
 }
 
 // A pair held at contact by an attraction, bouncing with a small normal

@@ -236,3 +236,101 @@ TEST(VciRoot, PerturbedModelsAgainstBisection)
   }
   EXPECT_GT(found, 200);
 }
+
+// quad_newton() against the closed form: from a point of a x^2 + m x + b
+// and its slope it returns that quadratic's root nearest the point
+TEST(VciRoot, QuadNewtonIsExactOnTheModel)
+{
+  const double a = 0.7, m = -0.9, b = 0.1;
+  auto f = [&](double x) { return a * x * x + m * x + b; };
+  auto df = [&](double x) { return 2 * a * x + m; };
+  const double r_lo = (-m - std::sqrt(m * m - 4 * a * b)) / (2 * a),
+               r_hi = (-m + std::sqrt(m * m - 4 * a * b)) / (2 * a);
+  EXPECT_NEAR(quad_newton(1.2, f(1.2), df(1.2), a), r_hi, 1e-14);
+  EXPECT_NEAR(quad_newton(0.9, f(0.9), df(0.9), a), r_hi, 1e-14);
+  EXPECT_NEAR(quad_newton(0.1, f(0.1), df(0.1), a), r_lo, 1e-14);
+  // a = 0: Newton's step on the line
+  EXPECT_NEAR(quad_newton(2.0, 3.0, 1.5, 0.0), 0.0, 1e-15);
+  // no real root, or no slope: NaN (the caller's secants)
+  EXPECT_TRUE(std::isnan(quad_newton(0.0, 1.0, 0.1, a)));    // a x^2 + 0.1 x + 1
+  EXPECT_TRUE(std::isnan(quad_newton(1.0, f(1.0), std::numeric_limits<double>::quiet_NaN(), a)));
+}
+
+// with F'(s) from eval (the local form's trials: the flow's slope), each
+// step is quad_newton() from the last point: on the quadratic plus a line
+// the first step is the root (F(1) and one more evaluation, where the
+// secants above take up to three)
+TEST(VciRoot, WithTheSlopeQuadraticPlusLineInTwoEvaluations)
+{
+  for (double m : {0.0, 0.05, -0.08, 0.4})
+    for (double c : {1e-3, -1e-3, 0.05, -0.2, 1e-9}) {
+      const double a = 1.3;
+      int calls = 0;
+      auto F = [&](double s, double &scale, double &dF) {
+        calls++;
+        scale = a * (s * s + s) + std::fabs(c) + std::fabs(m);
+        dF = a * (2.0 * s - 1.0) + m;
+        return a * (s * s - s) + m * (s - 1.0) + c;
+      };
+      double sc, d1;
+      const double f1 = F(1.0, sc, d1);
+      const VciRoot r = vci_root(F, f1, sc, a, 0.5, 2.0, 60, 64.0 * EPS, d1);
+      ASSERT_EQ(r.status, VCI_CONVERGED) << "m " << m << " c " << c;
+      const double B = m - a, C = c - m;
+      const double exact = (-B + std::sqrt(B * B - 4.0 * a * C)) / (2.0 * a);
+      EXPECT_NEAR(r.s, exact, 1e-13) << "m " << m << " c " << c;
+      EXPECT_EQ(r.evals, 2) << "m " << m << " c " << c;
+      EXPECT_EQ(r.evals, calls);
+    }
+}
+
+// the perturbed models above with their slopes: the same roots (bisection
+// to the last bit), the same cases without a root, and on the smooth
+// ones no more evaluations than the secants take; a slope unknown at some
+// points (NaN: a trial whose sub-step ends at a contact) falls back to
+// the secants there
+TEST(VciRoot, WithTheSlopePerturbedModelsAgainstBisection)
+{
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int found = 0, fewer = 0;
+  for (int trial = 0; trial < 300; trial++) {
+    const double a = 0.2 + std::fabs(u(rng)), c = 0.05 * u(rng), b = 0.1 * u(rng),
+                 d = 0.002 * u(rng);
+    auto f = [&](double s) { return a * (s * s - s) + c + b * std::pow(s - 1, 3) + d * std::sin(5 * s); };
+    auto df = [&](double s) {
+      return a * (2 * s - 1) + 3 * b * std::pow(s - 1, 2) + 5 * d * std::cos(5 * s);
+    };
+    const bool holes = trial % 3 == 2;    // no slope at every other call
+    int calls = 0;
+    auto F = [&](double s, double &scale, double &dF) {
+      calls++;
+      scale = a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
+      dF = (holes && calls % 2 == 0) ? std::numeric_limits<double>::quiet_NaN() : df(s);
+      return f(s);
+    };
+    auto G = [&](double s, double &scale) {
+      scale = a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
+      return f(s);
+    };
+    double sc, d1;
+    const double f1 = F(1.0, sc, d1);
+    const VciRoot r = vci_root(F, f1, sc, a, 0.5, 2.0, 100, 64.0 * EPS, d1);
+    const VciRoot r0 = vci_root(G, f1, sc, a, 0.5, 2.0, 100);
+    const double lim = f1 > 0 ? 0.5 : 2.0;
+    if ((f(lim) > 0) != (f1 > 0)) {
+      ASSERT_EQ(r.status, VCI_CONVERGED) << trial;
+      const double ref = bisect(f, std::min(1.0, lim), std::max(1.0, lim));
+      EXPECT_NEAR(r.s, ref, 1e-12) << trial;
+      EXPECT_LE(r.evals, 15) << trial;
+      if (!holes) EXPECT_LE(r.evals, r0.evals) << trial;
+      fewer += r.evals < r0.evals;
+      found++;
+    } else {
+      EXPECT_EQ(r.status, VCI_NO_ROOT) << trial;
+    }
+    EXPECT_EQ(r.evals, calls);
+  }
+  EXPECT_GT(found, 200);
+  EXPECT_GT(fewer, found / 2);
+}
