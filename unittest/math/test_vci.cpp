@@ -55,6 +55,31 @@ VciRoot solve(Quadratic &q, double smin = 0.5, double smax = 2.0, int maxit = 60
   return vci_root(q, f1, scale, q.a, smin, smax, maxit);
 }
 
+// F = a (s^2 - s) + c + b (s - 1)^3 + d sin(5 s): smooth, not quadratic,
+// its parameters drawn from rng (a, c, b, d in that order)
+struct Perturbed {
+  double a, c, b, d;
+  template <class Rng, class U> Perturbed(Rng &rng, U &u)
+  {
+    a = 0.2 + std::fabs(u(rng));
+    c = 0.05 * u(rng);
+    b = 0.1 * u(rng);
+    d = 0.002 * u(rng);
+  }
+  double f(double s) const
+  {
+    return a * (s * s - s) + c + b * std::pow(s - 1, 3) + d * std::sin(5 * s);
+  }
+  double df(double s) const
+  {
+    return a * (2 * s - 1) + 3 * b * std::pow(s - 1, 2) + 5 * d * std::cos(5 * s);
+  }
+  double scale(double s) const
+  {
+    return a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
+  }
+};
+
 }    // namespace
 
 TEST(VciRoot, QuadraticModelClosedForm)
@@ -203,23 +228,21 @@ TEST(VciRoot, QuadSecantIsExactOnTheModel)
 
 TEST(VciRoot, PerturbedModelsAgainstBisection)
 {
-  // F = a (s^2 - s) + c + b (s - 1)^3 + d sin(5 s): smooth, not quadratic
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int found = 0;
   for (int trial = 0; trial < 300; trial++) {
-    const double a = 0.2 + std::fabs(u(rng)), c = 0.05 * u(rng), b = 0.1 * u(rng),
-                 d = 0.002 * u(rng);
-    auto f = [&](double s) { return a * (s * s - s) + c + b * std::pow(s - 1, 3) + d * std::sin(5 * s); };
+    const Perturbed p(rng, u);
+    auto f = [&](double s) { return p.f(s); };
     int calls = 0;
     auto F = [&](double s, double &scale) {
       calls++;
-      scale = a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
-      return f(s);
+      scale = p.scale(s);
+      return p.f(s);
     };
     double sc;
     const double f1 = F(1.0, sc);
-    const VciRoot r = vci_root(F, f1, sc, a, 0.5, 2.0, 100);
+    const VciRoot r = vci_root(F, f1, sc, p.a, 0.5, 2.0, 100);
     // brute force: is there a sign change between 1 and the limit on its side?
     const double lim = f1 > 0 ? 0.5 : 2.0;
     if ((f(lim) > 0) != (f1 > 0)) {
@@ -295,28 +318,24 @@ TEST(VciRoot, WithTheSlopePerturbedModelsAgainstBisection)
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int found = 0, fewer = 0;
   for (int trial = 0; trial < 300; trial++) {
-    const double a = 0.2 + std::fabs(u(rng)), c = 0.05 * u(rng), b = 0.1 * u(rng),
-                 d = 0.002 * u(rng);
-    auto f = [&](double s) { return a * (s * s - s) + c + b * std::pow(s - 1, 3) + d * std::sin(5 * s); };
-    auto df = [&](double s) {
-      return a * (2 * s - 1) + 3 * b * std::pow(s - 1, 2) + 5 * d * std::cos(5 * s);
-    };
+    const Perturbed p(rng, u);
+    auto f = [&](double s) { return p.f(s); };
     const bool holes = trial % 3 == 2;    // no slope at every other call
     int calls = 0;
     auto F = [&](double s, double &scale, double &dF) {
       calls++;
-      scale = a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
-      dF = (holes && calls % 2 == 0) ? std::numeric_limits<double>::quiet_NaN() : df(s);
-      return f(s);
+      scale = p.scale(s);
+      dF = (holes && calls % 2 == 0) ? std::numeric_limits<double>::quiet_NaN() : p.df(s);
+      return p.f(s);
     };
     auto G = [&](double s, double &scale) {
-      scale = a * (s * s + s) + std::fabs(c) + std::fabs(b) + std::fabs(d);
-      return f(s);
+      scale = p.scale(s);
+      return p.f(s);
     };
     double sc, d1;
     const double f1 = F(1.0, sc, d1);
-    const VciRoot r = vci_root(F, f1, sc, a, 0.5, 2.0, 100, 64.0 * EPS, d1);
-    const VciRoot r0 = vci_root(G, f1, sc, a, 0.5, 2.0, 100);
+    const VciRoot r = vci_root(F, f1, sc, p.a, 0.5, 2.0, 100, 64.0 * EPS, d1);
+    const VciRoot r0 = vci_root(G, f1, sc, p.a, 0.5, 2.0, 100);
     const double lim = f1 > 0 ? 0.5 : 2.0;
     if ((f(lim) > 0) != (f1 > 0)) {
       ASSERT_EQ(r.status, VCI_CONVERGED) << trial;
