@@ -14,6 +14,10 @@
    and the coefficients come from one table. HSLocalForces checks the
    kernel against the style's compute() on the first restricted evaluation
    of each run and falls back to compute() for the run if a bit differs.
+   Where the processor has AVX2, lj_cut_forces() takes four entries of a
+   row at a time (lj_cut_forces_avx2(): the same operations lane by lane,
+   the sums still in entry order), without a branch per entry on the
+   cutoff test.
 
    coef: lj1, lj2, lj3, lj4 and offset of type pair (itype, jtype) at
    coef[stride * (itype * ntp1 + jtype)] and the next four doubles (ntp1 =
@@ -28,6 +32,8 @@
 
 #ifndef LMP_HS_LJCUT_H
 #define LMP_HS_LJCUT_H
+
+#include "hs_near.h"
 
 #include <cstddef>
 
@@ -133,11 +139,60 @@ inline bool lj_cut_entry(const double *xi, int jr, const double *x, const int *t
 // rows' storage, atom i at 3 i (LAMMPS' per-atom 2d arrays are one block, as
 // its OPT styles read them): no load of a row pointer per entry, a random
 // read a pointer array's cache line costs on top of the row's
+namespace detail {
+  // a pair (i, j) within the cutoff into row i's sums: p = del fpair to
+  // f[i]'s register sums fs, subtracted from f[j] if newton_pair or j <
+  // nlocal; EFLAG: evdwl to eng as Pair::ev_tally() adds it
+  template <bool EFLAG>
+  inline void lj_cut_add(int i, int j, const double p[3], double evdwl, double *f, int nlocal,
+                         bool newton_pair, double fs[3], double &eng)
+  {
+    fs[0] += p[0];
+    fs[1] += p[1];
+    fs[2] += p[2];
+    if (newton_pair || j < nlocal) {
+      double *fj = f + 3 * (size_t) j;
+      fj[0] -= p[0];
+      fj[1] -= p[1];
+      fj[2] -= p[2];
+    }
+    if (EFLAG) {
+      if (newton_pair)
+        eng += evdwl;
+      else {
+        const double half = 0.5 * evdwl;
+        if (i < nlocal) eng += half;
+        if (j < nlocal) eng += half;
+      }
+    }
+  }
+
+  // entries jlist[from..jnum) of row i one at a time into its sums fs
+  template <int MASK, int SB, bool EFLAG>
+  inline void lj_cut_entries(int i, const double xi[3], const int *jlist, int from, int jnum,
+                             const double *x, double *f, const int *type,
+                             const double *special_lj, int nlocal, bool newton_pair,
+                             const double *cuti, const double *ci, int stride, double fs[3],
+                             double &eng)
+  {
+    for (int jj = from; jj < jnum; jj++) {
+      const int jr = jlist[jj];
+      double del[3], fpair, evdwl = 0.0;
+      if (!lj_cut_entry<MASK, SB, EFLAG>(xi, jr, x, type, special_lj, cuti, ci, stride, del,
+                                         fpair, evdwl))
+        continue;
+      const double p[3] = {del[0] * fpair, del[1] * fpair, del[2] * fpair};
+      lj_cut_add<EFLAG>(i, jr & MASK, p, evdwl, f, nlocal, newton_pair, fs, eng);
+    }
+  }
+}    // namespace detail
+
 template <int MASK, int SB, bool EFLAG = false>
-inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
-                            int *const *firstneigh, const double *x, double *f,
-                            const int *type, const double *special_lj, int nlocal,
-                            bool newton_pair, const double *const *cutsq, const LJCutTable &t)
+inline double lj_cut_forces_scalar(int inum, const int *ilist, const int *numneigh,
+                                   int *const *firstneigh, const double *x, double *f,
+                                   const int *type, const double *special_lj, int nlocal,
+                                   bool newton_pair, const double *const *cutsq,
+                                   const LJCutTable &t)
 {
   double eng = 0.0;
   for (int ii = 0; ii < inum; ii++) {
@@ -146,42 +201,117 @@ inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
     const double xi[3] = {x[3 * (size_t) i], x[3 * (size_t) i + 1], x[3 * (size_t) i + 2]};
     double *fi = f + 3 * (size_t) i;
     const int itype = type[i];
+    double fs[3] = {fi[0], fi[1], fi[2]};
+    detail::lj_cut_entries<MASK, SB, EFLAG>(
+        i, xi, firstneigh[i], 0, numneigh[i], x, f, type, special_lj, nlocal, newton_pair,
+        cutsq[itype], t.coef + (size_t) t.stride * itype * t.ntp1, t.stride, fs, eng);
+    fi[0] = fs[0];
+    fi[1] = fs[1];
+    fi[2] = fs[2];
+  }
+  return eng;
+}
+
+#ifdef HS_NEAR_AVX2
+// lj_cut_forces_scalar() four entries of a row at a time: their separations,
+// squared distances, cutoff tests, fpair (and evdwl) in the four lanes, each
+// lane the scalar operations in their order (no FMA), then each entry within
+// its cutoff added to f[i]'s register sums and subtracted from f[j] in entry
+// order: the same bits. No branch per entry on the cutoff test (~30 % of a
+// row's entries lie beyond it, at random: the scalar loop's mispredictions)
+template <int MASK, int SB, bool EFLAG = false>
+__attribute__((target("avx2"))) inline double
+lj_cut_forces_avx2(int inum, const int *ilist, const int *numneigh, int *const *firstneigh,
+                   const double *x, double *f, const int *type, const double *special_lj,
+                   int nlocal, bool newton_pair, const double *const *cutsq, const LJCutTable &t)
+{
+  double eng = 0.0;
+  const __m256d one = _mm256_set1_pd(1.0);
+  alignas(32) double px[4], py[4], pz[4], pe[4];
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double xi[3] = {x[3 * (size_t) i], x[3 * (size_t) i + 1], x[3 * (size_t) i + 2]};
+    double *fi = f + 3 * (size_t) i;
+    const int itype = type[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     const double *cuti = cutsq[itype];
     const double *ci = t.coef + (size_t) t.stride * itype * t.ntp1;
-    double fx = fi[0], fy = fi[1], fz = fi[2];
-    for (int jj = 0; jj < jnum; jj++) {
-      const int jr = jlist[jj];
-      double del[3], fpair, evdwl;
-      if (!lj_cut_entry<MASK, SB, EFLAG>(xi, jr, x, type, special_lj, cuti, ci, t.stride, del,
-                                         fpair, evdwl))
-        continue;
-      fx += del[0] * fpair;
-      fy += del[1] * fpair;
-      fz += del[2] * fpair;
-      const int j = jr & MASK;
-      if (newton_pair || j < nlocal) {
-        double *fj = f + 3 * (size_t) j;
-        fj[0] -= del[0] * fpair;
-        fj[1] -= del[1] * fpair;
-        fj[2] -= del[2] * fpair;
+    const __m256d vx = _mm256_set1_pd(xi[0]), vy = _mm256_set1_pd(xi[1]),
+                  vz = _mm256_set1_pd(xi[2]);
+    double fs[3] = {fi[0], fi[1], fi[2]};
+    int jj = 0;
+    for (; jj + 4 <= jnum; jj += 4) {
+      int jr[4], j[4];
+      const double *c[4];
+      double cut[4], fl[4];
+      for (int l = 0; l < 4; l++) {
+        jr[l] = jlist[jj + l];
+        j[l] = jr[l] & MASK;
+        const int jt = type[j[l]];
+        cut[l] = cuti[jt];
+        fl[l] = special_lj[jr[l] >> SB & 3];
+        c[l] = ci + (size_t) t.stride * jt;
       }
+      __m256d X, Y, Z;
+      detail::rows4(x + 3 * (size_t) j[0], x + 3 * (size_t) j[1], x + 3 * (size_t) j[2],
+                    x + 3 * (size_t) j[3], X, Y, Z);
+      const __m256d dx = _mm256_sub_pd(vx, X), dy = _mm256_sub_pd(vy, Y),
+                    dz = _mm256_sub_pd(vz, Z);
+      const __m256d rsq = _mm256_add_pd(
+          _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      const int in = _mm256_movemask_pd(_mm256_cmp_pd(rsq, _mm256_loadu_pd(cut), _CMP_LT_OQ));
+      if (!in) continue;
+      const __m256d flv = _mm256_loadu_pd(fl);
+      const __m256d c0 = _mm256_setr_pd(c[0][0], c[1][0], c[2][0], c[3][0]);
+      const __m256d c1 = _mm256_setr_pd(c[0][1], c[1][1], c[2][1], c[3][1]);
+      const __m256d r2inv = _mm256_div_pd(one, rsq);
+      const __m256d r6inv = _mm256_mul_pd(_mm256_mul_pd(r2inv, r2inv), r2inv);
+      const __m256d forcelj = _mm256_mul_pd(r6inv, _mm256_sub_pd(_mm256_mul_pd(c0, r6inv), c1));
+      const __m256d fpair = _mm256_mul_pd(_mm256_mul_pd(flv, forcelj), r2inv);
+      _mm256_store_pd(px, _mm256_mul_pd(dx, fpair));
+      _mm256_store_pd(py, _mm256_mul_pd(dy, fpair));
+      _mm256_store_pd(pz, _mm256_mul_pd(dz, fpair));
       if (EFLAG) {
-        if (newton_pair)
-          eng += evdwl;
-        else {
-          const double half = 0.5 * evdwl;
-          if (i < nlocal) eng += half;
-          if (j < nlocal) eng += half;
-        }
+        const __m256d c2 = _mm256_setr_pd(c[0][2], c[1][2], c[2][2], c[3][2]);
+        const __m256d c3 = _mm256_setr_pd(c[0][3], c[1][3], c[2][3], c[3][3]);
+        const __m256d c4 = _mm256_setr_pd(c[0][4], c[1][4], c[2][4], c[3][4]);
+        const __m256d ev =
+            _mm256_sub_pd(_mm256_mul_pd(r6inv, _mm256_sub_pd(_mm256_mul_pd(c2, r6inv), c3)), c4);
+        _mm256_store_pd(pe, _mm256_mul_pd(ev, flv));
+      }
+      for (int l = 0; l < 4; l++) {
+        if (!(in >> l & 1)) continue;
+        const double p[3] = {px[l], py[l], pz[l]};
+        detail::lj_cut_add<EFLAG>(i, j[l], p, EFLAG ? pe[l] : 0.0, f, nlocal, newton_pair, fs,
+                                  eng);
       }
     }
-    fi[0] = fx;
-    fi[1] = fy;
-    fi[2] = fz;
+    // (the row's last entries one by one)
+    detail::lj_cut_entries<MASK, SB, EFLAG>(i, xi, jlist, jj, jnum, x, f, type, special_lj,
+                                            nlocal, newton_pair, cuti, ci, t.stride, fs, eng);
+    fi[0] = fs[0];
+    fi[1] = fs[1];
+    fi[2] = fs[2];
   }
   return eng;
+}
+#endif
+
+// lj_cut_forces_avx2() where the processor has AVX2, else the scalar loop
+template <int MASK, int SB, bool EFLAG = false>
+inline double lj_cut_forces(int inum, const int *ilist, const int *numneigh,
+                            int *const *firstneigh, const double *x, double *f,
+                            const int *type, const double *special_lj, int nlocal,
+                            bool newton_pair, const double *const *cutsq, const LJCutTable &t)
+{
+#ifdef HS_NEAR_AVX2
+  if (has_avx2())
+    return lj_cut_forces_avx2<MASK, SB, EFLAG>(inum, ilist, numneigh, firstneigh, x, f, type,
+                                               special_lj, nlocal, newton_pair, cutsq, t);
+#endif
+  return lj_cut_forces_scalar<MASK, SB, EFLAG>(inum, ilist, numneigh, firstneigh, x, f, type,
+                                               special_lj, nlocal, newton_pair, cutsq, t);
 }
 
 // the force on atom i (position xi, type itype) of the terms with the n

@@ -4,7 +4,9 @@
 // forced one at a time. The kernel sums f[i] in registers; the forces must
 // agree to the bit: random lists with special bits, several types with
 // their own cutoffs and coefficients, pairs beyond the cutoff, ghosts
-// (j >= nlocal) with newton on and off, rows that start nonzero.
+// (j >= nlocal) with newton on and off, rows that start nonzero. The
+// dispatcher lj_cut_forces() and both of its kernels (the scalar loop and
+// the AVX2 one, four entries at a time) are each held to the reference.
 
 #include "hs_ljcut.h"
 
@@ -12,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -126,6 +129,31 @@ double kernel(System &b, bool newton, bool energy = false)
                                              b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
                                              b.fs.data(), b.type.data(), b.special, b.nlocal,
                                              newton, b.cutsq.data(), t);
+}
+
+// the same with one kernel: 0 the scalar loop, 1 the AVX2 one
+double kernel_of(int which, System &b, bool newton, bool energy)
+{
+  HardSphere::LJCutTable t;
+  t.coef = b.coef.data();
+  t.stride = 7;
+  t.ntp1 = b.ntypes + 1;
+  const int n = (int) b.ilist.size();
+#ifdef HS_NEAR_AVX2
+  if (which == 1)
+    return energy ? HardSphere::lj_cut_forces_avx2<MASK, SB, true>(
+                        n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
+                        b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t)
+                  : HardSphere::lj_cut_forces_avx2<MASK, SB>(
+                        n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
+                        b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
+#endif
+  return energy ? HardSphere::lj_cut_forces_scalar<MASK, SB, true>(
+                      n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
+                      b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t)
+                : HardSphere::lj_cut_forces_scalar<MASK, SB>(
+                      n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
+                      b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
 }
 
 // PairLJCut::compute(eflag, 0)'s loop, the list given row by row; returns
@@ -263,6 +291,34 @@ TEST(LJCut, KernelWithEnergyIsComputeBitForBit)
   for (size_t k = 4; k < b.coef.size(); k += 7) b.coef[k] *= 1.0 + 1e-9;
   const double ea = reference(a, true, true), eb = kernel(b, true, true);
   EXPECT_NE(0, std::memcmp(&ea, &eb, sizeof(double)));
+}
+
+// each kernel on its own (the dispatcher above takes one): forces and energy
+// to the bit, newton on and off, rows of every length mod 4 (0..39 entries)
+TEST(LJCut, ScalarAndAvx2KernelsAreComputeBitForBit)
+{
+  int kernels = 1;
+#ifdef HS_NEAR_AVX2
+  if (HardSphere::has_avx2()) kernels = 2;
+#endif
+  if (kernels == 1) std::printf("(no AVX2 on this processor: the scalar kernel only)\n");
+  std::mt19937 g(20261206);
+  for (int which = 0; which < kernels; which++)
+    for (int trial = 0; trial < 300; trial++) {
+      const bool newton = trial % 2 == 0, energy = trial % 3 == 0;
+      System a = make(g, 2 + trial % 150, 1 + trial % 3);
+      System b = a;
+      repoint(b);
+      const double ea = reference(a, newton, energy);
+      const double eb = kernel_of(which, b, newton, energy);
+      if (energy)
+        ASSERT_EQ(0, std::memcmp(&ea, &eb, sizeof(double)))
+            << "kernel " << which << " trial " << trial << ": energy " << ea << " vs " << eb;
+      for (int k = 0; k < 3 * a.nall; k++)
+        ASSERT_EQ(0, std::memcmp(&a.fs[k], &b.fs[k], sizeof(double)))
+            << "kernel " << which << " trial " << trial << " atom " << k / 3 << ": " << a.fs[k]
+            << " vs " << b.fs[k];
+    }
 }
 
 // one term's phi and phi' as PairLJCut::single() computes them (energy and
