@@ -21,6 +21,8 @@
 #ifndef LMP_HS_CELLS_H
 #define LMP_HS_CELLS_H
 
+#include "hs_near.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -97,6 +99,54 @@ class CellGrid {
   // build. The caller tests distances.
   template <class F> void for_each_candidate(const double *q, F fn) const
   {
+    stretches(q, [&](const int *ks, const int *ke, int ns) {
+      for (int b = 0; b < ns; b++)
+        for (int k = ks[b]; k < ke[b]; k++) fn(idx_[k], &pos_[3 * (size_t) k]);
+    });
+  }
+
+  // the candidates of for_each_candidate() whose position at the build
+  // lies within sqrt(cut2) of q (squared distance not greater than cut2,
+  // as hs_near.h's near<true>() computes it), in the same order: the
+  // candidates' slots are listed, stretch after stretch, and tested four at
+  // a time before fn(j, xj) is called (the local engine's rows keep about
+  // one candidate in four; a stretch holds ~8, too few to test alone)
+  template <class F> void for_each_within(const double *q, double cut2, F fn) const
+  {
+    constexpr int CHUNK = 256;    // slots tested per kernel call
+    int slot[CHUNK], hit[CHUNK + 4];
+    int ns = 0;
+    auto test = [&](int n) {
+      const int m = near<true>(slot, n, -1, pos_.data(), q[0], q[1], q[2], cut2, hit);
+      for (int o = 0; o < m; o++) fn(idx_[hit[o]], &pos_[3 * (size_t) hit[o]]);
+    };
+    stretches(q, [&](const int *ks, const int *ke, int nb) {
+      int n = ns;
+      for (int b = 0; b < nb; b++)
+        for (int k0 = ks[b]; k0 < ke[b];) {
+          if (n == CHUNK) {
+            test(n);
+            n = 0;
+          }
+          const int len = std::min(ke[b] - k0, CHUNK - n);
+          for (int t = 0; t < len; t++) slot[n + t] = k0 + t;
+          n += len;
+          k0 += len;
+        }
+      ns = n;
+    });
+    if (ns) test(ns);
+  }
+
+ private:
+  // the cells (a, b, e0..e1) within sub cells of q's are consecutive: one
+  // stretch [ks, ke) of points each. The stretches are listed (in batches,
+  // in (a, b) order) and their first lines prefetched before batch(ks, ke,
+  // ns) reads any: a query's cells are cold (the local engine asks for rows
+  // of spheres all over the box), and asking for them at once lets their
+  // cache misses overlap instead of waiting for each in turn
+  template <class B> void stretches(const double *q, B batch) const
+  {
     if (n_ == 0) return;
     int c[3];
     for (int d = 0; d < 3; d++) c[d] = axis_cell(q[d], d);
@@ -104,20 +154,9 @@ class CellGrid {
     const int a0 = std::max(0, c[0] - s), a1 = std::min(nc_[0] - 1, c[0] + s);
     const int b0 = std::max(0, c[1] - s), b1 = std::min(nc_[1] - 1, c[1] + s);
     const int e0 = std::max(0, c[2] - s), e1 = std::min(nc_[2] - 1, c[2] + s);
-    // cells (a, b, e0..e1) are consecutive: one stretch of points each.
-    // The stretches are listed (in batches, in (a, b) order) and their
-    // first lines prefetched before any is read: a query's cells are cold
-    // (the local engine asks for rows of spheres all over the box), and
-    // asking for them at once lets their cache misses overlap instead of
-    // waiting for each in turn
     constexpr int MAXS = 81;    // (2 sub + 1)^2 for sub <= 4: one batch
     int ks[MAXS], ke[MAXS];
     int ns = 0;
-    auto read_batch = [&]() {
-      for (int q = 0; q < ns; q++)
-        for (int k = ks[q]; k < ke[q]; k++) fn(idx_[k], &pos_[3 * (size_t) k]);
-      ns = 0;
-    };
     for (int a = a0; a <= a1; a++)
       for (int b = b0; b <= b1; b++) {
         const size_t first = ((size_t) a * nc_[1] + b) * nc_[2];
@@ -127,12 +166,14 @@ class CellGrid {
           __builtin_prefetch(&pos_[3 * (size_t) ks[ns]]);
           __builtin_prefetch(&idx_[ks[ns]]);
         }
-        if (++ns == MAXS) read_batch();
+        if (++ns == MAXS) {
+          batch(ks, ke, ns);
+          ns = 0;
+        }
       }
-    read_batch();
+    batch(ks, ke, ns);
   }
 
- private:
   int n_ = 0, sub_ = 1;
   int nc_[3] = {1, 1, 1};
   double lo_[3] = {0.0, 0.0, 0.0}, hi_[3] = {0.0, 0.0, 0.0}, inv_[3] = {0.0, 0.0, 0.0};

@@ -439,10 +439,8 @@ const int *HSLocalEngine::crow(int a, int &n)
     const double cut2 = F.list_cutoff * F.list_cutoff;
     const double *xa = F.xref[a];
     const size_t s0 = out.size();
-    crows.grid.for_each_candidate(xa, [&](int j, const double *xj) {
-      const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
-      // (bonded partners too: the fix adds those LAMMPS' lists leave out)
-      if (dx * dx + dy * dy + dz * dz > cut2) return;
+    // (bonded partners too: the fix adds those LAMMPS' lists leave out)
+    crows.grid.for_each_within(xa, cut2, [&](int j, const double *) {
       if (j == a || tag[j] == tag[a] || !(mask[j] & F.groupbit)) return;
       out.push_back(j);
     });

@@ -475,10 +475,11 @@ void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out)
   const bool ex = HSCompat::excludes(neighbor);
   near_excl_.clear();
   // (the constants by value: read once, not through the closure per entry)
-  auto scan = [&, near, ncut2, cut2, mol, ex, a, ta](int j, const double *xj) {
+  // (the grid's kernel keeps r2 not greater than cut2; r2 again here, the
+  // same operations, for the contact test)
+  auto scan = [&, near, ncut2, mol, ex, a, ta](int j, const double *xj) {
     const double dx = xa[0] - xj[0], dy = xa[1] - xj[1], dz = xa[2] - xj[2];
     const double r2 = dx * dx + dy * dy + dz * dz;
-    if (r2 > cut2) return;
     const tagint tj = tag[j];
     if (j == a || tj == ta) return;    // itself, its own images
     // (as HSLocalEngine::crow()'s own scan decides; its group test below)
@@ -491,7 +492,7 @@ void HSLocalForces::build_row(int a, std::vector<std::pair<tagint, int>> &out)
     }
     out.emplace_back(tj, (code ? j ^ (code << SBBITS) : j) | (nj ? NEAR : 0));
   };
-  rows_cache_.grid.for_each_candidate(xa, scan);
+  rows_cache_.grid.for_each_within(xa, cut2, scan);
   std::sort(out.begin() + start, out.end(),
             [](const std::pair<tagint, int> &p, const std::pair<tagint, int> &q) {
               return p.first != q.first ? p.first < q.first

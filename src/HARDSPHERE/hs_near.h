@@ -30,7 +30,11 @@ namespace HardSphere {
 
 // the entries j = jlist[k] & mask (k < n) whose position x[3j..3j+2] lies
 // within sqrt(cut2) of (xi, yi, zi), in list order, written to out (room
-// for n + 4 entries); returns their number
+// for n + 4 entries); returns their number. NGT: keep the squared
+// distances "not greater than" cut2 (a NaN kept) instead of "<=" (a NaN
+// left out), for callers whose own test had that form (hs_cells.h
+// for_each_within(): the local engine's rows)
+template <bool NGT = false>
 inline int near_scalar(const int *jlist, int n, int mask, const double *x, double xi, double yi,
                        double zi, double cut2, int *out)
 {
@@ -40,7 +44,8 @@ inline int near_scalar(const int *jlist, int n, int mask, const double *x, doubl
     const double *xj = x + 3 * (size_t) j;
     const double dx = xi - xj[0], dy = yi - xj[1], dz = zi - xj[2];
     out[m] = j;    // (branch-free: kept or overwritten by the next)
-    m += (dx * dx + dy * dy + dz * dz <= cut2);
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    m += NGT ? !(d2 > cut2) : (d2 <= cut2);
   }
   return m;
 }
@@ -95,6 +100,7 @@ namespace detail {
   }
 }    // namespace detail
 
+template <bool NGT = false>
 __attribute__((target("avx2"))) inline int near_avx2(const int *jlist, int n, int mask,
                                                      const double *x, double xi, double yi,
                                                      double zi, double cut2, int *out)
@@ -114,24 +120,25 @@ __attribute__((target("avx2"))) inline int near_avx2(const int *jlist, int n, in
                   dz = _mm256_sub_pd(vz, pz);
     const __m256d d2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
                                      _mm256_mul_pd(dz, dz));
-    const int bits = _mm256_movemask_pd(_mm256_cmp_pd(d2, vc, _CMP_LE_OQ));
+    const int bits = _mm256_movemask_pd(_mm256_cmp_pd(d2, vc, NGT ? _CMP_NGT_UQ : _CMP_LE_OQ));
     const __m128i js = _mm_setr_epi32(j0, j1, j2, j3);
     const __m128i sh = _mm_load_si128((const __m128i *) lut.b[bits]);
     _mm_storeu_si128((__m128i *) (out + m), _mm_shuffle_epi8(js, sh));
     m += __builtin_popcount(bits);
   }
-  return m + near_scalar(jlist + k, n - k, mask, x, xi, yi, zi, cut2, out + m);
+  return m + near_scalar<NGT>(jlist + k, n - k, mask, x, xi, yi, zi, cut2, out + m);
 }
 #endif
 
 // near_avx2() where the processor has AVX2, else near_scalar()
+template <bool NGT = false>
 inline int near(const int *jlist, int n, int mask, const double *x, double xi, double yi,
                 double zi, double cut2, int *out)
 {
 #ifdef HS_NEAR_AVX2
-  if (has_avx2()) return near_avx2(jlist, n, mask, x, xi, yi, zi, cut2, out);
+  if (has_avx2()) return near_avx2<NGT>(jlist, n, mask, x, xi, yi, zi, cut2, out);
 #endif
-  return near_scalar(jlist, n, mask, x, xi, yi, zi, cut2, out);
+  return near_scalar<NGT>(jlist, n, mask, x, xi, yi, zi, cut2, out);
 }
 
 }    // namespace HardSphere

@@ -152,3 +152,45 @@ TEST(CellRows, FilledOncePerBuild)
     EXPECT_EQ(fills, 3) << "each row filled once per build";
   }
 }
+
+// for_each_within(): exactly the candidates of for_each_candidate() whose
+// squared distance (the same operations, q - xj) is not greater than cut2,
+// in the same order, with the same positions; queries with more candidates
+// than one kernel call takes (256: dense points, a coarse grid), and
+// distances equal to the cutoff to the bit (points on a lattice)
+TEST(CellGrid, WithinIsTheCandidatesWithinTheCutoffInOrder)
+{
+  std::mt19937 rng(20261206);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int kept = 0, dropped = 0, large = 0;
+  for (int trial = 0; trial < 150; trial++) {
+    const int n = 1 + (int) (U(rng) * (trial % 3 == 0 ? 3000 : 400));
+    const double L = 2.0 + 8.0 * U(rng);
+    const bool lattice = trial % 2 == 1;
+    std::vector<P> pts(n);
+    for (auto &p : pts)
+      for (double &v : p) v = lattice ? 0.25 * std::floor(U(rng) * L / 0.25) : L * U(rng);
+    CellGrid g;
+    const double width = 0.5 + 2.0 * U(rng);
+    g.build(pts, n, width, 1 + trial % 3);
+    for (int qn = 0; qn < 20; qn++) {
+      const P q = {L * U(rng), L * U(rng), lattice ? 0.25 * (qn % 8) : L * U(rng)};
+      const double cut2 = lattice ? 0.0625 * (qn % 40) : width * width * U(rng);
+      std::vector<std::pair<int, const double *>> want, got;
+      int cand = 0;
+      g.for_each_candidate(q.data(), [&](int j, const double *xj) {
+        cand++;
+        const double dx = q[0] - xj[0], dy = q[1] - xj[1], dz = q[2] - xj[2];
+        if (!(dx * dx + dy * dy + dz * dz > cut2)) want.emplace_back(j, xj);
+      });
+      g.for_each_within(q.data(), cut2, [&](int j, const double *xj) { got.emplace_back(j, xj); });
+      ASSERT_EQ(want, got) << "trial " << trial << " query " << qn;
+      kept += (int) want.size();
+      dropped += cand - (int) want.size();
+      large += cand > 256;
+    }
+  }
+  EXPECT_GT(kept, 10000);
+  EXPECT_GT(dropped, 10000);
+  EXPECT_GT(large, 50);    // (queries past one kernel call's 256 slots)
+}

@@ -120,3 +120,51 @@ TEST(Near, DispatchGivesTheScalarList)
   EXPECT_EQ(a, b);
   EXPECT_GT(na, 10);
 }
+
+// near<true>(): "not greater than" the cutoff, as the local engine's rows
+// test it: the same list as near<false>() but for NaN distances, which it
+// keeps (near<false>() leaves them out); AVX2 and scalar the same, entry
+// for entry, on lists with NaN positions and distances at the cutoff
+TEST(Near, NotGreaterKeepsWhatLessOrEqualKeepsAndNaN)
+{
+  std::mt19937 g(11);
+  int nans = 0;
+  for (int trial = 0; trial < 500; trial++) {
+    const int nlist = trial % 61, npts = 1 + trial % 97;
+    Case c = make_case(g, npts, nlist, 2.0);
+    // a NaN coordinate in some points
+    for (int p = 0; p < npts; p += 7 + trial % 5) c.x[3 * p + trial % 3] = std::nan("");
+    const double xi = 0.25 * (trial % 7), yi = 0.5, zi = 0.25 * (trial % 3);
+    const double cut2 = 0.0625 * (trial % 23);
+    std::vector<int> le(c.jl.size() + 4), ngt(c.jl.size() + 4);
+    const int nle = HardSphere::near_scalar<false>(c.jl.data(), (int) c.jl.size(), MASK,
+                                                   c.x.data(), xi, yi, zi, cut2, le.data());
+    const int ngs = HardSphere::near_scalar<true>(c.jl.data(), (int) c.jl.size(), MASK,
+                                                  c.x.data(), xi, yi, zi, cut2, ngt.data());
+    le.resize(nle);
+    ngt.resize(ngs);
+    // the reference: <= plus the entries whose distance is NaN, in list order
+    std::vector<int> want;
+    for (int e : c.jl) {
+      const int j = e & MASK;
+      volatile double dx = xi - c.x[3 * j], dy = yi - c.x[3 * j + 1], dz = zi - c.x[3 * j + 2];
+      volatile double a = dx * dx, b = dy * dy, cc = dz * dz;
+      volatile double s = a + b;
+      volatile double d2 = s + cc;
+      if (!(d2 > cut2)) want.push_back(j);
+      nans += std::isnan(d2);
+    }
+    ASSERT_EQ(ngt, want) << "trial " << trial;
+    ASSERT_LE(le.size(), ngt.size());
+#ifdef HS_NEAR_AVX2
+    if (__builtin_cpu_supports("avx2")) {
+      std::vector<int> v(c.jl.size() + 4);
+      const int nv = HardSphere::near_avx2<true>(c.jl.data(), (int) c.jl.size(), MASK,
+                                                 c.x.data(), xi, yi, zi, cut2, v.data());
+      v.resize(nv);
+      ASSERT_EQ(v, ngt) << "trial " << trial;
+    }
+#endif
+  }
+  EXPECT_GT(nans, 100);
+}
