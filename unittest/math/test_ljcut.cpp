@@ -114,46 +114,31 @@ void repoint(System &b)
   for (int t = 0; t <= b.ntypes; t++) b.cutsq[t] = &b.cutsq_s[t * (b.ntypes + 1)];
 }
 
-// the kernel's forces into b.f; with energy, its tally returned
-double kernel(System &b, bool newton, bool energy = false)
+// which kernel: lj_cut_forces() (the dispatcher), or one of its two
+enum Kernel { DISPATCH, SCALAR, AVX2 };
+
+// one kernel's forces into b.f; with energy, its tally returned
+template <bool EFLAG> double run_kernel(Kernel which, System &b, bool newton)
 {
   HardSphere::LJCutTable t;
   t.coef = b.coef.data();
   t.stride = 7;
   t.ntp1 = b.ntypes + 1;
-  if (energy)
-    return HardSphere::lj_cut_forces<MASK, SB, true>(
-        (int) b.ilist.size(), b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
-        b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
-  return HardSphere::lj_cut_forces<MASK, SB>((int) b.ilist.size(), b.ilist.data(),
-                                             b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
-                                             b.fs.data(), b.type.data(), b.special, b.nlocal,
-                                             newton, b.cutsq.data(), t);
+  auto call = [&](auto fn) {
+    return fn((int) b.ilist.size(), b.ilist.data(), b.numneigh.data(), b.firstneigh.data(),
+              b.xs.data(), b.fs.data(), b.type.data(), b.special, b.nlocal, newton,
+              b.cutsq.data(), t);
+  };
+#ifdef HS_NEAR_AVX2
+  if (which == AVX2) return call(HardSphere::lj_cut_forces_avx2<MASK, SB, EFLAG>);
+#endif
+  if (which == SCALAR) return call(HardSphere::lj_cut_forces_scalar<MASK, SB, EFLAG>);
+  return call(HardSphere::lj_cut_forces<MASK, SB, EFLAG>);
 }
 
-// the same with one kernel: 0 the scalar loop, 1 the AVX2 one
-double kernel_of(int which, System &b, bool newton, bool energy)
+double kernel(System &b, bool newton, bool energy = false, Kernel which = DISPATCH)
 {
-  HardSphere::LJCutTable t;
-  t.coef = b.coef.data();
-  t.stride = 7;
-  t.ntp1 = b.ntypes + 1;
-  const int n = (int) b.ilist.size();
-#ifdef HS_NEAR_AVX2
-  if (which == 1)
-    return energy ? HardSphere::lj_cut_forces_avx2<MASK, SB, true>(
-                        n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
-                        b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t)
-                  : HardSphere::lj_cut_forces_avx2<MASK, SB>(
-                        n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
-                        b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
-#endif
-  return energy ? HardSphere::lj_cut_forces_scalar<MASK, SB, true>(
-                      n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
-                      b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t)
-                : HardSphere::lj_cut_forces_scalar<MASK, SB>(
-                      n, b.ilist.data(), b.numneigh.data(), b.firstneigh.data(), b.xs.data(),
-                      b.fs.data(), b.type.data(), b.special, b.nlocal, newton, b.cutsq.data(), t);
+  return energy ? run_kernel<true>(which, b, newton) : run_kernel<false>(which, b, newton);
 }
 
 // PairLJCut::compute(eflag, 0)'s loop, the list given row by row; returns
@@ -310,7 +295,7 @@ TEST(LJCut, ScalarAndAvx2KernelsAreComputeBitForBit)
       System b = a;
       repoint(b);
       const double ea = reference(a, newton, energy);
-      const double eb = kernel_of(which, b, newton, energy);
+      const double eb = kernel(b, newton, energy, which == 0 ? SCALAR : AVX2);
       if (energy)
         ASSERT_EQ(0, std::memcmp(&ea, &eb, sizeof(double)))
             << "kernel " << which << " trial " << trial << ": energy " << ea << " vs " << eb;

@@ -80,6 +80,27 @@ struct Perturbed {
   }
 };
 
+// the solve r of p from F(1) = f1 against brute force: has_root when F
+// changes sign between 1 and the limit on F(1)'s side, and then r
+// converged to the bisection's root in at most 15 evaluations; else r
+// reports no root
+void check_with_bisection(const Perturbed &p, double f1, const VciRoot &r, int trial,
+                          bool &has_root)
+{
+  auto f = [&](double s) { return p.f(s); };
+  const double lim = f1 > 0 ? 0.5 : 2.0;
+  has_root = (f(lim) > 0) != (f1 > 0);
+  if (!has_root) {
+    EXPECT_EQ(r.status, VCI_NO_ROOT) << trial;
+    return;
+  }
+  ASSERT_EQ(r.status, VCI_CONVERGED) << trial;
+  const double ref = bisect(f, std::min(1.0, lim), std::max(1.0, lim));
+  // the model is monotone near its root here: one root on that side
+  EXPECT_NEAR(r.s, ref, 1e-12) << trial;
+  EXPECT_LE(r.evals, 15) << trial;
+}
+
 }    // namespace
 
 TEST(VciRoot, QuadraticModelClosedForm)
@@ -233,7 +254,6 @@ TEST(VciRoot, PerturbedModelsAgainstBisection)
   int found = 0;
   for (int trial = 0; trial < 300; trial++) {
     const Perturbed p(rng, u);
-    auto f = [&](double s) { return p.f(s); };
     int calls = 0;
     auto F = [&](double s, double &scale) {
       calls++;
@@ -243,18 +263,9 @@ TEST(VciRoot, PerturbedModelsAgainstBisection)
     double sc;
     const double f1 = F(1.0, sc);
     const VciRoot r = vci_root(F, f1, sc, p.a, 0.5, 2.0, 100);
-    // brute force: is there a sign change between 1 and the limit on its side?
-    const double lim = f1 > 0 ? 0.5 : 2.0;
-    if ((f(lim) > 0) != (f1 > 0)) {
-      ASSERT_EQ(r.status, VCI_CONVERGED) << trial;
-      const double ref = bisect(f, std::min(1.0, lim), std::max(1.0, lim));
-      // the model is monotone near its root here: one root on that side
-      EXPECT_NEAR(r.s, ref, 1e-12) << trial;
-      EXPECT_LE(r.evals, 15) << trial;
-      found++;
-    } else {
-      EXPECT_EQ(r.status, VCI_NO_ROOT) << trial;
-    }
+    bool has_root;
+    ASSERT_NO_FATAL_FAILURE(check_with_bisection(p, f1, r, trial, has_root));
+    found += has_root;
     EXPECT_EQ(r.evals, calls);
   }
   EXPECT_GT(found, 200);
@@ -319,7 +330,6 @@ TEST(VciRoot, WithTheSlopePerturbedModelsAgainstBisection)
   int found = 0, fewer = 0;
   for (int trial = 0; trial < 300; trial++) {
     const Perturbed p(rng, u);
-    auto f = [&](double s) { return p.f(s); };
     const bool holes = trial % 3 == 2;    // no slope at every other call
     int calls = 0;
     auto F = [&](double s, double &scale, double &dF) {
@@ -336,17 +346,12 @@ TEST(VciRoot, WithTheSlopePerturbedModelsAgainstBisection)
     const double f1 = F(1.0, sc, d1);
     const VciRoot r = vci_root(F, f1, sc, p.a, 0.5, 2.0, 100, 64.0 * EPS, d1);
     const VciRoot r0 = vci_root(G, f1, sc, p.a, 0.5, 2.0, 100);
-    const double lim = f1 > 0 ? 0.5 : 2.0;
-    if ((f(lim) > 0) != (f1 > 0)) {
-      ASSERT_EQ(r.status, VCI_CONVERGED) << trial;
-      const double ref = bisect(f, std::min(1.0, lim), std::max(1.0, lim));
-      EXPECT_NEAR(r.s, ref, 1e-12) << trial;
-      EXPECT_LE(r.evals, 15) << trial;
+    bool has_root;
+    ASSERT_NO_FATAL_FAILURE(check_with_bisection(p, f1, r, trial, has_root));
+    if (has_root) {
       if (!holes) EXPECT_LE(r.evals, r0.evals) << trial;
       fewer += r.evals < r0.evals;
       found++;
-    } else {
-      EXPECT_EQ(r.status, VCI_NO_ROOT) << trial;
     }
     EXPECT_EQ(r.evals, calls);
   }
