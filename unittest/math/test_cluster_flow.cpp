@@ -287,3 +287,53 @@ TEST(ClusterFlow, StaticSphereInTheWayEndsTheFlow)
 }
 
 }    // namespace
+
+// a flow object reused for another cluster (reset()) keeps its scratch
+// (segments' rows, a step's stages): its run must give what a new object
+// gives, bit for bit, with nothing of the last cluster's flow left in
+TEST(ClusterFlow, ReusedObjectGivesTheNewObjectsFlowBitForBit)
+{
+  Pair P;
+  P.terms.push_back(term(0, -1, 1, {-1.0, 0.3, 0.1}, 0));
+  P.terms.push_back(term(1, -1, 2, {2.6, -0.4, 0.2}, 1));
+  const double dt = 0.02;
+  // the reused pair: first another flow (faster spheres, more contacts)
+  Gauss G1(2, P.im.data(), nullptr, dt * dt / 12.0, P.terms, &phi);
+  Flow F1(G1, {0.5, 0.5}, {}, {}, 2, 1e-9);
+  std::vector<double> ya = P.y0, pma;
+  for (int k = 6; k < 12; k++) ya[k] *= 1.7;
+  for (int s = 0; s < 60; s++) ASSERT_EQ(F1.run(dt, ya, pma), Flow::DONE);
+  ASSERT_GT(F1.stats.pair, 0.0);
+  G1.reset(2, P.im.data(), nullptr, dt * dt / 12.0, &phi);
+  F1.reset(2, 1e-9);
+  // and a new one
+  const Gauss G2(2, P.im.data(), nullptr, dt * dt / 12.0, P.terms, &phi);
+  Flow F2(G2, {0.5, 0.5}, {}, {}, 2, 1e-9);
+  std::vector<double> y1 = P.y0, y2 = P.y0, pm1, pm2;
+  double kicks = 0.0;
+  for (int s = 0; s < 100; s++) {
+    ASSERT_EQ(F1.run(dt, y1, pm1), Flow::DONE);
+    ASSERT_EQ(F2.run(dt, y2, pm2), Flow::DONE);
+    ASSERT_EQ(y1, y2) << "step " << s;
+    ASSERT_EQ(pm1, pm2) << "step " << s;
+    ASSERT_EQ(F1.kicks().size(), F2.kicks().size()) << "step " << s;
+    kicks += (double) F2.kicks().size();
+    for (size_t k = 0; k < F2.kicks().size(); k++)
+      for (int d = 0; d < 3; d++) ASSERT_EQ(F1.kicks()[k].J[d], F2.kicks()[k].J[d]);
+    const auto &S1 = F1.segments(), &S2 = F2.segments();
+    ASSERT_EQ(S1.size(), S2.size());
+    for (size_t a = 0; a < S2.size(); a++) {
+      ASSERT_EQ(S1[a].size(), S2[a].size()) << "step " << s << " member " << a;
+      for (size_t k = 0; k < S2[a].size(); k++) {
+        EXPECT_EQ(S1[a][k].t0, S2[a][k].t0);
+        EXPECT_EQ(S1[a][k].t1, S2[a][k].t1);
+        for (int d = 0; d < 3; d++) {
+          EXPECT_EQ(S1[a][k].q[d], S2[a][k].q[d]);
+          EXPECT_EQ(S1[a][k].v[d], S2[a][k].v[d]);
+          EXPECT_EQ(S1[a][k].a[d], S2[a][k].a[d]);
+        }
+      }
+    }
+  }
+  EXPECT_GT(kicks, 0.0);    // (contacts within the compared steps)
+}
