@@ -255,6 +255,7 @@ template <class Phi> class ClusterFlow {
   {
     ClusterNewtonOptions o;
     o.keep = true;
+    o.history = false;
     return o;
   }
 

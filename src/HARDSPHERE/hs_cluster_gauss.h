@@ -117,6 +117,10 @@ struct ClusterNewtonOptions {
   // Jacobian's 2.77) without the automatic differentiation, which took a
   // fifth of a collisional step; false: the exact Jacobian (field())
   bool leading = true;
+  // record each iteration's change (ClusterNewtonStatus::history); false
+  // (the cluster flows): none, as that vector's growth allocated 2-3 times
+  // per solve
+  bool history = true;
 };
 
 struct ClusterNewtonStatus {
@@ -777,7 +781,7 @@ template <class Phi> class ClusterGauss {
                         D.segment(N + off, m).cwiseAbs().maxCoeff() / sc});
       }
       st.residual = res;
-      st.history.push_back(res);
+      if (opt.history) st.history.push_back(res);
       if (!(res == res) || std::isinf(res)) break;
       if (res <= opt.tol || (res <= opt.stag_tol && res >= prev)) {
         if (pf_skipped) {    // (above)

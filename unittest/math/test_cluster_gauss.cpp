@@ -467,6 +467,32 @@ TEST(ClusterGauss, StartJacobianConvergesToTheSameStep)
   }
 }
 
+// the iterations' changes are recorded by default, one per iteration, each
+// the relative change the convergence test saw (the last within tol); with
+// history off (the cluster flows) none, and the same step to the bit
+TEST(ClusterGauss, HistoryIsOptionalAndChangesNothing)
+{
+  Scene s;
+  ClusterNewtonOptions on, off;
+  off.history = false;
+  for (double h : {0.05, 0.003}) {
+    // (two kernels: a step's start and stages are kept per kernel)
+    const Cluster Ca = s.make(CDYN), Cb = s.make(CDYN);
+    std::vector<double> ya(Ca.dim()), yb(Cb.dim());
+    ClusterStepDetail da, db;
+    const ClusterNewtonStatus a = Ca.step(s.y0.data(), h, ya.data(), on, &da);
+    const ClusterNewtonStatus b = Cb.step(s.y0.data(), h, yb.data(), off, &db);
+    ASSERT_TRUE(a.converged && b.converged);
+    ASSERT_EQ((int) a.history.size(), a.iterations);
+    EXPECT_EQ(a.history.back(), a.residual);
+    EXPECT_TRUE(b.history.empty());
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(ya, yb);
+    EXPECT_EQ(da.Y1, db.Y1);
+    EXPECT_EQ(da.Y2, db.Y2);
+  }
+}
+
 // the start's Jacobian by its leading part (from V'' alone, the default)
 // or exact: both converge to full Newton's step, the leading one in at most
 // one iteration more; and a step from the same start whose length differs
