@@ -318,8 +318,15 @@ TEST(ClusterFlow, ReusedObjectGivesTheNewObjectsFlowBitForBit)
     ASSERT_EQ(pm1, pm2) << "step " << s;
     ASSERT_EQ(F1.kicks().size(), F2.kicks().size()) << "step " << s;
     kicks += (double) F2.kicks().size();
-    for (size_t k = 0; k < F2.kicks().size(); k++)
-      for (int d = 0; d < 3; d++) ASSERT_EQ(F1.kicks()[k].J[d], F2.kicks()[k].J[d]);
+    for (size_t k = 0; k < F2.kicks().size(); k++) {
+      const FlowKick &k1 = F1.kicks()[k], &k2 = F2.kicks()[k];
+      ASSERT_EQ(k1.i, k2.i);
+      ASSERT_EQ(k1.j, k2.j);
+      for (int d = 0; d < 3; d++) {
+        ASSERT_EQ(k1.J[d], k2.J[d]);
+        ASSERT_EQ(k1.dq[d], k2.dq[d]);
+      }
+    }
     const auto &S1 = F1.segments(), &S2 = F2.segments();
     ASSERT_EQ(S1.size(), S2.size());
     for (size_t a = 0; a < S2.size(); a++) {

@@ -468,7 +468,8 @@ TEST(ClusterGauss, StartJacobianConvergesToTheSameStep)
 }
 
 // the iterations' changes are recorded by default, one per iteration, each
-// the relative change the convergence test saw (the last within tol); with
+// the relative change the convergence test saw (the last the status's
+// residual); with
 // history off (the cluster flows) none, and the same step to the bit
 TEST(ClusterGauss, HistoryIsOptionalAndChangesNothing)
 {
