@@ -128,17 +128,6 @@ inline bool lj_cut_entry(const double *xi, int jr, const double *x, const int *t
   return true;
 }
 
-// PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
-// entries carry the special bits above SB (factor special_lj[j >> SB & 3])
-// and the index in MASK (LAMMPS' SBBITS and NEIGHMASK); f[j] -= only if
-// newton_pair or j < nlocal. EFLAG: compute(1, 0) instead, whose energy
-// tally (Pair::eng_vdwl, from 0) is returned: per pair within the cutoff
-// evdwl = factor_lj (r6inv (lj3 r6inv - lj4) - offset), added as
-// Pair::ev_tally() adds it (whole with newton_pair, else half for each
-// atom below nlocal), in list order; without EFLAG 0. x and f are the
-// rows' storage, atom i at 3 i (LAMMPS' per-atom 2d arrays are one block, as
-// its OPT styles read them): no load of a row pointer per entry, a random
-// read a pointer array's cache line costs on top of the row's
 namespace detail {
   // a pair (i, j) within the cutoff into row i's sums: p = del fpair to
   // f[i]'s register sums fs, subtracted from f[j] if newton_pair or j <
@@ -187,6 +176,17 @@ namespace detail {
   }
 }    // namespace detail
 
+// PairLJCut::compute(0, 0) on the list (inum, ilist, numneigh, firstneigh):
+// entries carry the special bits above SB (factor special_lj[j >> SB & 3])
+// and the index in MASK (LAMMPS' SBBITS and NEIGHMASK); f[j] -= only if
+// newton_pair or j < nlocal. EFLAG: compute(1, 0) instead, whose energy
+// tally (Pair::eng_vdwl, from 0) is returned: per pair within the cutoff
+// evdwl = factor_lj (r6inv (lj3 r6inv - lj4) - offset), added as
+// Pair::ev_tally() adds it (whole with newton_pair, else half for each
+// atom below nlocal), in list order; without EFLAG 0. x and f are the
+// rows' storage, atom i at 3 i (LAMMPS' per-atom 2d arrays are one block, as
+// its OPT styles read them): no load of a row pointer per entry, a random
+// read a pointer array's cache line costs on top of the row's
 template <int MASK, int SB, bool EFLAG = false>
 inline double lj_cut_forces_scalar(int inum, const int *ilist, const int *numneigh,
                                    int *const *firstneigh, const double *x, double *f,
